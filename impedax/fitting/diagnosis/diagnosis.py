@@ -84,7 +84,7 @@ from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk
 from .vanishing import idle_elements, share_words, vanished_parameters, vanished_terms
 
 __all__ = [
-    "Diagnosis", "Suggestion", "Verdict", "diagnose", "noise_variance_explained", "ranked_size",
+    "Diagnosis", "DRTCircuit", "Suggestion", "Verdict", "diagnose", "noise_variance_explained", "ranked_size",
     "DELTA_AIC_MIN", "NOISE_FRACTION_MIN", "NOISE_RATIO_MAX", "NOISE_FLOOR", "KK_INVALID_FRACTION", "KK_INVALID_RMS", "BASELINE_STEPS",
     "KK_COMPARABLE", "MASK_MAX_FRACTION", "KK_MASK_MAX_FRACTION", "OPEN_RESISTANCE_FACTOR", "ARC_ORDERS_MAX", "RELATIVE_ERROR_MAX", "CORRELATION_MAX", "CORRELATED_ERROR_MAX", "CORRELATION_SINGULAR",
 ]
@@ -269,6 +269,29 @@ class Suggestion:
 
 
 @dataclass(frozen=True, eq=False)
+class DRTCircuit:
+    """The data's DRT's starting circuit fitted on a diagnosis' points (`_drt_circuit_fit`):
+    ``fit``, and ``compared``, the best suggestion fitted to convergence from its values;
+    ``delta_aic`` and ``compared_delta_aic`` against the baseline over the noise-weighted
+    residuals, as the suggestions' ΔAIC (`noise_weighted_criteria`); ``better_fit``: better by
+    more than `DELTA_AIC_MIN` and a `NOISE_FRACTION_MIN` share of the noise variance (else it is
+    as good by AIC with fewer parameters)."""
+
+    __repr__ = concise_repr
+
+    fit: FitResult
+    compared: FitResult
+    delta_aic: float
+    compared_delta_aic: float
+    better_fit: bool
+
+    def as_json(self) -> dict:
+        f, c = self.fit, self.compared
+        return {"model": f.model, "rms_rel": f.rms_rel, "aic": f.aic, "delta_aic": self.delta_aic, "n_params": f.n_params, "values": {k: float(v) for k, v in f.values.items()},
+                "better_fit": self.better_fit, "compared_model": c.model, "compared_rms_rel": c.rms_rel, "compared_delta_aic": self.compared_delta_aic, "compared_n_params": c.n_params}
+
+
+@dataclass(frozen=True, eq=False)
 class Diagnosis:
     """Outcome of `diagnose`: the baseline fit, KK test, noise, failing bands, ranked
     candidates (``suggestions``: the significant ones, best first; ``candidates``: all) and the
@@ -302,6 +325,7 @@ class Diagnosis:
     not_passive_points: tuple[float, ...] = ()  # those of ``masked_points`` [Hz] left out for Re Z < 0 beyond the noise (the rest: the KK test's)
     kk_flagged_kept: str | None = None  # why points the KK test flags were kept in every fit (inside the band, more than `KK_MASK_MAX_FRACTION`, or mask=False): the data's problem, reported beside the verdict
     effects_left_out: tuple[str, ...] = ()  # the ids of `DEFAULT_EFFECTS` the candidates did not try (``effects=``, --effects, gave a subset)
+    drt_circuit: "DRTCircuit | None" = None  # the data's DRT's starting circuit, fitted, when it is better than the best suggestion (`_drt_circuit_fit`)
 
     @property
     def source(self) -> str | None:
@@ -420,7 +444,26 @@ class Diagnosis:
             # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the points kept, their number and how many were left out
             "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(self.baseline.n_points), "n_points_left_out": len(self.masked_points),
             "effects_left_out": list(self.effects_left_out),  # (added 2026-12-05) the catalog's effects effects= (--effects) left out, not tried
+            "drt_circuit": self._drt_circuit_json(),  # (added 2026-12-05) the DRT's circuit when it fits better than the best suggestion, or null
         }
+
+    def _drt_circuit_json(self) -> dict | None:
+        """``drt_circuit`` of the JSON (`DRTCircuit.as_json`), or None."""
+        return self.drt_circuit.as_json() if self.drt_circuit is not None else None
+
+    def _drt_circuit_lines(self, fit_command: str) -> list[str]:
+        """The report's lines on ``drt_circuit`` (`_drt_circuit_fit`), under the suggestions."""
+        d = self.drt_circuit
+        if d is None or not self.suggestions:
+            return []
+        f, best = d.fit, d.compared
+        how = "fits better than 1." if d.better_fit else "is as good as 1. by AIC with fewer parameters"
+        refitted = " (1. fitted to convergence from its values)" if abs(d.compared_delta_aic - self.suggestions[0].delta_aic) > 0.05 else ""
+        return [
+            f"  the data's DRT reads another circuit (impedax drt), {f.model}, which {how}: rms_rel {f.rms_rel * 100:.3g} % against {best.rms_rel * 100:.3g} %, "
+            f"ΔAIC {d.delta_aic:+.1f} against {d.compared_delta_aic:+.1f}{refitted}, {f.n_params} parameters against {best.n_params}; it is no one change to {self.baseline.model}, so no suggestion above",
+            f"  to apply it: {fit_command} --model '{f.model}' {_start_words(f)}",
+        ]
 
     def _drt_peaks_json(self) -> list[dict] | None:
         """The data's DRT peaks, each with whether the baseline explains it (None without a DRT)."""
@@ -492,6 +535,7 @@ class Diagnosis:
             lines.append(f"  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): {fit_command} --model '{best.model}' {starts}")
             lines += _without_vanished_lines(best, fit_command)
             lines += _at_bound_lines(best)
+            lines += self._drt_circuit_lines(fit_command)
             if self.masked_points:  # (impedax fit takes every point the file holds unless told)
                 lines.append(
                     f"     note: this diagnosis left out {len(self.masked_points)} point(s) ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}); "
@@ -791,6 +835,23 @@ class DRTMemo:
 
     def __init__(self) -> None:
         self._solved: dict[tuple, object] = {}
+        self._circuit_fits: dict[tuple, object] = {}
+
+    def circuit_fit(self, data, model: str, weighting: str, compute: Callable[[], FitResult]) -> FitResult:
+        """The fit of the DRT's circuit ``model`` to ``data`` ((frequency, Z)) with ``weighting``,
+        ``compute``d once (`_drt_circuit_fit`: each step of a refine diagnoses the same data);
+        a failure (`DRT_FAILURES`) is raised again each time."""
+        frequency, z = data
+        key = (np.asarray(frequency, float).tobytes(), np.asarray(z, complex).tobytes(), model, weighting)
+        if key not in self._circuit_fits:
+            try:
+                self._circuit_fits[key] = compute()
+            except DRT_FAILURES as err:
+                self._circuit_fits[key] = err
+        out = self._circuit_fits[key]
+        if isinstance(out, BaseException):
+            raise out
+        return out
 
     def __call__(self, data, **options):
         frequency, z = data
@@ -1477,6 +1538,57 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
         return proposals + added, fits, shape
     except FitError as err:
         raise FitError(f"diagnosis: the candidate fits failed: {err}") from None
+
+
+def _drt_circuit_fit(base: FitResult, spectrum: xr.Dataset, sigma_rel: np.ndarray, suggestions: Sequence[Suggestion], drts: DRTMemo, *, seed: int) -> DRTCircuit | None:
+    """The data's DRT's starting circuit (`DRTResult.suggested_circuit`, the one ``impedax drt``
+    prints), fitted from the DRT's values on the diagnosis' points with the baseline's
+    weighting, when it is better than the best suggestion (``suggestions[0]``, fitted to
+    convergence from its values: a candidate's fit stops at `CANDIDATE_STEPS`) by the rules
+    that make a suggestion significant, over the noise-weighted residuals (`DRTCircuit`): ΔAIC
+    lower by more than `DELTA_AIC_MIN` and `NOISE_FRACTION_MIN` of the noise variance
+    explained, or a lower AIC with fewer parameters; with every parameter determined, and a
+    circuit of its own (not the baseline's nor a suggestion's, `Circuit.structure_key`). Else
+    None, as when the DRT cannot be computed, says its fixed λ over-smooths or doubts the data's
+    sign.
+
+    A suggestion is one change to the user's circuit (an effect, or a pair); the DRT reads a
+    circuit off the data at once. On REAL exampleData.csv, from R0 + R1 ∥ C1, the best
+    suggestion adds R_relax ∥ CPE_relax and L_lead (rms_rel 2.65 %, 7 parameters) where
+    `impedax drt` read R0 + L1 + R1 ∥ CPE1 + W1 (2.57 %, 6): C1 → CPE1, a Warburg and the lead
+    at once, no one change (a walkthrough, 2026-12-05)."""
+    try:
+        data_drt = drts((base.frequency, base.z_data))
+        if data_drt.over_smoothed or data_drt.sign_hint:
+            return None
+        start = data_drt.suggested_circuit()
+        circuit = parse(start.model, base.registry)
+        own = {f.circuit.structure_key(base.registry) for f in [base] + [s.fit for s in suggestions]}
+        if circuit.structure_key(base.registry) in own or len(circuit.parameter_names(base.registry)) >= base.n_points:
+            return None
+        found = drts.circuit_fit((base.frequency, base.z_data), start.model, base.weighting,
+                                 lambda: fit(circuit, spectrum, init=dict(start.init), weighting=base.weighting, registry=base.registry, n_starts=1, seed=seed, progress=False))
+    except DRT_FAILURES:  # (no DRT, no circuit from it, or a fit that failed: nothing to compare)
+        return None
+    base_aic = noise_weighted_criteria(base, sigma_rel)[0]
+
+    def against(other: FitResult) -> tuple[float, float, bool, bool]:  # (ΔAIC of each, better by fit, better by parameters)
+        aic, other_aic = noise_weighted_criteria(found, sigma_rel)[0], noise_weighted_criteria(other, sigma_rel)[0]
+        drop = (_noise_weighted_mean_square(other, sigma_rel) - _noise_weighted_mean_square(found, sigma_rel)) / 2
+        by_fit = bool(aic < other_aic - DELTA_AIC_MIN and drop >= NOISE_FRACTION_MIN)
+        return aic - base_aic, other_aic - base_aic, by_fit, bool(aic < other_aic and found.n_params < other.n_params)
+
+    best = suggestions[0].fit
+    if not np.isfinite(found.chi2) or not any(against(best)[2:]) or undetermined_parameters(found):
+        return None
+    fixed = {k: v for k, v in best.values.items() if best.fixed[k]} or None
+    try:
+        polished = fit(best.circuit, spectrum, init=best, fixed=fixed, bounds=dict(best.bounds) or None, weighting=best.weighting, registry=best.registry, n_starts=1, seed=seed, progress=False)
+    except ImpedaxError:
+        return None
+    compared = polished if polished.chi2 < best.chi2 else best
+    delta, compared_delta, by_fit, by_parameters = against(compared)
+    return DRTCircuit(found, compared, delta, compared_delta, by_fit) if by_fit or by_parameters else None
 
 
 def _baseline_checked(base: FitResult, spectrum: xr.Dataset, shape: SolverShape, named: FitResult, *, seed: int) -> FitResult | None:
@@ -2466,6 +2578,10 @@ def diagnose(
             notes.append(f"before naming a missing effect the baseline was refitted from the candidate's values (its arcs in every order) and {BASELINE_CHECK_STARTS} random starts and reached a better optimum (rms_rel {base.rms_rel * 100:.3g} % → {better.rms_rel * 100:.3g} %); it is used as the baseline")
             base = better
             bands, cands, verdict, reason = judged(base)
+    drt_circuit = None
+    if verdict == Verdict.MISSING_EFFECT and constrained is None and evidence is not None and not base.bounds and not any(base.fixed.values()):
+        say("fitting the circuit the data's DRT reads")
+        drt_circuit = _drt_circuit_fit(base, spectrum, sigma_rel, [s for s in cands if s.significant], drts, seed=seed)
     if verdict == Verdict.MISSING_EFFECT and kk_flagged_kept and kk is not None and not kk.valid:
         reason += _kk_floor_words(next(s.fit for s in cands if s.significant), kk, problem.kept_passing_band)
     ratio = _noise_ratio(base, sigma_rel)
@@ -2482,5 +2598,5 @@ def diagnose(
     masked = tuple(sorted(masked + not_passive))
     return Diagnosis(
         base, kk if kk is not None else inconclusive, sigma_rel, nm.source, bands, tuple(cands), verdict, reason, tuple(notes), _thresholds(), evidence, measurement, nm.discrepancy, masked, kk_kept, kk_as_tested, shape,
-        tuple(masked_z[f] for f in masked), sign_hint, not_passive_points=not_passive, kk_flagged_kept=kk_flagged_kept, effects_left_out=left_out,
+        tuple(masked_z[f] for f in masked), sign_hint, not_passive_points=not_passive, kk_flagged_kept=kk_flagged_kept, effects_left_out=left_out, drt_circuit=drt_circuit,
     )
