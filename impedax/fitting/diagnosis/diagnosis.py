@@ -831,40 +831,34 @@ class DRTMemo:
     refine solved it again, with every pair and lead it fitted (13 solves of one spectrum in a
     refine of exampleData.csv), and a step's baseline is often the fit whose DRT the step before
     solved; the same input gives the same result, so one run's results are bit-identical with
-    it. Keep one per run (`refine` makes one per call): it holds every result it returns."""
+    it. Keep one per run (`refine` makes one per call): it holds every result it returns, and
+    the fit of the circuit the data's DRT reads (`circuit_fit`), the same at every step."""
 
     def __init__(self) -> None:
-        self._solved: dict[tuple, object] = {}
-        self._circuit_fits: dict[tuple, object] = {}
+        self._results: dict[tuple, object] = {}
 
-    def circuit_fit(self, data, model: str, weighting: str, compute: Callable[[], FitResult]) -> FitResult:
-        """The fit of the DRT's circuit ``model`` to ``data`` ((frequency, Z)) with ``weighting``,
-        ``compute``d once (`_drt_circuit_fit`: each step of a refine diagnoses the same data);
-        a failure (`DRT_FAILURES`) is raised again each time."""
+    def _once(self, data, detail: tuple, compute: Callable[[], object]):
+        """``compute()`` for the spectrum ``data`` ((frequency, Z), bit for bit) and ``detail``,
+        done once; a failure (`DRT_FAILURES`) is kept and raised again each time."""
         frequency, z = data
-        key = (np.asarray(frequency, float).tobytes(), np.asarray(z, complex).tobytes(), model, weighting)
-        if key not in self._circuit_fits:
+        key = (np.asarray(frequency, float).tobytes(), np.asarray(z, complex).tobytes()) + detail
+        if key not in self._results:
             try:
-                self._circuit_fits[key] = compute()
+                self._results[key] = compute()
             except DRT_FAILURES as err:
-                self._circuit_fits[key] = err
-        out = self._circuit_fits[key]
+                self._results[key] = err
+        out = self._results[key]
         if isinstance(out, BaseException):
             raise out
         return out
 
     def __call__(self, data, **options):
-        frequency, z = data
-        key = (np.asarray(frequency, float).tobytes(), np.asarray(z, complex).tobytes(), tuple(sorted(options.items())))
-        if key not in self._solved:
-            try:
-                self._solved[key] = drt(data, **options)
-            except DRT_FAILURES as err:
-                self._solved[key] = err
-        out = self._solved[key]
-        if isinstance(out, BaseException):
-            raise out
-        return out
+        return self._once(data, ("drt",) + tuple(sorted(options.items())), lambda: drt(data, **options))
+
+    def circuit_fit(self, data, model: str, weighting: str, compute: Callable[[], FitResult]) -> FitResult:
+        """The fit of the DRT's circuit ``model`` to ``data`` ((frequency, Z)) with ``weighting``,
+        ``compute``d once (`_drt_circuit_fit`: each step of a refine diagnoses the same data)."""
+        return self._once(data, ("circuit", model, weighting), compute)
 
 
 def _drt_evidence(fit: FitResult, notes: list[str], solved: DRTMemo) -> PeakEvidence | None:
