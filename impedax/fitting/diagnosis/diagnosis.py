@@ -296,7 +296,9 @@ class Diagnosis:
     """Outcome of `diagnose`: the baseline fit, KK test, noise, failing bands, ranked
     candidates (``suggestions``: the significant ones, best first; ``candidates``: all) and the
     `Verdict` with its ``reason``; ``drt``: the data's DRT peaks against the baseline's
-    (`PeakEvidence`), or None when the DRT was off or could not be computed."""
+    (`PeakEvidence`), or None when the DRT was off or could not be computed; ``drt_circuit``:
+    the circuit that DRT reads, fitted, when it is better than the best suggestion
+    (`DRTCircuit`), else None."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
     __str__ = report_text  # (print(result): its report)
