@@ -1056,3 +1056,37 @@ def test_a_path_ending_at_the_same_circuit_at_the_same_optimum_is_left_out():
     kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
     assert kept[-1].model == "R1 || C1 + R3 || CPE3", notes
     assert not any("better optimum" in n or "kept in place of" in n for n in notes), notes
+
+
+def test_a_path_ending_at_the_same_optimum_that_keeps_a_starting_element_is_kept():
+    """`_second_path` with stand-ins: the second path ends at the first path's circuit at the
+    same AIC but keeps C1 of the starting circuit (as CPE1), which the first path left out: it
+    is kept, and the note says "at the same optimum" (SYNTHETIC Meyer data of the evaluation
+    set: C_i + R_sc ∥ CPE_sc + R_s in the user's names against C_i + R_sc + R_relax ∥ CPE_relax)."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
+
+    def stand_in(model, aic, k):
+        return _fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model), converged=True)
+
+    def step(model, aic, k, diagnosis=None, added=None, removed=()):
+        return RefinementStep(stand_in(model, aic, k), added, "extra_relaxation" if added else None, diagnosis, removed=removed)
+
+    def suggestion(where, model, aic, k, removed=()):
+        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=stand_in(model, aic, k), removed=removed, undetermined=())
+
+    chosen, other = suggestion("in series", "R0 + R1 + R2 || C2", -100.0, 4, removed=("C1",)), suggestion("nested", "R0 + R1 || C1 + R2", -95.0, 4)
+    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
+    greedy = [step("R0 + R1 || C1", 0.0, 3, first), step("R0 + R1 + R2 || C2", -100.0, 4, NS(solver_shape=None), "r2", removed=("C1",)),
+              step("R0 + R1 + R2 || CPE2", -110.0, 5, NS(solver_shape=None, verdict="adequate"), "cpe2")]
+
+    def diagnosed(fit, shape):  # the second path: R2 in series, then C1 → CPE1, adequate at the same AIC
+        nxt = {"R0 + R1 || C1 + R2": suggestion("in place", "R0 + R1 || CPE1 + R2", -110.0, 5)}.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    notes = []
+    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
+    assert kept[-1].model == "R0 + R1 || CPE1 + R2", notes
+    assert notes[0].startswith("the second path ends at the first path's circuit at the same optimum, which is kept."), notes
+    assert "it keeps C1, which the first path left out" in notes[0], notes

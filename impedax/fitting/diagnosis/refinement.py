@@ -403,10 +403,13 @@ BRANCH_WINDOW = 40.0
 
 SAME_OPTIMUM_AIC = 0.1
 """Two ends of one circuit (`_same_network`) whose AIC differs by at most this are one optimum
-(the notes print AIC to 0.1): a further path ending there is left out of the report, whatever
-the two paths count as kept on the way. On REAL Gamry above 2.5 kHz the third path ended at
-the first path's circuit at AIC −448.7 too and was kept "at a better optimum", for the first
-path counting R0, which fell to zero on it, as kept (a walkthrough, 2026-12-05)."""
+(the notes print AIC to 0.1): a further path ending there is kept only when it keeps elements of
+the starting circuit the kept end left out (in the user's names: SYNTHETIC Meyer data, C_sc
+kept as CPE_sc beside R_s, where the other path had R_relax ∥ CPE_relax for them), and is
+otherwise left out of the report, whatever the paths count as kept on the way. On REAL Gamry
+above 2.5 kHz the third path ended at the first path's circuit at AIC −448.7 too and was kept
+"at a better optimum", for the first path counting R0, which fell to zero on it, as kept (a
+walkthrough, 2026-12-05)."""
 
 PATH_LABELS = ("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path")
 """The names of `_second_path`'s further paths, in the order the notes report them (the greedy
@@ -584,7 +587,9 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # the pruning then left out, back at the first path's end, the note saying the reverse)
         kept_more = _elements_left_out(other) < _elements_left_out(steps) and bool(set(restored) - _vanishing_elements(b))
         better = b.aic < a.aic - DELTA_AIC_MIN or (b.aic <= a.aic + DELTA_AIC_MIN and size_b < size_a) or (tie and kept_more)
-        better = better and not (_same_network(a, b) and b.aic >= a.aic - SAME_OPTIMUM_AIC)  # (one circuit: better only at a lower optimum)
+        # one circuit at one optimum: kept only for keeping elements of the starting circuit the holder left out
+        same_optimum = _same_network(a, b) and b.aic >= a.aic - SAME_OPTIMUM_AIC
+        better = (tie and kept_more) if same_optimum else better
         if _same_network(a, b) and not better:  # one model, under the same or other names, and not to be kept: nothing to compare, the first-found stays
             del notes[own_notes:]  # (its refit's notes speak of a path the report does not name)
             say(f"{trial}: ends at {holder}'s end, {a.model}, as one circuit; left out of the report")
@@ -604,7 +609,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # short sentences, the result first (the note was one sentence of ~90 words, walkthrough
         # 2026-12-02): what the path changed, the two ends, why, then where the two paths started
         sentences = [
-            (f"the {label} ends at {holder}'s circuit at a better optimum, which is kept." if _same_network(a, b) else f"the {label} is kept in place of {holder}'s end.")
+            (f"the {label} ends at {holder}'s circuit at {'the same' if same_optimum else 'a better'} optimum, which is kept." if _same_network(a, b) else f"the {label} is kept in place of {holder}'s end.")
             if better else f"the {label}{UNCHANGED_WORDS}{holder}'s end is kept.",
             f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {_size_words(steps)}).",
         ]
