@@ -997,6 +997,44 @@ def test_a_tie_is_not_won_by_an_element_kept_only_at_zero():
     assert "R0" not in r.final.circuit.element_names
 
 
+def _path_step(model, aic, k, diagnosis=None, added=None, removed=(), vanished=()):
+    """A `RefinementStep` of stand-ins for `_second_path` tests."""
+    from impedax.fitting.diagnosis.refinement import RefinementStep
+
+    fit = _fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model), converged=True)
+    return RefinementStep(fit, added, "extra_relaxation" if added else None, diagnosis, removed=removed, vanished=vanished)
+
+
+def _path_suggestion(where, model, aic, k, removed=()):
+    """A suggestion stand-in (extra_relaxation) for `_second_path` tests."""
+    from types import SimpleNamespace as NS
+
+    fit = _fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model), converged=True)
+    return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=fit, removed=removed, undetermined=())
+
+
+def _second_path_of(greedy, next_suggestions: dict):
+    """`_second_path` of the stand-in path ``greedy``; each further path's diagnosis proposes
+    ``next_suggestions[model]``, and is adequate at a model not in it. Returns (kept path, notes)."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import _second_path
+
+    def diagnosed(fit, shape):
+        nxt = next_suggestions.get(fit.model)
+        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
+
+    notes = []
+    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
+    return kept, notes
+
+
+def _first_diagnosis(chosen, other, n_params):
+    from types import SimpleNamespace as NS
+
+    return NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=n_params))
+
+
 def test_a_path_ending_at_the_same_circuit_at_a_better_optimum_says_so():
     """`_second_path` with stand-ins: the second path (R2 ∥ CPE2 first, then R4 ∥ C4) ends at
     the first path's circuit (R1 ∥ C1, then R3 ∥ CPE3) under other names, 50 lower in AIC: it is kept, and the note says it is the
@@ -1004,25 +1042,11 @@ def test_a_path_ending_at_the_same_circuit_at_a_better_optimum_says_so():
     identical models (walkthrough 2026-12-05)."""
     from types import SimpleNamespace as NS
 
-    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
-
-    def step(model, aic, k, diagnosis=None, added=None):
-        return RefinementStep(_fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model)), added, "extra_relaxation" if added else None, diagnosis)
-
-    def suggestion(where, model, aic, k):
-        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model)), removed=(), undetermined=())
-
-    chosen, other = suggestion("in series", "R0 + R1 || C1", -100.0, 3), suggestion("nested", "R0 + R2 || CPE2", -95.0, 4)
-    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=1))
-    greedy = [step("R0", 0.0, 1, first), step("R0 + R1 || C1", -100.0, 3, NS(solver_shape=None), "r1"),
-              step("R0 + R1 || C1 + R3 || CPE3", -110.0, 6, NS(solver_shape=None, verdict="adequate"), "r3")]
-
-    def diagnosed(fit, shape):  # the second path: R2 ∥ CPE2, then R4 ∥ C4, then adequate
-        nxt = {"R0 + R2 || CPE2": suggestion("in series", "R0 + R2 || CPE2 + R4 || C4", -160.0, 6)}.get(fit.model)
-        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
-
-    notes = []
-    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
+    chosen, other = _path_suggestion("in series", "R0 + R1 || C1", -100.0, 3), _path_suggestion("nested", "R0 + R2 || CPE2", -95.0, 4)
+    greedy = [_path_step("R0", 0.0, 1, _first_diagnosis(chosen, other, 1)), _path_step("R0 + R1 || C1", -100.0, 3, NS(solver_shape=None), "r1"),
+              _path_step("R0 + R1 || C1 + R3 || CPE3", -110.0, 6, NS(solver_shape=None, verdict="adequate"), "r3")]
+    # the second path: R2 ∥ CPE2, then R4 ∥ C4, then adequate
+    kept, notes = _second_path_of(greedy, {"R0 + R2 || CPE2": _path_suggestion("in series", "R0 + R2 || CPE2 + R4 || C4", -160.0, 6)})
     assert kept[-1].model == "R0 + R2 || CPE2 + R4 || C4", notes
     assert notes[0].startswith("the second path ends at the first path's circuit at a better optimum, which is kept."), notes
 
@@ -1035,25 +1059,11 @@ def test_a_path_ending_at_the_same_circuit_at_the_same_optimum_is_left_out():
     said "at a better optimum" beside AIC −448.7 twice; a walkthrough, 2026-12-05)."""
     from types import SimpleNamespace as NS
 
-    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
-
-    def step(model, aic, k, diagnosis=None, added=None, vanished=()):
-        return RefinementStep(_fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model)), added, "extra_relaxation" if added else None, diagnosis, removed=vanished, vanished=vanished)
-
-    def suggestion(where, model, aic, k):
-        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model)), removed=(), undetermined=())
-
-    chosen, other = suggestion("in series", "R1 || C1", -100.0, 2), suggestion("nested", "R0 + R2 || C2", -95.0, 3)
-    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=1))
-    greedy = [step("R0", 0.0, 1, first), step("R1 || C1", -100.0, 2, NS(solver_shape=None), "r1", vanished=("R0",)),
-              step("R1 || C1 + R3 || CPE3", -110.0, 5, NS(solver_shape=None, verdict="adequate"), "r3")]
-
-    def diagnosed(fit, shape):  # the second path: R0 + R2 ∥ C2, then R4 ∥ CPE4 in series with R0 gone, adequate at the same AIC
-        nxt = {"R0 + R2 || C2": suggestion("in series", "R2 || C2 + R4 || CPE4", -110.0, 5)}.get(fit.model)
-        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
-
-    notes = []
-    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
+    chosen, other = _path_suggestion("in series", "R1 || C1", -100.0, 2), _path_suggestion("nested", "R0 + R2 || C2", -95.0, 3)
+    greedy = [_path_step("R0", 0.0, 1, _first_diagnosis(chosen, other, 1)), _path_step("R1 || C1", -100.0, 2, NS(solver_shape=None), "r1", removed=("R0",), vanished=("R0",)),
+              _path_step("R1 || C1 + R3 || CPE3", -110.0, 5, NS(solver_shape=None, verdict="adequate"), "r3")]
+    # the second path: R0 + R2 ∥ C2, then R4 ∥ CPE4 in series with R0 gone, adequate at the same AIC
+    kept, notes = _second_path_of(greedy, {"R0 + R2 || C2": _path_suggestion("in series", "R2 || C2 + R4 || CPE4", -110.0, 5)})
     assert kept[-1].model == "R1 || C1 + R3 || CPE3", notes
     assert not any("better optimum" in n or "kept in place of" in n for n in notes), notes
 
@@ -1065,28 +1075,11 @@ def test_a_path_ending_at_the_same_optimum_that_keeps_a_starting_element_is_kept
     set: C_i + R_sc ∥ CPE_sc + R_s in the user's names against C_i + R_sc + R_relax ∥ CPE_relax)."""
     from types import SimpleNamespace as NS
 
-    from impedax.fitting.diagnosis.refinement import RefinementStep, _second_path
-
-    def stand_in(model, aic, k):
-        return _fit_stand_in(model=model, aic=aic, n_params=k, circuit=ix.parse(model), converged=True)
-
-    def step(model, aic, k, diagnosis=None, added=None, removed=()):
-        return RefinementStep(stand_in(model, aic, k), added, "extra_relaxation" if added else None, diagnosis, removed=removed)
-
-    def suggestion(where, model, aic, k, removed=()):
-        return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=stand_in(model, aic, k), removed=removed, undetermined=())
-
-    chosen, other = suggestion("in series", "R0 + R1 + R2 || C2", -100.0, 4, removed=("C1",)), suggestion("nested", "R0 + R1 || C1 + R2", -95.0, 4)
-    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
-    greedy = [step("R0 + R1 || C1", 0.0, 3, first), step("R0 + R1 + R2 || C2", -100.0, 4, NS(solver_shape=None), "r2", removed=("C1",)),
-              step("R0 + R1 + R2 || CPE2", -110.0, 5, NS(solver_shape=None, verdict="adequate"), "cpe2")]
-
-    def diagnosed(fit, shape):  # the second path: R2 in series, then C1 → CPE1, adequate at the same AIC
-        nxt = {"R0 + R1 || C1 + R2": suggestion("in place", "R0 + R1 || CPE1 + R2", -110.0, 5)}.get(fit.model)
-        return NS(baseline=fit, best=nxt, verdict="missing_effect" if nxt else "adequate", solver_shape=None)
-
-    notes = []
-    kept = _second_path(greedy, greedy[0].diagnosis.best, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
+    chosen, other = _path_suggestion("in series", "R0 + R1 + R2 || C2", -100.0, 4, removed=("C1",)), _path_suggestion("nested", "R0 + R1 || C1 + R2", -95.0, 4)
+    greedy = [_path_step("R0 + R1 || C1", 0.0, 3, _first_diagnosis(chosen, other, 3)), _path_step("R0 + R1 + R2 || C2", -100.0, 4, NS(solver_shape=None), "r2", removed=("C1",)),
+              _path_step("R0 + R1 + R2 || CPE2", -110.0, 5, NS(solver_shape=None, verdict="adequate"), "cpe2")]
+    # the second path: R2 in series, then C1 → CPE1, adequate at the same AIC
+    kept, notes = _second_path_of(greedy, {"R0 + R1 || C1 + R2": _path_suggestion("in place", "R0 + R1 || CPE1 + R2", -110.0, 5)})
     assert kept[-1].model == "R0 + R1 || CPE1 + R2", notes
     assert notes[0].startswith("the second path ends at the first path's circuit at the same optimum, which is kept."), notes
     assert "it keeps C1, which the first path left out" in notes[0], notes
