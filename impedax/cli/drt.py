@@ -77,15 +77,19 @@ def run(args) -> int:
     data = open_spectrum(data).data
     progress = progress_printer(quiet=args.quiet)  # (130 cycles took 7 s without a word; printed only past PROGRESS_AFTER_S)
     n_spectra = int(data["Z"].size // data.sizes["frequency"])
-    progress(f"DRT of {n_spectra} spectr{'um' if n_spectra == 1 else 'a'}: solving, then peaks and credible bands")
-    result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
-    if args.plot:  # (the slowest output: ~1 s for 130 curves)
-        progress(f"drawing {args.plot}")
-    record = command_provenance(args, source=source, data_files=[args.data])
-    kk_note = _kk_note(result, data, args)
-    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), "kk_note": kk_note})  # (the JSON's, as inspect --json's: added 2026-12-01; kk_note 2026-12-05)
-    outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
-    progress.close()
+    # (closed on every way out: a printer left open after an error printed its pending line 2 s
+    # later, into whatever ran next in the process: a flaky test of `fit -q`, 2026-12-05)
+    try:
+        progress(f"DRT of {n_spectra} spectr{'um' if n_spectra == 1 else 'a'}: solving, then peaks and credible bands")
+        result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
+        if args.plot:  # (the slowest output: ~1 s for 130 curves)
+            progress(f"drawing {args.plot}")
+        record = command_provenance(args, source=source, data_files=[args.data])
+        kk_note = _kk_note(result, data, args)
+        read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), "kk_note": kk_note})  # (the JSON's, as inspect --json's: added 2026-12-01; kk_note 2026-12-05)
+        outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
+    finally:
+        progress.close()
     if outputs.uses_stdout:
         return 0
     if args.json:
