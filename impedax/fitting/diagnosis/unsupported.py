@@ -76,8 +76,7 @@ def unsupported_terms(fit: FitResult) -> list[UnsupportedTerm]:
             out.append(UnsupportedTerm(removed, reduced, why))
 
     for arc in arcs_beyond_band(fit.circuit, fit.values, registry, fit.frequency):
-        parameters = [n for n in fit.circuit.element(arc.extrapolated).parameter_names(registry)]
-        if all(fit.fixed.get(n, False) for n in parameters):
+        if all(fit.fixed.get(n, False) for n in fit.circuit.element(arc.extrapolated).parameter_names(registry)):
             continue
         add((arc.extrapolated,), f"{arc.elements} relaxes outside the band ({arc.sentence()})")
     undetermined = undetermined_parameters(fit)
