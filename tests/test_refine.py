@@ -211,7 +211,7 @@ def test_the_two_paths_are_compared_as_they_end_after_the_final_refit():
         return NS(where=where, effect="extra_relaxation", delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k), removed=(), undetermined=())
 
     chosen, other = suggestion("in series", "A1", -100.0, 4), suggestion("nested", "B1", -95.0, 4)
-    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
+    first = NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
     greedy = [step("start", 0.0, 3, first), step("A1", -100.0, 4, NS(solver_shape=None), "a1"), step("A2", -150.0, 6, NS(solver_shape=None), "a2"), step("A3", -220.0, 8, NS(solver_shape=None, verdict="missing_effect"), "a3")]
 
     def diagnosed(fit, shape):  # the second path: B1 → B2, then adequate
@@ -243,7 +243,7 @@ def test_a_suggestion_that_leaves_an_element_out_gets_a_path_of_its_own(leaving_
 
     keep = NS(where="in series with the whole circuit", effect="series_resistance", delta_aic=-200.0, added="R_s", fit=_fit_stand_in(model="K1", aic=-200.0, n_params=4), removed=(), undetermined=())
     leave = NS(where="in series, and C_sc left out", effect="extra_relaxation", delta_aic=-900.0, added="R_relax || CPE_relax", fit=_fit_stand_in(model="D1", aic=leaving_end_aic, n_params=5), removed=("C_sc",), undetermined=())
-    first = NS(best=keep, suggestions=(keep, leave), candidates=(keep, leave), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
+    first = NS(best=keep, suggestions=(keep, leave), candidates=(keep, leave), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
     greedy = [step("start", 0.0, 3, first), step("K1", -200.0, 4, NS(solver_shape=None, verdict="adequate"), "R_s")]
     diagnosed = lambda fit, shape: NS(baseline=fit, best=None, verdict="adequate", solver_shape=None)  # noqa: E731
     notes = []
@@ -277,7 +277,7 @@ def test_an_effect_undetermined_alone_gets_a_path_of_its_own(ep_own_aic, path):
     arc = candidate("extra_relaxation", "ARC", -532.0, 6)
     ep = candidate("electrode_polarization", "EP", -552.0, 7, ("R_EP",))
     suggestions = (arc,) if ep_own_aic is None else (arc, candidate("electrode_polarization", "EP_RC", ep_own_aic, 5))
-    first = NS(best=arc, suggestions=suggestions, candidates=suggestions + (ep,), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=4))
+    first = NS(best=arc, suggestions=suggestions, candidates=suggestions + (ep,), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=4))
     greedy = [step("start", 0.0, 4, first), step("ARC", -532.0, 6, NS(solver_shape=None), "arc", "extra_relaxation"), step("ARC+RS+ARC2", -700.0, 10, NS(solver_shape=None, verdict="missing_effect"), "arc2", "extra_relaxation")]
 
     def diagnosed(fit, shape):  # EP → EP + R_s, then adequate
@@ -395,7 +395,7 @@ def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_param
         return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=())
 
     arc, rs, cpe = suggestion("extra_relaxation", "ARC", -1266.6, 6), suggestion("series_resistance", "RS", -522.0, 4), suggestion("constant_phase", "CPE", -400.0, 4)
-    first = NS(best=arc, suggestions=(arc, rs, cpe), candidates=(arc, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
+    first = NS(best=arc, suggestions=(arc, rs, cpe), candidates=(arc, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
     greedy = [step("start", -270.0, 3, first), step("ARC", -1266.6, 6, NS(solver_shape=None, verdict=greedy_verdict), "arc", "extra_relaxation")]
 
     def diagnosed(fit, shape):  # RS → RS + CPE, then adequate
@@ -434,7 +434,7 @@ def test_no_cheaper_path_repeats_the_single_effect_taken_in_place_of_a_pair():
         return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=())
 
     pair, rs, cpe = suggestion("extra_relaxation+series_inductance", "ARC+L", -900.0, 9), suggestion("series_resistance", "RS", -522.0, 4), suggestion("constant_phase", "CPE", -400.0, 4)
-    first = NS(best=pair, suggestions=(pair, rs, cpe), candidates=(pair, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3), verdict="missing_effect")
+    first = NS(best=pair, suggestions=(pair, rs, cpe), candidates=(pair, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3), verdict="missing_effect")
     picked = _best_within(first, 1)
     assert picked is rs
     greedy = [step("start", -270.0, 3, first), step("RS", -522.0, 4, NS(solver_shape=None, verdict="adequate"), "rs", "series_resistance")]
@@ -495,7 +495,7 @@ def test_at_a_tie_the_path_that_leaves_out_fewer_elements_is_kept(greedy_removed
 
     picked = suggestion("in series with the whole circuit (leads), and R2 left out", "L'", -401.2, 7, "series_inductance", greedy_removed)
     other = suggestion("in series with the whole circuit (leads)", "L", -401.0, 8, "series_inductance", other_removed)
-    first = NS(best=picked, suggestions=(picked, other), candidates=(picked, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=7))
+    first = NS(best=picked, suggestions=(picked, other), candidates=(picked, other), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=7))
     greedy = [
         RefinementStep(_fit_stand_in(model="start", aic=-497.9, n_params=7), None, None, first),
         RefinementStep(_fit_stand_in(model="L'", aic=-1062.9, n_params=7), "L_lead", "series_inductance", NS(solver_shape=None), greedy_removed),
@@ -534,7 +534,7 @@ def test_a_first_step_that_left_an_element_out_is_tried_with_it_kept(keeping_end
     keeping = candidate(leads, "L", -388.1, 8, "series_inductance", undetermined=("R1", "CPE2.alpha"))
     if keeping_end is None:  # the first choice left nothing out
         picked = candidate(leads, "L'", -390.1, 7, "series_inductance")
-    first = NS(best=picked, suggestions=(picked,), candidates=(picked, keeping), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=7))
+    first = NS(best=picked, suggestions=(picked,), candidates=(picked, keeping), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=7))
     greedy = [
         RefinementStep(_fit_stand_in(model="start", aic=-496.6, n_params=7), None, None, first),
         RefinementStep(_fit_stand_in(model="L'", aic=-886.7, n_params=7), "L_lead", "series_inductance", NS(solver_shape=None), picked.removed),
@@ -578,7 +578,7 @@ def test_a_resistance_that_fell_to_zero_on_a_path_buys_no_parsimony(vanished, en
 
     cpe = suggestion("in place of C_sc", "CPE_sc", -72.1, 5, "constant_phase")
     wd = suggestion("in series, and R_f left out (it fell to 0 Ω)", "W_d", -68.4, 4, "diffusion", ("R_f",), vanished)
-    first = NS(best=cpe, suggestions=(cpe, wd), candidates=(cpe, wd), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=4))
+    first = NS(best=cpe, suggestions=(cpe, wd), candidates=(cpe, wd), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=4))
     greedy = [
         RefinementStep(_fit_stand_in(model="start", aic=-686.0, n_params=4), None, None, first),
         RefinementStep(_fit_stand_in(model="CPE_sc", aic=-754.2, n_params=5), "CPE_sc", "constant_phase", NS(solver_shape=None, verdict="adequate")),
@@ -810,7 +810,7 @@ def _three_path_stand_ins(monkeypatch):
         return NS(where="in series", effect=effect, delta_aic=aic, added=model, fit=_fit_stand_in(model=model, aic=aic, n_params=k, converged=True), removed=(), undetermined=())
 
     arc, rs, cpe = suggestion("extra_relaxation", "ARC", -1266.6, 6), suggestion("series_resistance", "RS", -522.0, 4), suggestion("constant_phase", "CPE", -400.0, 4)
-    first = NS(best=arc, suggestions=(arc, rs, cpe), candidates=(arc, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
+    first = NS(best=arc, suggestions=(arc, rs, cpe), candidates=(arc, rs, cpe), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=3))
     start = RefinementStep(_fit_stand_in(model="start", aic=-270.0, n_params=3), None, None, first)
     greedy = [start, RefinementStep(arc.fit, "arc", "extra_relaxation", NS(solver_shape=None, verdict="adequate"))]
 
@@ -925,7 +925,7 @@ def test_an_effect_step_that_leaves_an_element_out_says_why():
     best = NS(added="R1 || C1", effect="constant_phase", removed=("R0",), where=where, fit=end_fit)
 
     def diagnosed(fit, shape):
-        return NS(baseline=fit, best=None, verdict="adequate", verdict_heading="ADEQUATE", reason="(a stand-in)", solver_shape=None, suggestions=())
+        return NS(baseline=fit, best=None, verdict="adequate", verdict_heading="ADEQUATE", reason="(a stand-in)", solver_shape=None, suggestions=(), drt_circuit=None)
 
     start = RefinementStep(start_fit, None, None, NS(solver_shape=None, verdict="missing_effect", verdict_heading="MISSING EFFECT", reason="(a stand-in)"))
     steps = _greedy([start], best, 4, diagnosed, lambda text: None, "")
@@ -1032,7 +1032,7 @@ def _second_path_of(greedy, next_suggestions: dict):
 def _first_diagnosis(chosen, other, n_params):
     from types import SimpleNamespace as NS
 
-    return NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=n_params))
+    return NS(best=chosen, suggestions=(chosen, other), candidates=(chosen, other), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=n_params))
 
 
 def test_a_path_ending_at_the_same_circuit_at_a_better_optimum_says_so():

@@ -88,7 +88,7 @@ def _stand_in_refine(monkeypatch):
     start = NS(circuit=ix.parse("C_gap"), model="C_gap", aic=-147.5, chi2=100.0, n_params=1, registry=ix.DEFAULT_REGISTRY, unidentified_groups=())
 
     def diagnosis(baseline, verdict, best=None, suggestions=()):
-        return NS(baseline=baseline, verdict=verdict, best=best, suggestions=suggestions, candidates=suggestions, solver_shape=None, masked_points=(), kk_of_kept=None, kk_as_tested=None, kk=None, same_fits=lambda s: ())
+        return NS(baseline=baseline, verdict=verdict, best=best, suggestions=suggestions, candidates=suggestions, solver_shape=None, masked_points=(), drt_circuit=None, kk_of_kept=None, kk_as_tested=None, kk=None, same_fits=lambda s: ())
 
     canned = {
         "C_gap": diagnosis(start, Verdict.MISSING_EFFECT, ep, (ep, cpe)),

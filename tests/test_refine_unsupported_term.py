@@ -17,6 +17,7 @@ import impedax as ix
 from impedax.cli import main
 from impedax.fitting.arcs import arc_taus
 from impedax.fitting.diagnosis.diagnosis import Verdict, undetermined_parameters
+from impedax.fitting.diagnosis import refinement
 from impedax.fitting.diagnosis.refinement import RefinementStep, _pruned, _reproduced
 from impedax.fitting.diagnosis.unsupported import unsupported_terms
 
@@ -122,7 +123,10 @@ def test_the_arc_exampledata_sees_on_one_flank_loses_its_resistor(example):
 
 
 @pytest.mark.slow
-def test_refine_on_exampledata_ends_without_the_extrapolated_resistor(capsys):
+def test_refine_on_exampledata_ends_without_the_extrapolated_resistor(capsys, monkeypatch):
+    # the greedy path's end, as refine kept it before it started a path from the DRT's circuit,
+    # which is kept in its place since 2026-12-06 (tests/test_refine_drt_path.py)
+    monkeypatch.setattr(refinement, "_drt_start", lambda *args: None)
     capsys.readouterr()
     assert main(["refine", str(EXAMPLE), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)

@@ -439,6 +439,9 @@ def _starts_compared(alt, picked, label: str = "second path") -> str:
     two additions told apart: the note read "starting from extra_relaxation (…) instead of
     extra_relaxation (…)" (Gamry's real file, walkthrough 2026-12-02), the same name twice for
     two placements."""
+    if alt.effect == DRT_EFFECT:
+        return (f"The {label} started from the circuit the data's DRT reads (impedax drt), {alt.fit.model}, in place of the starting circuit."
+                + (f" The first path started from {_first_step_text(picked)}, giving {picked.fit.model}." if picked is not None else ""))
     if alt.effect == picked.effect:
         return (f"The {label} started from {alt.effect} too, but added {_addition_text(alt)}, giving {alt.fit.model}. "
                 f"The first path added {_addition_text(picked)}, giving {picked.fit.model}.")
@@ -446,9 +449,53 @@ def _starts_compared(alt, picked, label: str = "second path") -> str:
             f"The first path started from {_first_step_text(picked)}, giving {picked.fit.model}.")
 
 
+DRT_EFFECT = "drt_circuit"
+"""The ``effect`` of a refine step that puts the circuit the data's DRT reads in place of the
+user's (`_DRTStart`)."""
+
+
 def effect_count(effect: str | None) -> int:
-    """How many effects a step adds: none for the start, two for a pair (its effect is "a+b")."""
-    return 0 if effect is None else effect.count("+") + 1
+    """How many effects a step adds: none for the start, two for a pair (its effect is "a+b"),
+    none for the DRT's circuit (`_DRTStart`: a start read off the data, not an effect of the
+    catalog; the path from it adds up to ``max_effects`` effects, as the first path does)."""
+    return 0 if effect is None or effect == DRT_EFFECT else effect.count("+") + 1
+
+
+@dataclass(frozen=True, eq=False)
+class _DRTStart:
+    """A further path's start at the circuit the data's DRT reads (`Diagnosis.drt_circuit` of the
+    first diagnosis), shaped as a `Suggestion` for `_greedy`: ``fit`` its fit on the diagnosis'
+    points, ``added`` its elements the user's circuit does not have, ``removed`` the user's
+    elements it does not have."""
+
+    __repr__ = concise_repr
+
+    fit: FitResult
+    added: str
+    removed: tuple[str, ...]
+    where: str
+    effect: str = DRT_EFFECT
+    vanished: tuple[str, ...] = ()
+
+
+def _drt_start(first: Diagnosis, steps: list[RefinementStep], limit: int) -> _DRTStart | None:
+    """The start of a path from the circuit the data's DRT reads, when the first diagnosis named
+    one (`Diagnosis.drt_circuit`: better than its best suggestion, or as good with fewer
+    parameters) and the greedy path ``steps`` still ends ``missing_effect`` (with effects allowed
+    at all: ``limit`` ≥ 1); else None. A suggestion is one change to the user's circuit, and the
+    greedy path can spend its effects standing in for what the DRT reads at once: on REAL
+    exampleData.csv from R0 + R1 ∥ C1 the greedy path stops at its limit of 4 effects at 0.805 %
+    (AIC −1342.5), still missing an effect, where the path from the DRT's R0 + L1 + R1 ∥ CPE1 + W1
+    goes further (a walkthrough, 2026-12-06)."""
+    last = steps[-1].diagnosis
+    if limit < 1 or last is None or last.verdict != Verdict.MISSING_EFFECT or first.drt_circuit is None:
+        return None
+    named = first.drt_circuit
+    own, theirs = first.baseline.circuit.element_names, named.fit.circuit.element_names
+    removed = tuple(n for n in own if n not in theirs)
+    # (each element left out with its reason in the words `RefinementStep.removal_reasons` reads)
+    where = f"the circuit the data's DRT reads (impedax drt) in place of {first.baseline.model}" + "".join(f", and {n} left out (not in the circuit the data's DRT reads)" for n in removed)
+    return _DRTStart(named.fit, ", ".join(n for n in theirs if n not in own), removed, where)
 
 
 def _best_within(diagnosis: Diagnosis, room: int):
@@ -528,7 +575,9 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     When the first choice left a baseline element out, a path starts from the same candidate
     with that element kept (`_kept_in_place`). When the greedy path ends ``adequate``, paths
     start from cheaper effects too (`_cheaper_starts`): an element of three parameters can
-    stand in for two of one each.
+    stand in for two of one each. When the greedy path ends ``missing_effect`` and the first
+    diagnosis named the circuit the data's DRT reads, a path starts from that circuit too
+    (`_drt_start`), compared last.
 
     An end with more parameters is kept only when it also explains a quarter of the noise
     variance more (`NOISE_FRACTION_MIN`), unless those parameters are elements of the starting
@@ -560,8 +609,10 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     ] if len(steps) >= 2 else []
     keeping = _kept_in_place(first, picked, alternatives + hidden + leaving) if len(steps) >= 2 else []
     cheaper = _cheaper_starts(steps, picked, alternatives + hidden + leaving + keeping)
+    drt = _drt_start(first, steps, limit)
     steps = finished(steps, "")
     starts = [alt for alt in alternatives + sorted(hidden, key=lambda c: c.delta_aic)[:1] + leaving[:1] + keeping + cheaper if effect_count(alt.effect) <= limit]  # (a pair over the limit would start no path)
+    starts += [drt] if drt is not None else []  # (compared last: a path keeping the user's elements wins a tie)
     # a start that is the first choice or an earlier start under other names would only repeat that path
     starts = _distinct_networks(starts, picked)
     # the paths are numbered as the notes report them (a path not reported passes its number on),
