@@ -486,7 +486,7 @@ def _drt_start(first: Diagnosis, steps: list[RefinementStep], limit: int) -> _DR
     greedy path can spend its effects standing in for what the DRT reads at once: on REAL
     exampleData.csv from R0 + R1 ∥ C1 the greedy path stops at its limit of 4 effects at 0.805 %
     (AIC −1342.5), still missing an effect, where the path from the DRT's R0 + L1 + R1 ∥ CPE1 + W1
-    goes further (a walkthrough, 2026-12-06)."""
+    ends adequate at 0.608 % (AIC −1412.8; a walkthrough, 2026-12-06)."""
     last = steps[-1].diagnosis
     if limit < 1 or last is None or last.verdict != Verdict.MISSING_EFFECT or first.drt_circuit is None:
         return None
