@@ -11,6 +11,7 @@ import shlex
 from pathlib import Path
 from types import SimpleNamespace
 
+import matplotlib.pyplot as plt
 import pytest
 
 import impedax as ix
@@ -88,6 +89,18 @@ def test_exampledata_reaches_the_noise_from_the_drt_circuit(capsys):
     assert main(argv + ["--json"]) == 0
     again = json.loads(capsys.readouterr().out)
     assert again["rms_rel"] == pytest.approx(out["final_rms_rel"], rel=1e-3)
+    # its 7 steps of close rms_rel: the step labels of the figure's error panel stay apart (before
+    # 2026-12-06 they ran leftwards into each other, "extra_relaxation − W1" across "diffusion")
+    fig = r.plot()
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        labels = [(t.get_text(), t.get_window_extent(renderer)) for t in fig.axes[0].texts]
+        assert len(labels) == len(steps)
+        for i, (a, box_a) in enumerate(labels):
+            assert all(not box_a.overlaps(box_b) for _, box_b in labels[i + 1:]), a
+    finally:
+        plt.close(fig)
 
 
 def test_nothing_missing_starts_no_drt_path(monkeypatch):
