@@ -132,12 +132,13 @@ def plot_refinement(refinement, *, title: str | None = None):
         label = s.effect or ("start" if not s.removed else "simplified")
         if s.removed:
             label += "\n" + (f"{', '.join(s.removed)} → {s.added}" if s.added and s.effect is None else "− " + ", ".join(s.removed))  # (as `RefinementStep.change`)
-        # each step's label stands upright above its point: no wider than a step, so labels of steps
-        # of close rms_rel do not write over each other, and none crosses the line, which lies to
-        # the sides (REAL exampleData.csv's 7 steps, 2026-12-06: level labels ran leftwards into
-        # each other, "extra_relaxation − W1" across "diffusion"); the start's reads across
+        # each step's label stands upright above its point and just right of it: no wider than a
+        # step, so labels of steps of close rms_rel do not write over each other, and clear of the
+        # line, which comes in from the upper left and leaves downwards (REAL exampleData.csv's 7
+        # steps, 2026-12-06: level labels ran leftwards into each other, "extra_relaxation − W1"
+        # across "diffusion"); the start's reads across
         upright = i > 0
-        ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(0, 8) if upright else (4, 6), ha="center" if upright else "left",
+        ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(4, 8) if upright else (4, 6), ha="left",
                     va="bottom" if upright else "baseline", rotation=90 if upright else 0, fontsize=font_size("text", 8))
     judged = noise_levels(refinement.steps)
     if judged:  # (a mark per step: the rms_rel at which that step's verdict calls the residuals 1× the noise)
