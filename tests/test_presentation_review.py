@@ -136,6 +136,26 @@ def test_refinement_figure_draws_each_point_on_the_side_of_its_noise_mark_its_ve
     plt.close(fig)
 
 
+def test_refinement_figure_writes_no_step_label_across_its_noise_mark():
+    """A step's upright label starts right of its point and must clear the short noise mark at
+    the same step, which reaches ms/2 points either side (the demo's "electrode_polarization" ran
+    up through its mark, 2026-12-06). Here step 1 lies at 0.141 % with its mark at 0.283 %, in
+    the label's way; the mark's box is computed from the point, the marker size and the dpi."""
+    fig = plot_refinement(refinement_stand_in())
+    error = fig.axes[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    (noise,) = [line for line in error.get_lines() if line.get_label() == NOISE_LEVEL_LABEL]
+    (label,) = [t for t in error.texts if t.get_text() == "extra_relaxation"]
+    x, y = error.transData.transform((noise.get_xdata()[0], noise.get_ydata()[0]))
+    half_width, half_height = (noise.get_markersize() / 2, noise.get_markeredgewidth() / 2)
+    half_width, half_height = (v * fig.dpi / 72 for v in (half_width, half_height))
+    box = label.get_window_extent(renderer)
+    assert box.y0 < y < box.y1  # (the label does reach the mark's height: the case is one that can fail)
+    assert box.x0 > x + half_width or box.x1 < x - half_width, (box, x, half_width)
+    plt.close(fig)
+
+
 def test_refinement_figure_shows_the_data_with_the_first_and_last_model():
     refinement = refinement_stand_in()
     fig = plot_refinement(refinement)

@@ -86,6 +86,10 @@ NOISE_LEVEL_LABEL = "noise level each step is judged against (1×)"
 """The legend of the refinement figure's noise marks (`noise_levels`)."""
 
 
+NOISE_MARK_POINTS = 18
+"""The width of a step's noise mark in the refinement figure [points]; each step's label starts right of it."""
+
+
 def noise_levels(steps) -> list[tuple[int, float]]:
     """(step, rms_rel [%]) at which each step's diagnosis calls the residuals 1× the noise: the
     step's plotted rms_rel divided by its noise ratio (√(mean |r|²/(2σ²)), docs/diagnosis.md,
@@ -136,14 +140,15 @@ def plot_refinement(refinement, *, title: str | None = None):
         # step, so labels of steps of close rms_rel do not write over each other, and clear of the
         # line, which comes in from the upper left and leaves downwards (REAL exampleData.csv's 7
         # steps, 2026-12-06: level labels ran leftwards into each other, "extra_relaxation − W1"
-        # across "diffusion"); the start's reads across
+        # across "diffusion"), and right of the step's noise mark, which reaches NOISE_MARK_POINTS/2
+        # either side (the demo's "electrode_polarization" ran up through it); the start's reads across
         upright = i > 0
-        ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(4, 8) if upright else (4, 6), ha="left",
+        ax.annotate(label, (i, rms[i]), textcoords="offset points", xytext=(NOISE_MARK_POINTS / 2 + 2, 8) if upright else (4, 6), ha="left",
                     va="bottom" if upright else "baseline", rotation=90 if upright else 0, fontsize=font_size("text", 8))
     judged = noise_levels(refinement.steps)
     if judged:  # (a mark per step: the rms_rel at which that step's verdict calls the residuals 1× the noise)
         at, levels = zip(*judged)
-        ax.plot(at, levels, ls="none", marker="_", ms=18, mew=1.6, color="grey", label=NOISE_LEVEL_LABEL)  # (marks alone: a line between them crossed the steps' line)
+        ax.plot(at, levels, ls="none", marker="_", ms=NOISE_MARK_POINTS, mew=1.6, color="grey", label=NOISE_LEVEL_LABEL)  # (marks alone: a line between them crossed the steps' line)
         ax.legend(fontsize=font_size("legend", 8), loc="best")
     ax.set_xlabel("refinement step")
     ax.set_ylabel("rms_rel [%]")
