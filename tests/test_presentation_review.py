@@ -87,6 +87,24 @@ def test_diagnosis_figure_legends_say_what_is_drawn():
     plt.close(fig)
 
 
+def test_diagnosis_figure_shades_a_band_the_kk_test_flags_apart_from_the_models():
+    """A band marked ``data_problem`` (the KK test flags the data behind its misfit) is shaded in
+    its own colour and legend entry on the |Z|, phase and residual panels; the model's band stays
+    "model fails" (REAL BioLogic's spike band at 56.2 Hz was shaded "model fails", 2026-12-06)."""
+    from matplotlib.colors import to_rgba
+
+    from impedax.plotting.diagnosis import DATA_PROBLEM_BANDS, DATA_PROBLEM_COLOR
+
+    d = diagnosis_stand_in()
+    d.failing_bands = [SimpleNamespace(f_min=0.05, f_max=5.0, data_problem=False), SimpleNamespace(f_min=50.0, f_max=80.0, data_problem=True)]
+    fig = plot_diagnosis(d)
+    for ax in fig.axes[1:4]:
+        spans = {(round(p.get_x(), 6), round(p.get_x() + p.get_width(), 6)): p.get_facecolor()[:3] for p in ax.patches}
+        assert spans[(0.05, 5.0)] == to_rgba("tab:red")[:3] and spans[(50.0, 80.0)] == to_rgba(DATA_PROBLEM_COLOR)[:3], spans
+    assert {"model fails", DATA_PROBLEM_BANDS} <= set(legend_texts(fig.axes[1]))
+    plt.close(fig)
+
+
 def refinement_stand_in() -> SimpleNamespace:
     data = rc(1.0) + rc(0.5, 1e-1, 0.0)
     d = diagnosis_stand_in()

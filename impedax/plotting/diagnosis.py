@@ -32,16 +32,33 @@ def band_shading(diagnosis) -> tuple[str, str]:
     return "model fails", "tab:red"
 
 
+DATA_PROBLEM_BANDS = "data problem (KK flags the data)"
+"""The legend of failing bands marked ``data_problem``: misfit where the KK test flags the data,
+shaded apart from the model's (`DATA_PROBLEM_COLOR`), as the report tags them."""
+DATA_PROBLEM_COLOR = "tab:orange"
+
+
+def model_and_data_bands(diagnosis) -> tuple[list, list]:
+    """``diagnosis``' failing bands as (f_min, f_max) pairs: (the model's, those marked
+    ``data_problem``), for shading each kind apart."""
+    bands = getattr(diagnosis, "failing_bands", ())
+    return ([(b.f_min, b.f_max) for b in bands if not getattr(b, "data_problem", False)],
+            [(b.f_min, b.f_max) for b in bands if getattr(b, "data_problem", False)])
+
+
 def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float, float] | None = None):
-    """Nyquist, Bode and residual panels of the baseline with the failing bands shaded and the
-    best suggestion overlaid (matplotlib Figure; ``figsize`` (width, height) [in], `spectrum_layout`)."""
+    """Nyquist, Bode and residual panels of the baseline with the failing bands shaded (those
+    where the KK test flags the data apart, `DATA_PROBLEM_BANDS`) and the best suggestion
+    overlaid (matplotlib Figure; ``figsize`` (width, height) [in], `spectrum_layout`)."""
     b = diagnosis.baseline
-    bands = [(band.f_min, band.f_max) for band in diagnosis.failing_bands]
+    bands, data_bands = model_and_data_bands(diagnosis)
     fig = plot_spectrum(
         (b.frequency, b.z_data), model_curve(b), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
         model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"), model_at_data=b.z_model,
         band_label=band_shading(diagnosis)[0], band_color=band_shading(diagnosis)[1], figsize=figsize,
     )
+    if data_bands:  # (the frequency axes: |Z|, phase and the residuals)
+        shade_bands(fig.axes[1:], data_bands, label=DATA_PROBLEM_BANDS, color=DATA_PROBLEM_COLOR)
     _mark_masked(fig.axes[0], diagnosis, fig.axes[1:3])
     best = diagnosis.best
     if best is not None:
@@ -168,10 +185,14 @@ def plot_refinement(refinement, *, title: str | None = None):
         if s.diagnosis is not None:
             # red where the step's diagnosis names a missing effect, grey where it is adequate (the verdict in the title)
             label, color = band_shading(s.diagnosis)
-            bands = [(band.f_min, band.f_max) for band in s.diagnosis.failing_bands]
+            bands, data_bands = model_and_data_bands(s.diagnosis)
             fresh = bool(bands) and label not in named
             shade_bands([a], bands, label=label if fresh else None, color=color)
             named.update([label] if fresh else [])
+            fresh_data = bool(data_bands) and DATA_PROBLEM_BANDS not in named
+            shade_bands([a], data_bands, label=DATA_PROBLEM_BANDS if fresh_data else None, color=DATA_PROBLEM_COLOR)
+            named.update([DATA_PROBLEM_BANDS] if fresh_data else [])
+            fresh = fresh or fresh_data
         else:
             fresh = False
         change = "start" if s.change == "(start)" else s.change

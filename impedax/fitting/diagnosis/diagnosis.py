@@ -516,7 +516,7 @@ class Diagnosis:
             # (adequate: structure no effect of the catalog explains significantly, not a failing model)
             lines.append("where the model fails:" if self.verdict != Verdict.ADEQUATE else "where the residuals are structured (below what an effect of the catalog explains significantly):")
             for band in self.failing_bands:
-                tag = " [data problem: KK flags this band]" if band.data_problem else ""
+                tag = " [data problem: the KK test flags the data behind this misfit]" if band.data_problem else ""
                 lines.append(f"  {format_frequency(band.f_min)} – {format_frequency(band.f_max)}: {band.pattern}{tag}")
         else:
             lines.append("no band of the residuals is structured beyond the noise on its own" + (" (the verdict below weighs all points together)." if self.verdict == Verdict.MISSING_EFFECT else "."))
