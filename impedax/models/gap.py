@@ -199,6 +199,18 @@ class GapAnalysis:
         return _piled_bounds(self.draws("u"), *gap_bounds(self.area, eps_gap))
 
     @property
+    def _u_piled_by_sampling(self) -> tuple[str, ...]:
+        """The sides ("lower", "upper") at whose prior edge the sampling itself found u's draws
+        piled up (`Posterior.piled_up`, the rule of its warning "u piles up against its upper
+        bound"; hierarchical: u's population median). Its rule (`prior_edges`) reads a flat
+        posterior over decades that `_piled_bounds` does not: REAL exampleDataBioLogic.mpt as a
+        single contact (2026-12-06) sampled u flat over 0.058 µm–460 mm, warned by the sampling
+        and yet reported as a gap thickness with ``gap_identified: true``."""
+        source = self.hierarchical if self.hierarchical is not None else self.posterior
+        side = getattr(source, "piled_up", {}).get("u") if source is not None else None
+        return ("lower", "upper") if side == "both" else (side,) if side else ()
+
+    @property
     def gap_implausible(self) -> str | None:
         """Why the sampled u is no air gap, else None: ≥ `_BOUND_SHARE` of its draws lie within
         `_BOUND_FACTOR` of a bound of its prior (`_piled_bounds`: the prior, not the data, sets u
@@ -207,7 +219,10 @@ class GapAnalysis:
         the upper bound, was reported as "gap thickness u" with ``gap_identified: true``)."""
         median = self.gap["value"]
         low, high = PLAUSIBLE_GAP_M
-        reasons = [f"piles up at the {side} bound of its prior (C_gap = {format_quantity(c_bound, 'F')}: the prior sets it, not the data)" for side, _, c_bound, _ in self._u_piled_bounds]
+        piled = {side: c_bound for side, _, c_bound, _ in self._u_piled_bounds}
+        for side in self._u_piled_by_sampling:  # (C_gap at u's lower bound is its upper end, `C_GAP_BOUNDS_F`)
+            piled.setdefault(side, C_GAP_BOUNDS_F[1] if side == "lower" else C_GAP_BOUNDS_F[0])
+        reasons = [f"piles up at the {side} bound of its prior (C_gap = {format_quantity(c_bound, 'F')}: the prior sets it, not the data)" for side, c_bound in piled.items()]
         if not low <= median <= high:
             reasons.append(f"lies outside the air gaps a contact can hold ({format_quantity(low, 'm')}–{format_quantity(high, 'm')})")
         return f"u = {format_quantity(median, 'm')} (posterior median) " + " and ".join(reasons) if reasons else None

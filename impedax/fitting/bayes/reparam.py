@@ -200,7 +200,10 @@ class _GapMap:
         return {self.element: EPSILON_0 * constants["eps_r"] * constants["area"] / new[self.name]}
 
     def inverse(self, circuit, constants):
-        return {self.name: EPSILON_0 * constants["eps_r"] * constants["area"] / circuit[self.element]}
+        # (C_gap = 0, a fit at its lower bound: u = ∞, which a start clips onto u's upper bound;
+        # REAL exampleData.csv's EDL fit ended there and `impedax gap` raised ZeroDivisionError)
+        with np.errstate(divide="ignore"):
+            return {self.name: EPSILON_0 * constants["eps_r"] * constants["area"] / np.asarray(circuit[self.element], float)}
 
 
 # --- Meyer's stratum corneum --------------------------------------------------------------
