@@ -49,3 +49,23 @@ def test_a_total_and_a_single_contacts_trial_mean_are_no_remainder(spectra):
     assert not is_remainder_file({"single_contact": 1, "n_trials_total": "4", "n_trials_skin": "4", "n_trials_touchscreen": "4"})
     mean = spectra["total_sliding"].mean("trial").assign_attrs(single_contact=1, n_trials_total="4")
     assert not is_remainder_file(mean.attrs) and np.isfinite(mean["Z"].values).all()
+
+
+def test_remaining_refuses_a_remainder_as_a_total_and_writes_nothing(tmp_path, capsys, spectra):
+    """`impedax remaining REMAINDER` read a remainder as a single contact's total, wrote it with
+    ``single_contact=1`` (its sigma and skin/screen counts dropped), and `gap` then accepted that
+    file: the flat force the refusal above exists to prevent (walkthrough 2026-12-06)."""
+    paths = {k: str(tmp_path / f"{k}.nc") for k in spectra}
+    for k, ds in spectra.items():
+        ix.save(ds, paths[k])
+    remainder = str(tmp_path / "remainder.nc")
+    assert main(["remaining", paths["total_sliding"], paths["skin"], paths["touchscreen"], "--out", remainder]) == 0
+    capsys.readouterr()
+    again = tmp_path / "again.nc"
+    assert main(["remaining", remainder, "--out", str(again)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"impedax remaining: error: {remainder}: this is a remainder Z_total − Z_skin − Z_TS (made from total ") and "Traceback" not in err
+    assert not again.exists()
+    # (a single contact's own total still goes through: nothing subtracted, its trial mean written)
+    assert main(["remaining", paths["total_sliding"], "--out", str(tmp_path / "pad.nc")]) == 0
+    assert ix.load(tmp_path / "pad.nc").attrs["single_contact"] in (1, "1", True)

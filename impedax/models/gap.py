@@ -1365,6 +1365,10 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset | None = None, touchscreen
     if kind not in REMAINDER_KINDS:
         raise ParameterError(f"unknown remainder kind {kind!r}; use one of {', '.join(REMAINDER_KINDS)}")
     is_single_contact(skin, touchscreen)
+    # (a remainder given as a single contact's total is refused here as by `gap_analysis`:
+    # `impedax remaining` of it wrote a "single contact" file that `gap` then read, its force
+    # 412 mN flat over frequency where the contact's peaks at 352 mN; walkthrough 2026-12-06)
+    check_not_a_remainder(total, skin, touchscreen)
     notes = position_notes(spectra_used(total, skin, touchscreen))
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)
     notes = condition_notes(total, skin, touchscreen) + notes
