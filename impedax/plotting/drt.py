@@ -22,7 +22,9 @@ def counted_peaks(peaks) -> list:
 def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None, legend_above=False) -> None:
     """γ(τ) [Ω] on log τ with the 90 % band, peaks marked (τ and R), the measured τ range
     outside shaded, and ``overlay`` (an `AnalyticDRT` or a `DRTResult`) on top; the legend
-    inside, or above the panel with ``legend_above`` (where no title is)."""
+    inside, or above the panel with ``legend_above`` (where no title is). The γ range is
+    `gamma_top`'s: the band outside the measured window may run off the top."""
+    before = ax.dataLim.frozen()  # (what was drawn on ``ax`` before keeps its range)
     ax.fill_between(result.tau, result.gamma_q05, result.gamma_q95, color="tab:blue", alpha=0.2, lw=0, label="90 % band")
     ax.semilogx(result.tau, result.gamma, color="tab:blue", lw=1.6, label=label)
     for p in result.peaks:
@@ -45,17 +47,22 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
             where = ", ".join(f"δ {format_quantity(r, 'Ω')} at τ = {format_time(tau, 2)}" for tau, r in outside[:3]) + (", …" if len(outside) > 3 else "")
             ax.plot([], [], color="tab:orange", lw=1.2, ls=":", label=f"outside the plotted τ range, not drawn: {where}")
     lo, hi = result.window
-    ax.axvspan(result.tau.min(), lo, color="0.9", lw=0)
-    ax.axvspan(hi, result.tau.max(), color="0.9", lw=0, label="outside measured range")
+    ceiling = gamma_top(result, overlay)
+    clipped = bool(np.nanmax(result.gamma_q95, initial=-np.inf) > ceiling)
+    # behind the band and translucent: the band beyond the window is seen, greyed, not hidden
+    shading = dict(color="0.5", alpha=0.2, lw=0, zorder=0.5)
+    ax.axvspan(result.tau.min(), lo, **shading)
+    ax.axvspan(hi, result.tau.max(), **shading, label="outside measured range" + (" (band cut at the top)" if clipped else ""))
     ax.set_xlim(result.tau.min(), result.tau.max())
     ax.set_xlabel("τ [s]")
     ax.set_ylabel("γ [Ω]")
     prefixed_axis(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
-    # room above the highest peak for its two-line label (the axis still autoscales to curves
-    # drawn later, as other spectra's γ)
-    drawn = [result.gamma_q95, result.gamma] + ([overlay.gamma] if overlay is not None else [])
-    ax.update_datalim([(float(result.tau[0]), GAMMA_HEADROOM * max(float(np.nanmax(g)) for g in drawn))], updatex=False)
+    # the γ range is what the reader can read (`gamma_top`), not all that is drawn: the band
+    # drawn over all τ no longer sets it (curves drawn before or after, as other spectra's γ,
+    # still do)
+    low = min(0.0, float(np.nanmin(result.gamma_q05[gamma_window(result.tau, result.window)], initial=0.0)))
+    ax.dataLim.intervaly = (min(before.y0, low), max(before.y1, ceiling))
     ax.autoscale_view()
     if legend_above:  # (inside, the legend covered the labels of the peaks it stood over)
         ax.legend(fontsize=font_size("legend", 7), ncol=2, loc="lower left", bbox_to_anchor=(0.0, 1.01), borderaxespad=0.0, frameon=False)
@@ -65,6 +72,30 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
 
 # the γ panel's range above its highest curve, as a multiple of it (the peak labels' room)
 GAMMA_HEADROOM = 1.3
+
+
+def gamma_window(tau, window) -> np.ndarray:
+    """Where ``tau`` lies in the measured τ ``window`` (all of it when none of it does)."""
+    inside = (tau >= window[0]) & (tau <= window[1])
+    return inside if inside.any() else np.ones_like(inside)
+
+
+def gamma_top(result, overlay=None) -> float:
+    """The top of the γ panel's range [Ω]: `GAMMA_HEADROOM` × the highest of the curves and the
+    band inside the measured τ window and of every peak marked (a peak outside the window keeps
+    its marker and label). Outside the window the data do not pin γ down, and the band there
+    grows as wide as the regularisation lets it: REAL exampleData.csv's reaches 172 mΩ at
+    τ ≈ 300 s beside curves and peaks of at most 51 mΩ, and scaling to it left the panel four
+    fifths empty. That band, and a curve rising there without a peak, may run off the top,
+    under the grey of the unmeasured range (whose legend then says the band is cut): its
+    height there reads no measurement, while the curves inside the window are what a reader reads."""
+    inside = gamma_window(result.tau, result.window)
+    seen = [result.gamma[inside], result.gamma_q95[inside]]
+    if overlay is not None:
+        seen.append(overlay.gamma[gamma_window(overlay.tau, result.window)])
+    marks = [p.gamma_max_ohm for p in (*result.peaks, *getattr(result, "dropped_peaks", ()))]
+    highest = max([float(np.nanmax(g, initial=-np.inf)) for g in seen] + [float(m) for m in marks])
+    return GAMMA_HEADROOM * highest if np.isfinite(highest) and highest > 0 else GAMMA_HEADROOM * max(float(np.nanmax(result.gamma_q95)), 1e-300)
 
 
 def plot_drt(result, *, overlay=None, title: str | None = None):
