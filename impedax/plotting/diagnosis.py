@@ -14,7 +14,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, font_size, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, equal_aspect, font_size, nyquist_frame, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, tail_frame, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement", "noise_levels", "NOISE_LEVEL_LABEL"]
 
@@ -60,10 +60,12 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
     if data_bands:  # (the frequency axes: |Z|, phase and the residuals)
         shade_bands(fig.axes[1:], data_bands, label=DATA_PROBLEM_BANDS, color=DATA_PROBLEM_COLOR)
     _mark_masked(fig.axes[0], diagnosis, fig.axes[1:3])
+    curves = [model_curve(b)[1]]
     best = diagnosis.best
     if best is not None:
         axes = fig.axes
         f, z = model_curve(best.fit)
+        curves.append(z)
         axes[0].plot(z.real, -z.imag, "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
         # (plot, not loglog/semilogx: those set the scale again, and with it matplotlib's
         # tick labels in place of plain_log_ticks')
@@ -75,8 +77,23 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
             axes[3].legend(fontsize=font_size("legend", 8), ncol=3)
         refresh_legend(axes[0])
         refresh_legend(axes[1])
+    _frame_nyquist(fig.axes[0], diagnosis, curves)
     legends_off_data(fig)
     return fig
+
+
+def _frame_nyquist(ax, diagnosis, curves) -> None:
+    """The Nyquist panel's range and box follow the data (the masked points among them) as the
+    comparison's do (`nyquist_frame`: the baseline's and the suggestion's curves may widen it by
+    `MODEL_OVERSHOOT` of the data's span, a poor baseline runs off beyond). Equal scales over
+    all drawn widened the range to the panel's box: REAL ZPlot's arc ends at 615 Ω, its panel
+    (4 in high at most, `TALLEST_PANEL`) ran to 900 Ω, a third of it empty. A spectrum with a
+    capacitive tail keeps its zoom (`tail_frame`)."""
+    b = diagnosis.baseline
+    masked = np.asarray(getattr(diagnosis, "masked_impedance", ()), complex)
+    data = np.concatenate([np.asarray(b.z_data, complex).ravel(), masked.ravel()])
+    if tail_frame(b.z_data, *curves) is None:
+        equal_aspect(ax, frame=nyquist_frame(data, *curves))
 
 
 MASKED_STYLE = dict(marker="x", ls="none", ms=6, mew=1.3, color="tab:red")
