@@ -634,6 +634,10 @@ def test_data_scale_and_default_prior_by_formula():
     assert (loose.a, loose.b) == (1e-13, 1.0)
     no_scale = default_prior(0.0, math.inf, 8.7e-5, stderr=606.0, at_bound=True)
     assert no_scale.a == pytest.approx(8.7e-8) and no_scale.b == pytest.approx(8.7e-5 + 6060.0)
+    # a fit at exactly 0 (C_gap of REAL exampleData.csv's EDL fit): the data's scale, not uniform:0,1000 (1000 F)
+    at_zero = default_prior(0.0, math.inf, 0.0, stderr=1e-9, at_bound=True, scale=(8.5e-7, 9.4e5))
+    assert (at_zero.kind, at_zero.a, at_zero.b) == ("loguniform", 8.5e-7, 9.4e5)
+    assert default_prior(0.0, math.inf, 0.0, at_bound=True).kind == "uniform"  # (no scale known: as before)
 
 
 def _profile_chi2(f, z, r0):

@@ -252,7 +252,8 @@ def default_prior(lower: float, upper: float, start: float, *, stderr: float | N
 
     Without ``own``: log-uniform within finite positive bounds,
     uniform within finite bounds, else ``start`` ×/÷ 10^`DEFAULT_SPAN_DECADES` (log-uniform for
-    non-negative parameters, uniform around ``start`` otherwise).
+    non-negative parameters, uniform around ``start`` otherwise); a non-negative ``start`` of 0
+    (a fit at that bound) with a ``scale``: log-uniform over the ``scale``.
 
     A non-negative parameter the least-squares fit leaves `undetermined` gets a range that does
     not exclude what the data allow: up to the larger of start·10³ and the top of the data's
@@ -280,6 +281,11 @@ def default_prior(lower: float, upper: float, start: float, *, stderr: float | N
         if lower > 0:
             lo = max(lo, lower * (1 + 1e-12))
         return Prior(PriorKind.LOGUNIFORM, lo, hi)
+    if lower >= 0 and start == 0 and scale is not None:
+        # a fit at the bound 0 says nothing of the scale: the data's own (`data_scale_range`), as
+        # for a fit at a positive bound; the uniform around 0 below put C_gap within 0–1000 F
+        # (REAL exampleData.csv's EDL fit ended at C_gap = 0, walkthrough 2026-12-06)
+        return Prior(PriorKind.LOGUNIFORM, max(scale[0], lower), scale[1])
     centre = start if math.isfinite(start) else 0.0
     half = span * max(abs(centre), 1.0)
     if stderr is not None and math.isfinite(stderr):
