@@ -143,6 +143,28 @@ def test_vezzoli_plot_shows_the_eq8_warning_and_the_changed_values(capsys, saved
     assert "Fig 8 conditions (h_s = 350 µm)" in fig8
 
 
+@pytest.mark.parametrize("args", [["meyer", "--variant", "cpe"], ["meyer", "--param", "R_sc=1e5", "--param", "C_i=2e-9", "--param", "v_a=200", "--convention", "peak"], ["vezzoli", "--param", "h_i=1e-6"]])
+def test_the_plot_title_and_warnings_lie_inside_the_figure(capsys, monkeypatch, tmp_path, args):
+    """(walkthrough: ``meyer --variant cpe``'s second title line ran off the right edge, ending
+    "...(C_sc of eq 3.13 at 1 kH"): wrapped to the figure's width. Oracle: the texts' boxes on
+    an Agg canvas (matplotlib's `get_window_extent`) against the figure's."""
+    import matplotlib.pyplot as plt
+
+    import impedax.plotting
+
+    figures = []
+    monkeypatch.setattr(impedax.plotting, "save_figure", lambda fig, path: figures.append(fig))
+    assert main(["force", *args, "--points", "5", "--plot", str(tmp_path / "f.png"), "--out", str(tmp_path / "f.csv")]) == 0
+    capsys.readouterr()
+    (fig,) = figures
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for text in [fig.axes[0].title, *fig.texts]:
+        box = text.get_window_extent(renderer)
+        assert fig.bbox.x0 <= box.x0 and box.x1 <= fig.bbox.x1 and fig.bbox.y0 <= box.y0 and box.y1 <= fig.bbox.y1, text.get_text()
+    plt.close(fig)
+
+
 # --- 3. the overflow message names the frequencies when they are the cause -------------------------
 
 

@@ -181,6 +181,8 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
 
     import matplotlib.pyplot as plt
 
+    from . import characters_across
+
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.semilogx(freq, np.asarray(force) * 1e3, marker="o" if np.size(freq) < 3 else None)
     if peak is not None:
@@ -189,13 +191,18 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
         ax.legend(fontsize=font_size("legend", 8))
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel(("peak" if convention == "peak" else "time-averaged") + " force [mN]")
-    ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
+    # title and notes wrapped to the figure's width, 6.5 in with notes (at 95 characters Meyer's
+    # CPE subtitle ran off the right edge, "...(C_sc of eq 3.13 at 1 kH")
+    width = 6.5 if notes else 6.0
+    wrapped = lambda text, size: textwrap.wrap(text, characters_across(width - 0.4, size), break_on_hyphens=False)  # noqa: E731
     if not subtitle and not notes:
+        ax.set_title("\n".join(wrapped(title, font_size("title", 12))))
         fig.tight_layout()
         return fig
-    ax.set_title("\n".join(textwrap.wrap(title, 80) + textwrap.wrap(subtitle, 95)), fontsize=font_size("title", 8.5))
-    lines = [line for note in notes for line in textwrap.wrap(f"warning: {note}", 110)]
+    size = font_size("title", 8.5)
+    ax.set_title("\n".join(wrapped(title, size) + wrapped(subtitle, size)), fontsize=size)
+    lines = [line for note in notes for line in wrapped(f"warning: {note}", font_size("text", 6.5))]
     if lines:
         fig.set_size_inches(6.5, 4.4 + 0.16 * len(lines))
         fig.text(0.01, 0.01, "\n".join(lines), fontsize=font_size("text", 6.5), color="C3", ha="left", va="bottom")
