@@ -163,9 +163,12 @@ def plot_force_bands(gap):
     `GapAnalysis` (the demo's last figure)."""
     import matplotlib.pyplot as plt
 
+    from . import plain_log_ticks
+
     fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
     unit = _force_bands(ax, gap.force, ep_label="with electrode polarization (refined model)", scale="loglog", alpha=0.25, suffix="median and 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"electrostatic force [{unit}] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
+    plain_log_ticks(ax.yaxis)  # (60, 200, 400 as the other log axes read, where matplotlib wrote 6×10¹, 2×10², 4×10²)
     ax.grid(alpha=0.3, which="both")
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 8))
     return fig
