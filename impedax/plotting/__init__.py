@@ -566,7 +566,7 @@ def drawn_points(ax) -> np.ndarray:
 def legends_off_data(fig) -> None:
     """Move each legend of ``fig`` that covers drawn data (`drawn_points`, after the figure's
     layout) out of its axes, across their width (same entries, columns, font size and title):
-    above the frame, or, when the axes has a title, below its tick labels and axis label; the
+    above the frame, or, when the axes has a title (centred or at a side), below its tick labels and axis label; the
     figure's constrained layout then makes room for it. Matplotlib's "best" spot is the least
     covering of nine, not one that covers nothing: the legend of the CHI refine's tall Nyquist
     panel sat on its high-|Z| data and fitted curve, and the diagnosis' |Z| legend on the
@@ -591,7 +591,7 @@ def legends_off_data(fig) -> None:
                 title=title or None, title_fontsize=legend.get_title().get_fontsize() if title else None, borderaxespad=0.0,
             )
             frame = ax.get_window_extent()
-            if ax.get_title():  # (below: the title holds the space above)
+            if any(ax.get_title(loc=loc) for loc in ("left", "center", "right")):  # (below: the title holds the space above; the joint bands' "trial=1" stands on the left)
                 drop = (frame.y0 - ax.get_tightbbox(for_layout_only=True).y0) * 72.0 / fig.dpi + 3.0  # [pt]: the tick labels and the axis label
                 options.update(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=offset_copy(ax.transAxes, fig=fig, y=-drop, units="points"))
             else:

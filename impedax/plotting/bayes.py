@@ -15,7 +15,7 @@ import numpy as np
 from ..arguments import count, figure_size, real, shown, unknown_parameter
 from ..data import si_prefix, unit_text
 from ..errors import ParameterError
-from . import characters_across, font_size, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
+from . import characters_across, font_size, legends_off_data, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_joint_posterior_bands", "plot_corner"]
 
@@ -44,7 +44,8 @@ def plot_joint_posterior_bands(frequency, z_data, labels: Sequence[str], model_f
     """`plot_posterior_bands` for several spectra of one joint posterior: one row per spectrum
     (``labels``, e.g. "trial=3"), Nyquist, |Z| and phase side by side, the frequency axes shared
     down each column. ``z_data`` (spectrum, frequency); ``z_draws`` and ``z_predictive``
-    (spectrum, draws, ``model_frequency``)."""
+    (spectrum, draws, ``model_frequency``). A legend that covers data goes out of its panel
+    (`legends_off_data`)."""
     n_lines, figsize = count(0)(n_lines, "n_lines"), figure_size(figsize, "figsize")
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
     zp = None if z_predictive is None else np.asarray(z_predictive, complex)
@@ -62,6 +63,7 @@ def plot_joint_posterior_bands(frequency, z_data, labels: Sequence[str], model_f
     axes[0, 0].legend(fontsize=font_size("legend", 8))
     axes[0, 1].legend(fontsize=font_size("legend", 8))
     fig.suptitle(title)
+    legends_off_data(fig)  # (a |Z| panel 2.5 in tall has no free corner for five entries: the demo's trials lay under them from 1 Hz to 2 kHz)
     return fig
 
 
