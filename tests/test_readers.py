@@ -675,6 +675,26 @@ def test_oversized_file_is_refused_before_reading(tmp_path, monkeypatch):
         ix.load(path)
 
 
+def test_a_netcdf_file_gets_four_times_the_limit_a_text_file_gets(tmp_path, monkeypatch):
+    """A netCDF file is read into about its own size (no text to parse): its limit is
+    `NETCDF_LIMIT_FACTOR` (4) × the text limit, so impedax reads back the larger files it writes
+    (a joint posterior of 960,000 draws, 88 MB, was refused at 64 MB). Sizes from `os.stat`."""
+    f = np.geomspace(1.0, 1e5, 400)
+    path = tmp_path / "spectrum.nc"
+    ix.save(ix.make_spectrum(f, 10 + 100 / (1 + 1j * f / 100)), path)
+    size = path.stat().st_size
+    monkeypatch.setattr("impedax.io._common.MAX_FILE_BYTES", size // 2)  # (over the text limit, within 4× it)
+    np.testing.assert_allclose(ix.load(path)["frequency"].values, f)
+    monkeypatch.setattr("impedax.io._common.MAX_FILE_BYTES", size // 5)  # (4× the limit is below the size)
+    with pytest.raises(ix.DataError, match="impedax reads netCDF files up to"):
+        ix.load(path)
+    text = tmp_path / "spectrum.csv"
+    text.write_bytes(b"frequency_hz,z_real_ohm,z_imag_ohm\n" + b"1,1,-1\n" * (size // 8))  # (a CSV of the netCDF's size: over the text limit)
+    monkeypatch.setattr("impedax.io._common.MAX_FILE_BYTES", size // 2)
+    with pytest.raises(ix.DataError, match="impedax reads spectrum files up to"):
+        ix.load(text)
+
+
 def test_labone_hdf5_several_sweeps(tmp_path):
     z = oracle(LABONE_F)
     ds = ix.load(_labone_h5(tmp_path / "sweeps.h5", [z, 2 * z]))

@@ -36,6 +36,10 @@ __all__ = [
 #: impedax's own CSV takes up to ~20 times the file's size in memory while it is read
 #: (benchmarks/README.md, "Scale"), so 64 MB stays near 1 GB.
 MAX_FILE_BYTES = 64 * 2**20
+#: A netCDF file's limit is this many times `max_file_bytes` (256 MB by default): it is read
+#: into ~1–3× its size in memory (no text to parse), and impedax writes larger ones itself (a
+#: joint posterior of 960,000 draws is 88 MB, which `ix.load` refused to read back, 2026-12-06).
+NETCDF_LIMIT_FACTOR = 4
 #: Environment variable that raises (or lowers) `MAX_FILE_BYTES`: bytes, or with k/M/G: ``512M``.
 MAX_FILE_BYTES_ENV = "IMPEDAX_MAX_FILE_BYTES"
 _SIZE_UNITS = {"": 1, "k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}
@@ -93,11 +97,24 @@ def check_file(path: Path) -> int:
     if not stat.S_ISREG(info.st_mode):
         raise DataError("not a regular file (a device, pipe or socket); save the spectrum to a file first", path=path)
     limit = max_file_bytes()
+    netcdf = info.st_size > limit and _netcdf_signed(path)
+    limit *= NETCDF_LIMIT_FACTOR if netcdf else 1
     if info.st_size > limit:
-        raise DataError(f"file is {_size_text(info.st_size)}; impedax reads spectrum files up to {_size_text(limit)} (set {MAX_FILE_BYTES_ENV}=SIZE to raise it)", path=path)
+        what = "netCDF files" if netcdf else "spectrum files"
+        raise DataError(f"file is {_size_text(info.st_size)}; impedax reads {what} up to {_size_text(limit)} (set {MAX_FILE_BYTES_ENV}=SIZE to raise it)", path=path)
     if not os.access(path, os.R_OK):
         raise DataError("cannot read file: permission denied", path=path)
     return info.st_size
+
+
+def _netcdf_signed(path: Path) -> bool:
+    """Whether ``path`` starts with a netCDF signature (classic "CDF", or HDF5's for netCDF-4)."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(8)
+    except OSError:
+        return False
+    return head.startswith(b"CDF") or head.startswith(b"\x89HDF")
 
 
 def read_bytes(path: Path) -> bytes:
