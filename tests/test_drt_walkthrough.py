@@ -181,3 +181,27 @@ def test_an_overlay_delta_off_the_tau_axis_is_named_in_the_legend_not_drawn(cycl
         assert len(drawn) == 1 and drawn[0][0][0] == pytest.approx(0.07)
     finally:
         plt.close(fig)
+
+
+def test_a_batch_json_gives_the_starting_circuit_the_text_ends_with(tmp_path, battery, capsys):
+    """The batch JSON had each spectrum's suggestion but not the one the text's last line gives
+    (the circuit most spectra suggest, from the first of them), nor top-level ``warnings`` as
+    ``impedax kk --json`` has (2026-12-06). Cycle 3 suggests a third arc, cycles 64, 89 and 100 do
+    not: 3 of 4, started from cycle 64. Oracle: the printed line, read back."""
+    source = tmp_path / "four.nc"
+    ix.save(battery.sel(cycle=[3, 64, 89, 100]), source)
+    assert main(["drt", str(source)]) == 0
+    last = capsys.readouterr().out.removesuffix("\n").rsplit("\n", 1)[1]
+    head, command = last.split(" — fit it with: ")
+    assert head.startswith("starting circuit from the DRT (the one 3 of 4 spectra suggest, starts from the first of them): ")
+    model = head.split("): ", 1)[1]
+    starts = dict(item.split("=") for item in command.split(" --init ")[1].split())
+    assert f"--model '{model}'" in command
+    assert main(["drt", str(source), "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["suggested_model"] == model and printed["n_suggesting"] == 3 and printed["suggested_from"] == {"cycle": 64}
+    assert {name: f"{value:.4g}" for name, value in printed["suggested_init"].items()} == starts
+    assert printed["suggestion_reasons"] == printed["spectra"][1]["suggestion_reasons"]
+    assert printed["spectra"][0]["suggested_model"] != model
+    # the spectra's warnings, each once (cycle 89's: γ does not reproduce it)
+    assert printed["warnings"] and printed["warnings"] == sorted({w for s in printed["spectra"] for w in s["warnings"]})

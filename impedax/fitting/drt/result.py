@@ -631,8 +631,20 @@ class DRTBatchResult(ResultGrid):
     def summary(self) -> dict:
         """The JSON of ``impedax drt --json`` for several spectra: ``dims`` (their names),
         ``sizes`` ({dimension: length}, the shape `impedax fit --json` gives its ``dims``),
-        ``n_spectra`` and ``spectra``, each spectrum's ``labels`` then its `DRTResult.summary` keys."""
-        return {"dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results), "spectra": [{"labels": where, **one.summary()} for where, one in zip(self.labels(), self.results)]}
+        ``n_spectra`` and ``spectra``, each spectrum's ``labels`` then its `DRTResult.summary` keys;
+        then (added 2026-12-06) the starting circuit ``impedax drt``'s last line gives: the one most
+        spectra suggest (`suggest.most_common_suggestion`), as ``suggested_model``,
+        ``suggested_init`` and ``suggestion_reasons`` of the first spectrum that suggests it, whose
+        ``labels`` are ``suggested_from``, and ``n_suggesting``, how many suggest it; and
+        ``warnings``, the spectra's warnings, each once (as ``impedax kk --json``'s)."""
+        from .suggest import most_common_suggestion_at
+
+        labels = self.labels()
+        spectra = [{"labels": where, **one.summary()} for where, one in zip(labels, self.results)]
+        index, suggestion, count = most_common_suggestion_at(self.results)
+        return {"dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results), "spectra": spectra,
+                **_suggestion_keys(suggestion), "suggested_from": labels[index], "n_suggesting": count,
+                "warnings": sorted({w for row in spectra for w in row["warnings"]})}
 
     def to_table(self) -> list[dict]:
         """`DRTResult.to_table` of every spectrum after a column per dimension (its label)."""

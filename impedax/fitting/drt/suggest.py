@@ -25,7 +25,7 @@ from ...data import format_quantity, format_time, format_uncertain
 from .peaks import RESOLVED_SIGMAS, counted_peaks
 from .shape import low_frequency_tail
 
-__all__ = ["SuggestedCircuit", "suggest_circuit", "most_common_suggestion", "START_ALPHA", "R0_FLOOR_SHARE", "INDUCTIVE_SHARE", "INDUCTIVE_NOISE_MULTIPLE", "INDUCTIVE_SHARE_MIN"]
+__all__ = ["SuggestedCircuit", "suggest_circuit", "most_common_suggestion", "most_common_suggestion_at", "START_ALPHA", "R0_FLOOR_SHARE", "INDUCTIVE_SHARE", "INDUCTIVE_NOISE_MULTIPLE", "INDUCTIVE_SHARE_MIN"]
 
 START_ALPHA = 0.9
 """The CPE exponent each arc starts at (the registry's default for CPE.alpha)."""
@@ -183,6 +183,15 @@ def most_common_suggestion(results) -> tuple[SuggestedCircuit, int]:
     them, with its starts —, how many share it); ties go to the model met first. Spectra with a
     ``sign_hint`` (a sign stored flipped) or an over-smoothing fixed λ (`DRTResult.over_smoothed`)
     take part only when every spectrum has one."""
-    suggestions = [r.suggested_circuit() for r in ([r for r in results if not (r.sign_hint or r.over_smoothed)] or results)]
-    model, count = Counter(s.model for s in suggestions).most_common(1)[0]
-    return next(s for s in suggestions if s.model == model), count
+    _, suggestion, count = most_common_suggestion_at(results)
+    return suggestion, count
+
+
+def most_common_suggestion_at(results) -> tuple[int, SuggestedCircuit, int]:
+    """`most_common_suggestion` with, first, the index in ``results`` of the spectrum whose starts
+    it gives (the batch JSON's ``suggested_from``, added 2026-12-06)."""
+    taking = [i for i, r in enumerate(results) if not (r.sign_hint or r.over_smoothed)] or list(range(len(results)))
+    suggestions = [(i, results[i].suggested_circuit()) for i in taking]
+    model, count = Counter(s.model for _, s in suggestions).most_common(1)[0]
+    index, suggestion = next((i, s) for i, s in suggestions if s.model == model)
+    return index, suggestion, count
