@@ -969,3 +969,39 @@ def test_a_series_resistance_within_its_error_of_zero_but_not_near_it_is_not_sai
     within = [w for w in wheres if "not told from 0" in w]
     assert within and all("fell to" not in w for w in within), wheres
     assert any("it fell to" in w and "µΩ" in w for w in wheres), wheres
+
+
+def test_the_noise_line_says_how_its_local_sigma_differs_from_the_kk_tests_one_estimate():
+    """The report's noise line beside impedax kk's "noise estimate": the local estimate says it is
+    the scatter around each point, at least 0.7× the KK test's one estimate, and the points at the
+    0.1 % minimum are counted (a walkthrough read REAL ZPlot's "σ ≈ 0.1 %" beside kk's 0.0705 % as
+    a contradiction, 2026-12-06). Stand-in σ: 3 of 5 points at 0.001 by construction."""
+    from impedax.fitting.diagnosis.diagnosis import noise_line
+
+    sigma = np.array([0.001, 0.001, 0.0012, 0.001, 0.0024])
+    line = noise_line(sigma, "Kramers–Kronig residuals, local (per frequency)", 8.706, 0.000705)
+    assert line == ("noise: σ ≈ 0.1 % per component (median; 0.1–0.24 % over the band; Kramers–Kronig residuals, local (per frequency: the scatter of 9 frequencies "
+                    "around each, at least 0.7× the KK test's single estimate, 0.0705 %); at its 0.1 % minimum at 3 of 5 points); the residuals are 8.71× the noise.")
+    # with the discrepancy floor the source names, and masked points: the estimate of the points kept
+    line = noise_line(np.array([0.004, 0.005, 0.006]), "Kramers–Kronig residuals, local (per frequency) + model-discrepancy floor 0.3 %", 1.2, 0.002, masked=True)
+    assert "(per frequency: the scatter of 9 frequencies around each, at least 0.7× the KK test's single estimate without the masked points, 0.2 %) + model-discrepancy floor 0.3 %);" in line
+    assert "minimum" not in line
+    # a noise given or a sigma column is no KK estimate: only the minimum is said
+    assert noise_line(np.full(4, 0.001), "given", 0.5, 0.000705) == "noise: σ ≈ 0.1 % per component (median; uniform; given; at its 0.1 % minimum at 4 of 4 points); the residuals are 0.5× the noise."
+
+
+@pytest.mark.slow  # (~8 s: a diagnosis of a real file)
+def test_the_noise_line_on_real_zplot_names_the_kk_estimate_and_the_minimum():
+    """REAL impedance.py ZPlot file: impedax kk prints "noise estimate = 0.0705 %", diagnose σ ≈
+    0.1 %, the 0.1 % minimum at most points. Oracles: the KK test run on its own (`ix.kk_test`) and
+    the σ per point counted at the floor here."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z")
+    kk = ix.kk_test(data)
+    d = ix.diagnose(data, "R0 + R1 || C1")
+    line = next(x for x in d.report().splitlines() if x.startswith("noise:"))
+    at_floor = int(np.sum(np.isclose(d.noise, 0.001, rtol=1e-9, atol=0)))
+    assert at_floor > 0
+    assert f"at least 0.7× the KK test's single estimate, {kk.noise_estimate * 100:.3g} %)" in line and f"{kk.noise_estimate * 100:.3g}" == "0.0705"
+    assert f"; at its 0.1 % minimum at {at_floor} of {d.noise.size} points)" in line

@@ -80,7 +80,7 @@ from ...data import format_band
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
 from .effects import DEFAULT_EFFECTS, FINITE_WARBURGS, IN_PLACE_OF_WARBURG, added_resistors, cited_where, element_parents
-from .noise import NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model, sigma_origin
+from .noise import GLOBAL_SHARE, LOCAL_SOURCE, LOCAL_WINDOW, NOISE_FLOOR, OUTLIER_MAX_FRACTION, NoiseModel, kk_indices, kk_judged_locally, kk_outliers, noise_model, sigma_origin
 from .vanishing import idle_elements, share_words, vanished_parameters, vanished_terms
 
 __all__ = [
@@ -509,7 +509,8 @@ class Diagnosis:
                 kk_text = f"{b.n_points} frequencies are too few for the Kramers–Kronig test, and for the noise it estimates"
             kept = f"; without the {len(self.masked_points)} masked point(s) they are (KK rms_rel {self.kk_of_kept.rms_rel * 100:.3g} %)" if self.kk_of_kept is not None else ""
             lines.append(f"data: {kk_text} (KK rms_rel {self.kk.rms_rel * 100:.3g} %){kept}" + (f"; {self.kk_flagged_kept}." if self.kk_flagged_kept else "."))
-        lines.append(f"noise: σ ≈ {self.noise_level * 100:.3g} % per component (median; {format_range(self.noise)}; {self.noise_source}); the residuals are {self.noise_ratio:.3g}× the noise.")
+        tested = self.kk_of_kept if self.kk_of_kept is not None else self.kk
+        lines.append(noise_line(self.noise, self.noise_source, self.noise_ratio, tested.noise_estimate if tested is not None else None, masked=self.kk_of_kept is not None))
         if self.masked_points:
             lines.append(f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}; the notes say why).")
         if self.failing_bands:
@@ -664,6 +665,25 @@ def _folded(suggestions: Sequence[Suggestion], noise: np.ndarray) -> list[tuple[
         else:
             home.append(s)
     return out
+
+
+def noise_line(sigma: np.ndarray, source: str, ratio: float, kk_estimate: float | None, *, masked: bool = False) -> str:
+    """The report's noise line: σ's median and range over the points (``sigma``, relative per
+    component), its ``source`` and the residuals' ``ratio`` to it. A local KK estimate says how
+    it differs from the KK test's one estimate for the band (``kk_estimate``, which impedax kk
+    prints: of the points kept when ``masked``): the scatter of `LOCAL_WINDOW` frequencies around
+    each point, at least `GLOBAL_SHARE` × it; and the points at the `NOISE_FLOOR` minimum are
+    counted (a walkthrough read REAL ZPlot's "σ ≈ 0.1 %" beside impedax kk's "noise estimate =
+    0.0705 %" as a contradiction, 2026-12-06)."""
+    words = source
+    if source.startswith(LOCAL_SOURCE) and kk_estimate is not None and math.isfinite(kk_estimate):
+        kept = " without the masked points" if masked else ""
+        words = source.replace("(per frequency)", f"(per frequency: the scatter of {LOCAL_WINDOW} frequencies around each, at least {GLOBAL_SHARE:g}× "
+                                                  f"the KK test's single estimate{kept}, {kk_estimate * 100:.3g} %)", 1)
+    at_floor = int(np.sum(np.asarray(sigma) <= NOISE_FLOOR * (1 + 1e-9)))
+    if at_floor:
+        words += f"; at its {NOISE_FLOOR * 100:.2g} % minimum at {at_floor} of {np.size(sigma)} points"
+    return f"noise: σ ≈ {float(np.median(sigma)) * 100:.3g} % per component (median; {format_range(sigma)}; {words}); the residuals are {ratio:.3g}× the noise."
 
 
 def format_range(sigma: np.ndarray) -> str:

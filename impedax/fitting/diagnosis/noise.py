@@ -27,7 +27,7 @@ import numpy as np
 
 from ..kk import KKResult, kk_test, rejudged
 
-__all__ = ["NoiseModel", "noise_model", "sigma_origin", "kk_indices", "kk_outliers", "kk_judged_locally", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "OUTLIER_MIN_RATIO", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE"]
+__all__ = ["NoiseModel", "noise_model", "sigma_origin", "kk_indices", "kk_outliers", "kk_judged_locally", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "OUTLIER_MIN_RATIO", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE", "LOCAL_SOURCE"]
 
 NOISE_FLOOR = 1e-3
 """Relative noise floor (0.1 %): below this, misfits are instrument accuracy, not physics."""
@@ -49,6 +49,9 @@ while a drift along the sweep that a few left-out points hide stands at 2–3× 
 GLOBAL_SHARE = 0.7
 """The local estimate is not taken below this fraction of the KK test's global estimate (a
 median of a few differences scatters; a quiet stretch must not read as noise-free)."""
+
+LOCAL_SOURCE = "Kramers–Kronig residuals, local (per frequency)"
+"""`NoiseModel.source` when σ_meas is the local estimate (`local_noise`)."""
 
 
 class NoiseModel(NamedTuple):
@@ -155,7 +158,7 @@ def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | Non
     elif usable:
         order = np.argsort(kk.frequency)
         meas = np.interp(np.log(frequency), np.log(np.asarray(kk.frequency, float)[order]), local[order])
-        source = "Kramers–Kronig residuals, local (per frequency)"
+        source = LOCAL_SOURCE
     else:
         meas, source = np.full(n, fallback_rms / math.sqrt(2)), "the fit's own residuals (no KK test, no sigma)"
     floor_kk = kk if floor_kk is None else floor_kk
