@@ -1005,3 +1005,22 @@ def test_the_noise_line_on_real_zplot_names_the_kk_estimate_and_the_minimum():
     assert at_floor > 0
     assert f"at least 0.7× the KK test's single estimate, {kk.noise_estimate * 100:.3g} %)" in line and f"{kk.noise_estimate * 100:.3g}" == "0.0705"
     assert f"; at its 0.1 % minimum at {at_floor} of {d.noise.size} points)" in line
+
+
+def test_the_noise_ratio_is_the_per_point_rms_of_residual_over_noise_as_the_docs_define_it():
+    """docs/diagnosis.md defined the noise ratio twice: mean(|Δ_k|²/2σ_k²) = ratio² (what
+    `_noise_ratio` computes) and rms_rel/√(mean 2σ_k²), which differs wherever σ_k varies (REAL
+    ZPlot: 8.71 printed, 7.19 by the second; 2026-12-06). Oracle: both computed here with numpy
+    from the baseline's Z and σ_k; the docs keep only the first."""
+    from pathlib import Path
+
+    circuit, f, z, _ = uneven_spectrum("r_cpe", 3)
+    d = ix.diagnose(ix.make_spectrum(f, z), circuit)
+    b = d.baseline
+    delta = np.abs((b.z_model - b.z_data) / np.abs(b.z_data))
+    per_point = np.sqrt(np.mean(delta**2 / (2 * d.noise**2)))
+    pooled = np.sqrt(np.mean(delta**2)) / np.sqrt(np.mean(2 * d.noise**2))
+    assert d.noise.max() > 3 * d.noise.min() and abs(per_point / pooled - 1) > 0.01  # (σ varies ×10: the two differ, here by 1.5 %)
+    assert d.noise_ratio == pytest.approx(per_point, rel=1e-9)
+    text = (Path(__file__).resolve().parents[1] / "docs" / "diagnosis.md").read_text(encoding="utf-8")
+    assert "rms_rel/√(mean 2σ_k²)" not in text and "The *noise ratio* √(mean(|Δ_k|²/2σ_k²))" in text
