@@ -442,3 +442,21 @@ def test_a_kk_result_has_warnings_as_a_fit_has_and_a_batch_a_one_line_repr():
     assert sparse.warnings and sparse.warnings[0].startswith("inconclusive")
     batch = ix.kk_test_batch(ix.make_spectrum(f, np.stack([z, np.conj(z)]), dims=("cell",), coords={"cell": ["a", "b"]}))
     assert repr(batch) == "KKBatchResult(2 spectra over cell: 1 KK-consistent, 1 not)"
+
+
+@pytest.mark.skipif(not BATTERY.exists(), reason="the battery benchmark file")
+def test_the_docs_battery_examples_are_what_the_command_and_the_repr_give_now(capsys, monkeypatch):
+    """docs/kk.md quoted "(3 of 130 not valid)" and "127 KK-consistent, 3 not" for the 130 REAL
+    battery cycles, from KK rules since changed; the command gives 95 and 35 (2026-12-06). Oracle:
+    the count of the verdicts the report's table prints, and the docs' text."""
+    monkeypatch.chdir(ROOT)  # (the path as the docs write it)
+    relative = "benchmarks/data/autoeis_battery_130.nc"
+    assert main(["kk", relative]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    rows = [line for line in lines if line.startswith("cycle=")]
+    failed = sum(" NOT valid " in line for line in rows)
+    assert len(rows) == 130 and lines[0] == f"linear KK test of 130 spectra over cycle: {130 - failed} KK-consistent, {failed} not"
+    docs = " ".join((ROOT / "docs" / "kk.md").read_text(encoding="utf-8").split())  # (lines joined as they wrap)
+    assert lines[-1].split(" and names ")[0] + " and names" in docs
+    assert f"KKBatchResult(130 spectra over cycle: {130 - failed} KK-consistent, {failed} not)" in docs
+    assert repr(ix.kk_test_batch(ix.load(BATTERY))) == f"KKBatchResult(130 spectra over cycle: {130 - failed} KK-consistent, {failed} not)"
