@@ -105,6 +105,28 @@ def run(args) -> int:
     outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, source, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths), record, args.remaining)})
     if not outputs.uses_stdout:
         print_result(result, args.json, provenance=record, command="gap")
-    if result.warnings and args.json:
-        print(f"impedax gap: {len(result.warnings)} warning(s), see the JSON 'warnings'", file=sys.stderr)
+    if args.json and (result.warnings or getattr(result, "alarms", ())):
+        print(f"impedax gap: {_json_pointer(result.warnings, getattr(result, 'alarms', ()))}", file=sys.stderr)
     return 0
+
+
+def _json_pointer(warnings, alarms) -> str:
+    """The stderr line of ``--json``: how many warnings and, by name, the alarms (`GapAnalysis.alarms`:
+    the states that void the result), and the JSON keys that hold them. The line named the
+    warnings only, while the JSON's ``alarms`` held SAMPLING UNRELIABLE (a walkthrough on the
+    SYNTHETIC demo data, 2026-12-06)."""
+    parts = [f"{len(warnings)} warning(s), see the JSON 'warnings'"] if warnings else []
+    if alarms:
+        names = ", ".join(_alarm_name(a) for a in alarms)
+        parts.append(f"{'and ' if parts else ''}{len(alarms)} alarm{'s' if len(alarms) > 1 else ''}: {names}; see the JSON 'alarms'")
+    return " ".join(parts) if len(parts) < 2 else f"{parts[0]}, {parts[1]}"
+
+
+def _alarm_name(alarm: str) -> str:
+    """An alarm's name: its leading capitalised words ("SAMPLING UNRELIABLE", "PAPER METHOD: NO AIR GAP")."""
+    words = []
+    for part in alarm.split(": "):
+        if part != part.upper():
+            break
+        words.append(part)
+    return ": ".join(words) or alarm
