@@ -61,3 +61,39 @@ def test_prior_bounds_take_si_prefixes(capsys, spectrum):
     assert out["params"]["R1"]["prior"] == "loguniform:10,1000"
     assert main(["sample", str(spectrum), "--model", "R0 + R1 || C1", "--prior", "R1=loguniform:1k,10"]) == 2
     assert "'R1=loguniform:1k,10'" in capsys.readouterr().err  # (the error quotes what was typed)
+
+
+def _nothing_computed(monkeypatch):
+    """`impedax.fit` and `impedax.sample` replaced by functions that fail the test if called."""
+
+    def computed(*args, **kwargs):
+        raise AssertionError("the start fit or the sampling ran before the option was checked")
+
+    monkeypatch.setattr(ix, "fit", computed)
+    monkeypatch.setattr(ix, "sample", computed)
+
+
+@pytest.mark.parametrize(
+    "argv, says",
+    [
+        (["--corner-params", "R7", "--init", "R1=90"], "--corner-params: unknown parameter 'R7' (parameters: R0, R1, C1, sigma_rel)"),
+        (["--corner-params", "R0", "--fix", "R0=10", "--init", "R1=90"], "--corner-params: R0 is fixed (--fix), not sampled; the sampled parameters: R1, C1, sigma_rel"),
+        (["--corner-params", "R1[trial=1]", "--shared", "R1"], "--corner-params: unknown parameter 'R1[trial=1]' (parameters: R1, R0[LABEL], C1[LABEL], sigma_rel)"),
+    ],
+)
+def test_an_unknown_corner_parameter_is_refused_before_any_work(capsys, monkeypatch, spectrum, tmp_path, argv, says):
+    """``--corner-params R7`` was refused only after the start fit and the sampler's compilation
+    (the README: such errors come "before any work"; walkthrough 2026-12-06). The names the
+    posterior will have, listed by hand: R0 + R1 ∥ C1's free parameters and sigma_rel."""
+    _nothing_computed(monkeypatch)
+    png = tmp_path / "c.png"
+    assert main(["sample", str(spectrum), "--model", "R0 + R1 || C1", "--corner", str(png), *argv]) == 2
+    assert says in capsys.readouterr().err and not png.exists()
+
+
+@pytest.mark.parametrize("names", ["R1,sigma_rel", "C1,R0"])
+def test_known_corner_parameters_pass_the_early_check(monkeypatch, spectrum, tmp_path, names):
+    """The names the posterior has reach the start fit (which stands in here, raising)."""
+    _nothing_computed(monkeypatch)
+    with pytest.raises(AssertionError, match="the start fit or the sampling ran"):
+        main(["sample", str(spectrum), "--model", "R0 + R1 || C1", "--init", "R1=90", "--corner", str(tmp_path / "c.png"), "--corner-params", names])

@@ -109,6 +109,38 @@ def prefixed_prior(text: str) -> str:
         return text
 
 
+def check_corner_names(names, parameters, fixed, shared, noise) -> None:
+    """A `ParameterError` for a ``--corner-params`` name the posterior will not have, before any
+    work: the model's ``parameters`` not in ``fixed``, and ``sigma_rel`` with proportional noise;
+    with ``shared`` (--shared) the shared ones by name and the others as NAME[LABEL] (the labels
+    are checked against the data's after the sampling, `plotting.bayes.corner_params`). The
+    names were checked only after the start fit and the sampler's compilation (a walkthrough's
+    ``--corner-params R7``, 2026-12-06)."""
+    from ..arguments import unknown_parameter
+    from ..errors import ParameterError
+    from ..fitting.bayes.logprob import NoiseModel
+    from ..plotting.bayes import corner_params
+
+    free = [n for n in parameters if n not in fixed]
+    extra = ["sigma_rel"] if NoiseModel(str(noise)) is NoiseModel.PROPORTIONAL else []
+    for name in names:
+        if name in fixed:
+            raise ParameterError(f"--corner-params: {name} is fixed (--fix), not sampled; the sampled parameters: {', '.join([*free, *extra]) if shared is None else ', '.join(_joint_names(free, shared, extra))}")
+    if shared is None:
+        corner_params(names, [*free, *extra], "--corner-params")
+        return
+    own = [n for n in free if n not in shared]
+    for name in names:
+        base, bracket, rest = name.partition("[")
+        if not (name in shared or name in extra or (bracket and rest.endswith("]") and len(rest) > 1 and base in own)):
+            raise unknown_parameter("--corner-params", name, _joint_names(free, shared, extra))
+
+
+def _joint_names(free, shared, extra) -> list[str]:
+    """The names a joint posterior's parameters take (for a message): the shared ones, NAME[LABEL] for the others."""
+    return [*(n for n in free if n in shared), *(f"{n}[LABEL]" for n in free if n not in shared), *extra]
+
+
 def run(args) -> int:
     from .. import fit, parse, sample
     from ..errors import ParameterError
@@ -150,6 +182,8 @@ def run(args) -> int:
     if sharing and bounds:
         raise ParameterError("--bound is not available with --shared (the joint posterior samples within the elements' own bounds); --fix is available")
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
+    if corner_names is not None:  # (before the data are read, the start fitted and the sampler compiled)
+        check_corner_names(corner_names, circuit.parameter_names(args.registry), fixed, sharing.get("shared"), args.noise)
     data = load_selected(args.data, args.select, single=None if sharing else "sample", readers=args.readers,
                          or_else="or sample them jointly with --shared NAMES (parameters one value for all, the others one per spectrum)")
     note_unused_sigma(data, "sample", str(args.noise) == "sigma", "--noise sigma")
