@@ -93,6 +93,7 @@ def test_the_cli_withholds_the_suggested_circuit(tmp_path, capsys):
     assert main(["drt", str(path), "--lam", "1e6", "--json"]) == 0
     record = json.loads(capsys.readouterr().out)
     assert record["over_smoothed"] is True and record["auto_lambda"] < 1e6
+    assert record["suggestion_withheld"].startswith("while λ over-smooths the data")  # (the text's reason, 2026-12-06)
 
 
 def test_a_real_spectrum_at_an_over_smoothing_lambda_is_named_so():

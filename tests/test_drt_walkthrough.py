@@ -106,6 +106,7 @@ def test_python_and_the_command_line_write_the_same_drt_files(tmp_path, battery,
     assert written.pop("skipped_rows") == [] and "skipped_rows" not in from_python  # (the reader's, from the command line: 2026-12-01)
     assert "kk_note" in written and "kk_note" not in from_python  # (the command line's KK test: 2026-12-05)
     written.pop("kk_note")
+    assert written.pop("suggestion_withheld") is None and "suggestion_withheld" not in from_python  # (the command line's reading of the warnings: 2026-12-06)
     assert written == expected == from_python
     for name in ("py.nc", "cli.nc"):
         saved = read_netcdf(tmp_path / name)

@@ -292,6 +292,7 @@ def test_check_results_json_is_the_command_lines_json(command, tmp_path, capsys)
     assert printed.pop("skipped_rows") == []  # (the reader's, which the file's data carry: added 2026-12-01)
     if command == ["drt"]:
         assert printed.pop("kk_note") is None  # (the command line's KK test of these sound data: added 2026-12-05)
+        assert printed.pop("suggestion_withheld") is None  # (the command line's: a circuit is given; added 2026-12-06)
     assert isinstance(written, dict) and written == printed
 
 

@@ -79,6 +79,8 @@ def test_cli_text_json_and_a_batch(tmp_path, capsys):
     assert main(["drt", str(flipped), "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["warnings"][0] == summary["sign_hint"]
+    # (the JSON says what the text's last line says: no circuit to start from, and why; 2026-12-06)
+    assert summary["suggestion_withheld"] == "while the sign looks flipped (the warning above); correct it, then run impedax drt again"
     # two cells, the second stored flipped: the report names it, the circuit comes from the first
     stack = tmp_path / "cells.nc"
     ix.save(ix.make_spectrum(FREQ, np.stack([Z, np.conj(Z)]), dims=("cell",)), stack)
@@ -87,3 +89,5 @@ def test_cli_text_json_and_a_batch(tmp_path, capsys):
     assert "warning: in 1 of 2 spectra (cell=1): the imaginary part may be stored with the opposite sign" in out
     line = out.rstrip().splitlines()[-1]
     assert line.startswith("starting circuit from the DRT (the one 1 of 2 spectra suggest") and "R0 + R1 || CPE1 + R2 || CPE2" in line
+    assert main(["drt", str(stack), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["suggestion_withheld"] is None  # (one cell reads right: a circuit is given)

@@ -86,7 +86,9 @@ def run(args) -> int:
             progress(f"drawing {args.plot}")
         record = command_provenance(args, source=source, data_files=[args.data])
         kk_note = _kk_note(result, data, args)
-        read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), "kk_note": kk_note})  # (the JSON's, as inspect --json's: added 2026-12-01; kk_note 2026-12-05)
+        # (the JSON's, as inspect --json's: added 2026-12-01; kk_note 2026-12-05; suggestion_withheld
+        # 2026-12-06: the text's "none while …" reason, where suggested_model still holds γ's circuit)
+        read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), "kk_note": kk_note, "suggestion_withheld": suggestion_withheld(result)})
         outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     finally:
         progress.close()
@@ -136,6 +138,19 @@ def _kk_note(result, data, args) -> str | None:
             "their γ holds drift or disturbance as well as any relaxation")
 
 
+def suggestion_withheld(result) -> str | None:
+    """Why the report gives no starting circuit (the text's "none …", JSON
+    ``suggestion_withheld``), else None: every spectrum's sign looks flipped (a circuit read off
+    conj(Z) starts a fit of the wrong data), or λ over-smooths every one (peaks too broad and too
+    few). The JSON's ``suggested_model`` is still the circuit read off γ."""
+    results = getattr(result, "results", (result,))
+    if all(r.sign_hint for r in results):
+        return "while the sign looks flipped (the warning above); correct it, then run impedax drt again"
+    if all(r.over_smoothed for r in results):
+        return "while λ over-smooths the data (the warning above); run impedax drt again with a smaller --lam, or --lam auto"
+    return None
+
+
 def _suggestion_line(result, args, data) -> str:
     """The report's last line: the starting circuit read off the DRT and the ``impedax fit``
     command that fits it (`DRTResult.suggested_circuit`) to the points the DRT took (the run's
@@ -145,11 +160,10 @@ def _suggestion_line(result, args, data) -> str:
     from ..fitting.drt.suggest import most_common_suggestion
     from .common import fit_command
 
+    withheld = suggestion_withheld(result)
+    if withheld:
+        return f"starting circuit from the DRT: none {withheld}"
     results = getattr(result, "results", (result,))
-    if all(r.sign_hint for r in results):  # (a circuit read off conj(Z) starts a fit of the wrong data)
-        return "starting circuit from the DRT: none while the sign looks flipped (the warning above); correct it, then run impedax drt again"
-    if all(r.over_smoothed for r in results):  # (peaks of a γ smoothed past the data: too broad and too few)
-        return "starting circuit from the DRT: none while λ over-smooths the data (the warning above); run impedax drt again with a smaller --lam, or --lam auto"
     suggestion, count = most_common_suggestion(results)
     share = "" if len(results) == 1 else f" (the one {count} of {len(results)} spectra suggest, starts from the first of them)"
     return f"starting circuit from the DRT{share}: {suggestion.model} — fit it with: {fit_command(args, data=data)} {suggestion.fit_options()}"
