@@ -273,3 +273,19 @@ def test_vezzoli_example_fig9_numbers_against_eq10():
             assert 2 * force(h_i=r["h_i_peak"]) == pytest.approx(0.03, rel=1e-9)
     sio2 = example.fig9_requirements(3.9, 1e-6)
     assert sio2["h_i"] < 1e-6  # the paper's "less than 1 µm of SiO2" holds
+
+
+def test_the_force_spectrum_is_drawn_in_the_prefix_of_its_largest_value():
+    """Vezzoli's model with a 1 µm layer drew 14,000 mN on a mN axis (walkthrough 2026-12-06): a
+    force of 14 N is drawn in N, one of 0.16 N in mN, each point at force / the prefix's scale."""
+    import matplotlib.pyplot as plt
+
+    from impedax.plotting.models import plot_force_spectrum
+
+    f = np.geomspace(10.0, 1e6, 5)
+    for force, unit, scale in ((np.array([2.0, 6.0, 14.0, 9.0, 3.0]), "N", 1.0), (np.array([0.02, 0.08, 0.164, 0.1, 0.05]), "mN", 1e-3)):
+        fig = plot_force_spectrum(f, force, title="t", convention="peak", peak={"frequency_hz": f[2], "force_n": force[2], "at_band_edge": False})
+        ax = fig.axes[0]
+        assert ax.get_ylabel() == f"peak force [{unit}]"
+        np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), force / scale)
+        plt.close(fig)

@@ -175,7 +175,7 @@ def plot_force_bands(gap):
 
 
 def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-average", peak=None, subtitle: str = "", notes=()):
-    """Force [N] against frequency [Hz], drawn in mN; ``convention`` ("time-average" or
+    """Force [N] against frequency [Hz], drawn in the SI prefix of its largest value (`force_unit`); ``convention`` ("time-average" or
     "peak") labels the axis. ``peak``: a mapping with ``frequency_hz``, ``force_n`` and
     ``at_band_edge`` (`impedax force`'s JSON ``peak``), marked on the curve. ``subtitle``
     (e.g. the drive and the parameters changed from the paper's) goes under the title, and
@@ -187,13 +187,16 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
     from . import characters_across
 
     fig, ax = plt.subplots(figsize=(6, 4))
-    ax.semilogx(freq, np.asarray(force) * 1e3, marker="o" if np.size(freq) < 3 else None)
+    # in the SI prefix of the largest force (`force_unit`): Vezzoli's model with a thin layer
+    # drew 14,000 mN in mN (walkthrough 2026-12-06)
+    unit_scale, unit = force_unit(force)
+    ax.semilogx(freq, np.asarray(force) / unit_scale, marker="o" if np.size(freq) < 3 else None)
     if peak is not None:
-        label = ("largest at the band's end" if peak["at_band_edge"] else "peak") + f": {peak['force_n'] * 1e3:.4g} mN at {format_frequency(float(peak['frequency_hz']))}"
-        ax.plot([peak["frequency_hz"]], [peak["force_n"] * 1e3], "v", color="C3", label=label)
+        label = ("largest at the band's end" if peak["at_band_edge"] else "peak") + f": {format_quantity(float(peak['force_n']), 'N', 4)} at {format_frequency(float(peak['frequency_hz']))}"
+        ax.plot([peak["frequency_hz"]], [peak["force_n"] / unit_scale], "v", color="C3", label=label)
         ax.legend(fontsize=font_size("legend", 8))
     ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel(("peak" if convention == "peak" else "time-averaged") + " force [mN]")
+    ax.set_ylabel(("peak" if convention == "peak" else "time-averaged") + f" force [{unit}]")
     ax.grid(True, which="both", alpha=0.3)
     # title and notes wrapped to the figure's width, 6.5 in with notes (at 95 characters Meyer's
     # CPE subtitle ran off the right edge, "...(C_sc of eq 3.13 at 1 kH")
