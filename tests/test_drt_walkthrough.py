@@ -128,6 +128,7 @@ def test_a_batch_writes_label_columns_and_its_json_is_the_commands(tmp_path, bat
     assert printed.pop("skipped_rows") == []  # (the reader's, from the command line: 2026-12-01)
     assert "kk_note" in printed  # (the command line's KK test: 2026-12-05)
     printed.pop("kk_note")
+    assert printed.pop("suggestion_withheld") is None  # (the command line's reading of the warnings: 2026-12-06)
     assert printed == json.loads(json.dumps(to_jsonable(batch.summary())))
     assert printed["dims"] == ["cycle"] and printed["sizes"] == {"cycle": 2} and [s["labels"] for s in printed["spectra"]] == [{"cycle": 3}, {"cycle": 7}]
     assert _same_table(tmp_path / "py.csv", tmp_path / "cli.csv")
