@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from impedax.plotting import TAIL_RATIO, plot_spectrum, tail_frame  # noqa: E402
+from impedax.plotting import TAIL_RATIO, nyquist_frame, plot_spectrum, tail_frame  # noqa: E402
 from impedax.plotting.comparison import plot_comparison  # noqa: E402
 
 FINGER_F = np.geomspace(1.0, 1e5, 40)
@@ -101,9 +101,12 @@ def test_an_ordinary_spectrum_keeps_the_limits_it_had():
     fig = plot_spectrum((ARC_F, zn), (ARC_F, z))
     fig.canvas.draw()
     ax = fig.axes[0]
-    # the limits the code before the tail zoom gave (2026-12-02, printed from it)
-    assert ax.get_xlim() == pytest.approx((12.872634674361148, 188.8121861248897), rel=1e-9)
-    assert ax.get_ylim() == pytest.approx((-2.8270314037210653, 59.36520593045138), rel=1e-9)
+    # no zoom: the panel follows the data (`nyquist_frame`) with matplotlib's 5 % margins
+    # (2026-12-06; before, the code gave the limits it had before the tail zoom, Z' widened to
+    # 188.8 Ω beside data that end at 160 Ω, which the height-capped panel's equal scales asked)
+    x0, x1, y0, y1 = nyquist_frame(zn, z)
+    assert ax.get_xlim() == pytest.approx((x0 - 0.05 * (x1 - x0), x1 + 0.05 * (x1 - x0)), rel=1e-9)
+    assert ax.get_ylim() == pytest.approx((y0 - 0.05 * (y1 - y0), y1 + 0.05 * (y1 - y0)), rel=1e-9)
     assert not ax.texts
     plt.close(fig)
     fits = [stand_in_fit("R0 + R1 || C1 + R2 || CPE2", ARC_F, zn, z), stand_in_fit("R0 + R1 || C1", ARC_F, zn, z * 0.98)]

@@ -185,10 +185,11 @@ def test_refinement_figure_shows_the_data_with_the_first_and_last_model():
     data = refinement.steps[0].fit.z_data
     np.testing.assert_allclose(lines["data"].get_ydata(), -data.imag)
     np.testing.assert_allclose(lines["final: R0 + R1 || C1 + R2 || C2 (0.141 %)"].get_xdata(), (data * 1.002).real)
-    # the two arcs are flat (height/width < 0.6): the panel runs across the figure's top
+    # the two arcs are flat (height/width < 0.6): the panel runs across the figure's top (its
+    # grid slot spans both columns; its box narrows to the data's shape since 2026-12-06)
     fig.canvas.draw()
     box, error_box = nyquist.get_position(), fig.axes[0].get_position()
-    assert box.width > 0.8 and box.y0 > error_box.y1
+    assert nyquist.get_subplotspec().colspan == range(0, 2) and box.width > 0.6 and box.y0 > error_box.y1
     plt.close(fig)
 
 
@@ -216,7 +217,9 @@ def test_refinement_figure_of_a_steep_spectrum_puts_its_nyquist_panel_above_the_
     assert [line.get_label() for line in nyquist.get_lines()] == ["data", "start: R0 + C1 (3.54 %)"]  # 5 %/√2
     fig.canvas.draw()
     box, error_box = nyquist.get_position(), error.get_position()
-    assert box.y0 > error_box.y1 and abs(box.x0 - error_box.x0) < 0.05 and box.width < 0.5
+    # above the error panel, within its column (the box narrowed to the line's shape since
+    # 2026-12-06, `nyquist_view`: it no longer spans the column from its left edge)
+    assert box.y0 > error_box.y1 and box.x0 > error_box.x0 - 0.05 and box.x1 < error_box.x1 + 0.05 and box.width < 0.5
     plt.close(fig)
 
 
@@ -445,11 +448,13 @@ def test_a_nyquist_panel_keeps_equal_scales_and_no_empty_half_plane(shape):
     assert abs((x1 - x0) / box.width - (y1 - y0) / box.height) < 0.006 * (x1 - x0) / box.width  # equal scales
     data_x, data_y = (z.real.min(), z.real.max()), ((-z.imag).min(), (-z.imag).max())
     assert x0 < data_x[0] and x1 > data_x[1] and y0 < data_y[0] and y1 > data_y[1]  # every point inside
-    across = box.width > 0.8 * fig.bbox.width
+    # (across: its grid slot spans both columns; its box narrows to the data's shape)
+    across = ax.get_subplotspec().colspan == range(0, 2)
     if shape == "flat":  # across the top, as high as the spectrum: little empty plane, none below it
         assert across and data_y[0] - y0 < 0.1 * (y1 - y0) and (y1 - y0) < 1.5 * (data_y[1] - data_y[0])
-    else:  # down the left, widened to the right of the line (a margin of a few % of the panel left of it)
-        assert not across and data_x[0] - x0 < 0.05 * (x1 - x0) and (x1 - x0) > 2 * (data_x[1] - data_x[0])
+    else:  # down the left, its box narrowed to the line (2026-12-06, `nyquist_view`): before, the
+        # range widened to the right of it, more than twice the data's Z' span, the rest empty plane
+        assert not across and data_x[0] - x0 < 0.1 * (x1 - x0) and (x1 - x0) < 1.25 * (data_x[1] - data_x[0])
     plt.close(fig)
 
 
@@ -697,7 +702,7 @@ def test_refinement_nyquist_is_scaled_to_the_data_and_the_last_model_not_a_start
     y0, y1 = nyquist.get_ylim()
     assert x1 < 1.6 * 50 and -0.1 * 50 < x0 < 5  # the arc spans 0–50 Ω (with 5 % margins): it fills the width
     assert y1 < 0.1 * float(np.max(-capacitor.imag))  # the capacitor's line runs off the top
-    assert nyquist.get_position().width > 0.8  # a flat arc: the panel across the figure
+    assert nyquist.get_subplotspec().colspan == range(0, 2)  # a flat arc: the panel across the figure
     plt.close(fig)
 
 

@@ -130,10 +130,14 @@ def _model_at(freq, model):
     return np.interp(np.log(freq), x, z[order].real) + 1j * np.interp(np.log(freq), x, z[order].imag)
 
 
-def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="model"):
+def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="model", curves=(), points=()):
     """Nyquist plot (Z' vs −Z'', equal axes) on ``ax``. ``data``, ``model``: a spectrum
     Dataset, a pair (frequency [Hz], Z [Ω]) or a complex array of Z [Ω] (impedance.py's
-    ``plot_nyquist(Z)``)."""
+    ``plot_nyquist(Z)``). The panel's range and box follow the data (`nyquist_view`), the
+    model's curve and ``curves`` (complex Z of further curves the caller draws on ``ax``)
+    widening it by at most `MODEL_OVERSHOOT` of the data's span, ``points`` (complex Z the
+    caller draws as data, masked points) held inside. A model alone is followed as data are
+    (a capacitive tail: equal scales over the whole curve, as before)."""
     d = _as_arrays(data, "data", "plot_nyquist", frequency_needed=False)
     m = _as_arrays(model, "model", "plot_nyquist", frequency_needed=False)
     if d is not None:
@@ -143,7 +147,9 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
     ax.set_xlabel("Z' [Ω]")
     ax.set_ylabel("−Z'' [Ω]")
     if d is not None:
-        nyquist_view(ax, d[1], *([m[1]] if m is not None else []), frequency=d[0])
+        nyquist_view(ax, d[1], *([m[1]] if m is not None else []), *curves, frequency=d[0], points=points)
+    elif m is not None and tail_frame(m[1]) is None:
+        equal_aspect(ax, frame=nyquist_frame(np.concatenate([m[1], np.asarray(points, complex).ravel()]), *curves))
     else:
         equal_aspect(ax)
     ax.grid(alpha=0.3)
@@ -271,14 +277,26 @@ def mark_tail(ax, frame, z_data, frequency=None) -> None:
                 color="0.2", bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="none", alpha=0.8))
 
 
-def nyquist_view(ax, z_data, *z_models, frequency=None, frame: tuple[float, float, float, float] | None = None) -> None:
-    """Equal scales on a Nyquist panel ``ax`` (`equal_aspect`): over ``frame`` (None: all that
-    is drawn), or, for data ``z_data`` with a capacitive tail beside the model curves
-    ``z_models`` (`tail_frame`), zoomed on the structure with the tail marked (`mark_tail`,
-    ``frequency`` [Hz] of the data when known)."""
+def nyquist_view(ax, z_data, *z_models, frequency=None, frame: tuple[float, float, float, float] | str | None = None, points=()) -> None:
+    """Equal scales on a Nyquist panel ``ax`` (`equal_aspect`) whose range and box follow the
+    data ``z_data`` (`nyquist_frame`: the model curves ``z_models`` widen it by at most
+    `MODEL_OVERSHOOT` of the data's span, farther they run off; ``points``, complex Z drawn as
+    data apart, masked points, are held inside as the data are); over ``frame`` when given, or
+    over all that is drawn with ``frame="drawn"``. For data with a capacitive tail beside the
+    model curves (`tail_frame`): zoomed on the structure with the tail marked (`mark_tail`,
+    ``frequency`` [Hz] of the data when known). Every Nyquist panel of a single spectrum (fit,
+    KK, DRT, diagnosis, refinement, comparison) is framed here; before 2026-12-06 only the
+    comparison's was, and equal scales over a panel capped in height (`TALLEST_PANEL`) widened
+    the others' range past the data: REAL ZPlot's fit to 900 Ω beside data that end at 615 Ω,
+    Gamry's KK test to 23 kΩ beside 18 kΩ."""
+    if isinstance(frame, str) and frame != "drawn":
+        raise ParameterError(f"nyquist_view: frame must be (Z' min, Z' max, −Z'' min, −Z'' max), None (the data's) or \"drawn\"; got {frame!r}")
     zoom = tail_frame(z_data, *z_models)
     if zoom is None:
-        equal_aspect(ax, frame=frame)
+        if frame is None:
+            held = np.concatenate([np.asarray(z_data, complex).ravel(), np.asarray(points, complex).ravel()])
+            frame = nyquist_frame(held, *z_models)
+        equal_aspect(ax, frame=None if isinstance(frame, str) else frame)
         return
     equal_aspect(ax, frame=zoom, fill=True)
     mark_tail(ax, zoom, z_data, frequency)
@@ -626,18 +644,21 @@ def _covers_data(ax) -> bool:
 
 def plot_spectrum(
     data=None, model=None, *, title: str | None = None, bands=None, data_label="data", model_label="model", residual_labels=("Re", "Im"), model_at_data=None,
-    band_label="model fails", band_color="tab:red", figsize: tuple[float, float] | None = None,
+    band_label="model fails", band_color="tab:red", figsize: tuple[float, float] | None = None, nyquist_curves=(), nyquist_points=(),
 ):
     """Nyquist, Bode (|Z|, phase) and, when both are given, relative residuals (Re, Im) of
     ``(Z_model − Z_data)/|Z_data|`` in percent: of ``model_at_data`` (the model at the data's
     frequencies) when given, so that a model drawn on its own grid (`model_curve`) is not
     interpolated for them. ``bands`` are shaded on the frequency axes (``band_label``, ``band_color``).
     The axes are Nyquist, |Z|, phase (and residuals), in that order, in either layout
-    (`spectrum_layout`, which ``figsize`` (width, height) [in] sizes)."""
+    (`spectrum_layout`, which ``figsize`` (width, height) [in] sizes). The Nyquist panel follows
+    the data (`plot_nyquist`); ``nyquist_curves`` and ``nyquist_points`` (complex Z) are the
+    curves and points a caller draws on it afterwards (a diagnosis' suggestion and masked
+    points), which its frame takes in as the model's curve and the data."""
     d, m = _as_arrays(data), _as_arrays(model)
     with_residuals = d is not None and m is not None
     fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(d, m), with_residuals, figsize=figsize)
-    plot_nyquist(ax_nyq, data, model, data_label=data_label, model_label=model_label)
+    plot_nyquist(ax_nyq, data, model, data_label=data_label, model_label=model_label, curves=nyquist_curves, points=nyquist_points)
     plot_bode(ax_mod, ax_ph, data, model, data_label=data_label, model_label=model_label)
     freq_axes = [ax_mod, ax_ph]
     if with_residuals:

@@ -84,7 +84,7 @@ def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
     ax_nyq.plot(med.real, -med.imag, "-", color="tab:blue", lw=1.5, label="posterior median")
     ax_nyq.plot(z.real, -z.imag, "o", ms=3.5, mfc="none", color="k", label="data")
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]")
-    nyquist_view(ax_nyq, z, med, frequency=frequency)
+    nyquist_view(ax_nyq, z, med, frequency=frequency, frame="drawn")  # (over every draw: a frame that follows the data would cut the posterior's spread)
     zp = None if z_predictive is None else np.asarray(z_predictive, complex)
     for ax, values, data_values, transform in ((ax_mod, np.abs(zs), np.abs(z), np.abs), (ax_ph, np.degrees(np.angle(zs)), np.degrees(np.angle(z)), lambda v: np.degrees(np.angle(v)))):
         if zp is not None:

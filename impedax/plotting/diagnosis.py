@@ -14,7 +14,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, equal_aspect, font_size, nyquist_frame, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, tail_frame, wrap_model
+from . import FLAT_NYQUIST, characters_across, font_size, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement", "noise_levels", "NOISE_LEVEL_LABEL"]
 
@@ -52,20 +52,23 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
     overlaid (matplotlib Figure; ``figsize`` (width, height) [in], `spectrum_layout`)."""
     b = diagnosis.baseline
     bands, data_bands = model_and_data_bands(diagnosis)
+    best = diagnosis.best
+    suggestion = model_curve(best.fit) if best is not None else None
+    # the Nyquist panel follows the data and the masked points as the comparison's does, the
+    # baseline's and the suggestion's curves widening it by at most `MODEL_OVERSHOOT` of the
+    # data's span (`nyquist_view`; REAL ZPlot's ran to 900 Ω beside data that end at 615 Ω)
     fig = plot_spectrum(
         (b.frequency, b.z_data), model_curve(b), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
         model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"), model_at_data=b.z_model,
         band_label=band_shading(diagnosis)[0], band_color=band_shading(diagnosis)[1], figsize=figsize,
+        nyquist_curves=[] if suggestion is None else [suggestion[1]], nyquist_points=_masked_impedance(diagnosis),
     )
     if data_bands:  # (the frequency axes: |Z|, phase and the residuals)
         shade_bands(fig.axes[1:], data_bands, label=DATA_PROBLEM_BANDS, color=DATA_PROBLEM_COLOR)
     _mark_masked(fig.axes[0], diagnosis, fig.axes[1:3])
-    curves = [model_curve(b)[1]]
-    best = diagnosis.best
     if best is not None:
         axes = fig.axes
-        f, z = model_curve(best.fit)
-        curves.append(z)
+        f, z = suggestion
         axes[0].plot(z.real, -z.imag, "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
         # (plot, not loglog/semilogx: those set the scale again, and with it matplotlib's
         # tick labels in place of plain_log_ticks')
@@ -77,23 +80,16 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
             axes[3].legend(fontsize=font_size("legend", 8), ncol=3)
         refresh_legend(axes[0])
         refresh_legend(axes[1])
-    _frame_nyquist(fig.axes[0], diagnosis, curves)
     legends_off_data(fig)
     return fig
 
 
-def _frame_nyquist(ax, diagnosis, curves) -> None:
-    """The Nyquist panel's range and box follow the data (the masked points among them) as the
-    comparison's do (`nyquist_frame`: the baseline's and the suggestion's curves may widen it by
-    `MODEL_OVERSHOOT` of the data's span, a poor baseline runs off beyond). Equal scales over
-    all drawn widened the range to the panel's box: REAL ZPlot's arc ends at 615 Ω, its panel
-    (4 in high at most, `TALLEST_PANEL`) ran to 900 Ω, a third of it empty. A spectrum with a
-    capacitive tail keeps its zoom (`tail_frame`)."""
-    b = diagnosis.baseline
-    masked = np.asarray(getattr(diagnosis, "masked_impedance", ()), complex)
-    data = np.concatenate([np.asarray(b.z_data, complex).ravel(), masked.ravel()])
-    if tail_frame(b.z_data, *curves) is None:
-        equal_aspect(ax, frame=nyquist_frame(data, *curves))
+def _masked_impedance(diagnosis) -> np.ndarray:
+    """Z [Ω] of the diagnosis' masked points (`_mark_masked` draws them), none when they do
+    not match ``masked_points``."""
+    f = np.asarray(getattr(diagnosis, "masked_points", ()), float)
+    z = np.asarray(getattr(diagnosis, "masked_impedance", ()), complex).ravel()
+    return z if z.size == f.size else np.zeros(0, complex)
 
 
 MASKED_STYLE = dict(marker="x", ls="none", ms=6, mew=1.3, color="tab:red")
@@ -253,18 +249,14 @@ def _refinement_nyquist(ax, refinement, legend_chars: int) -> None:
         z = model_curve(fit)[1]
         curves.append(z)
         ax.plot(z.real, -z.imag, style, lw=1.4, color=color, label=wrap_model(f"{name}: {fit.model} ({fit.rms_rel * 100:.3g} %)", legend_chars))
-    # the panel is scaled to the data and the last model drawn (the first when it is alone): a
-    # start far off (the demo's pure capacitor, a line to 165 MΩ beside an arc of 57 MΩ) runs
-    # off the panel, where it had shrunk the data to a corner
+    # the panel follows the data and the masked points (`nyquist_view`), the curves widening it
+    # by at most `MODEL_OVERSHOOT` of the data's span: a start far off (the demo's pure
+    # capacitor, a line to 165 MΩ beside an arc of 57 MΩ) runs off the panel, where it had
+    # shrunk the data to a corner; and the panel's box narrows to that frame, where equal scales
+    # over a panel capped in height (`TALLEST_PANEL`) had widened its range past the data
     masked = getattr(refinement.steps[0].diagnosis, "masked_impedance", ())
-    shown = np.concatenate([first.z_data, z, np.asarray(masked, complex)])
-    shown = shown[np.isfinite(shown)]
-    if shown.size:
-        ax.ignore_existing_data_limits = True
-        ax.update_datalim(np.column_stack([shown.real, -shown.imag]))
-        ax.autoscale_view()
     ax.set_xlabel("Z' [Ω]")
     ax.set_ylabel("−Z'' [Ω]")
-    nyquist_view(ax, first.z_data, *curves, frequency=first.frequency)
+    nyquist_view(ax, first.z_data, *curves, frequency=first.frequency, points=np.asarray(masked, complex))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=font_size("legend", 8))
