@@ -194,8 +194,54 @@ def test_a_pair_nested_by_a_limit_on_the_edge_of_the_space_takes_the_chi_bar_squ
         assert test["p_value"] == pytest.approx(0.5 * stats.f.sf(f_value, 1, df2), rel=1e-9)
         assert "50:50 chi-bar-squared mixture (Self & Liang 1987)" in test["note"]
         assert f"p = {test['p_value']:.3g} ({test['note']})" in ix.compare([simple, larger]).report()
-    # an element added, not a limit: the plain F-test
+    # an element added whose one parameter removes it at a bound (W1.sigma -> 0, W1.sigma > 0):
+    # the smaller model is on the edge as well, the mixture too (test below)
     simple, larger = ix.fit("R0 + R1 || C1", wo_data), ix.fit("R0 + R1 || C1 + W1", wo_data)
+    (test,) = ix.compare([simple, larger]).f_tests
+    assert test["boundary_limits"] == ["W1 removed: sigma -> 0"]
+    assert test["p_value"] == pytest.approx(0.5 * stats.f.sf(test["f"], test["df1"], test["df2"]), rel=1e-12)
+    # a block of two elements removed (R2 -> 0 leaves C2 unidentified): no mixture, the plain F-test
+    simple, larger = ix.fit("R0 + R1 || C1", wo_data), ix.fit("R0 + R1 || C1 + R2 || C2", wo_data)
     (test,) = ix.compare([simple, larger]).f_tests
     assert test["boundary_limits"] == [] and test["note"] is None
     assert test["p_value"] == pytest.approx(stats.f.sf(test["f"], test["df1"], test["df2"]), rel=1e-12)
+
+
+def test_an_element_removed_at_the_bound_of_its_one_parameter_takes_the_chi_bar_squared_p_value():
+    """R0 + R1 || CPE1 is R0 + R1 || CPE1 + W1 at W1.sigma = 0, and sigma > 0: the null lies on
+    the edge of the larger model's space just as a capacitor does for a CPE at α = 1 (Self & Liang
+    1987), so p = ½ F.sf(F, 1, df2), not the plain F-test's (REAL Autolab data printed p = 0.0716
+    where the mixture gives 0.036). With both (C1 for CPE1 at α = 1 and W1 removed) the weights are
+    ¼, ½, ¼ over 0, F(1, df2), F(2, df2)·2. The oracle is scipy's F distribution, written out here.
+    SYNTHETIC spectrum: an arc with α = 0.9 and a Warburg tail of σ = 0.4 Ω s^-½ that
+    1 % noise leaves in doubt (p ≈ 0.08, where the plain F-test said 0.16)."""
+    from scipy import stats
+
+    f = np.geomspace(0.05, 1e5, 60)
+    s = 2j * np.pi * f
+    rng = np.random.default_rng(5)
+    z = 10 + 1 / (1 / 100 + 1e-4 * s**0.9) + 0.4 * (1 - 1j) / np.sqrt(2 * np.pi * f)
+    data = ix.make_spectrum(f, z * (1 + 0.01 * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size)) / np.sqrt(2)))
+    rc = ix.fit("R0 + R1 || C1", data)
+    cpe = ix.fit("R0 + R1 || CPE1", data, init=rc)
+    full = ix.fit("R0 + R1 || CPE1 + W1", data, init=cpe)
+    comparison = ix.compare([rc, cpe, full])
+    n = 2 * f.size
+    tests = {(t["simple"], t["complex"]): t for t in comparison.f_tests}
+
+    def f_stat(a, b):
+        return (a.chi2 - b.chi2) / (b.n_params - a.n_params) / (b.chi2 / (n - b.n_params))
+
+    one = tests[("R0 + R1 || CPE1", "R0 + R1 || CPE1 + W1")]
+    assert one["valid"], one
+    f1, df2 = f_stat(cpe, full), n - full.n_params
+    assert one["f"] == pytest.approx(f1, rel=1e-9)
+    assert 0.01 < one["p_value"] < 0.5  # (a p in doubt: the factor ½ is not lost to underflow)
+    assert one["p_value"] == pytest.approx(0.5 * stats.f.sf(f1, 1, df2), rel=1e-9)
+    assert "W1" in one["note"] and "50:50 chi-bar-squared mixture" in one["note"]
+    two = tests[("R0 + R1 || C1", "R0 + R1 || CPE1 + W1")]
+    assert two["valid"], two
+    f2 = f_stat(rc, full)
+    expected = 0.5 * stats.f.sf(2 * f2 / 1, 1, df2) + 0.25 * stats.f.sf(f2, 2, df2)
+    assert two["p_value"] == pytest.approx(expected, rel=1e-9)
+    assert "CPE1: alpha = 1" in two["note"] and "W1" in two["note"]

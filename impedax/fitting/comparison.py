@@ -745,7 +745,53 @@ def boundary_limits(simple: Circuit, complex_: Circuit, registry: Registry = DEF
         parameter = next((p for p in spec.parameters if (p.suffix or spec.symbol.lower()) == name), None)
         if parameter is not None and value in (parameter.lower, parameter.upper):
             out.append(f"{large.name}: {limit.where}")
+    return out + _removed_elements(simple, complex_, registry)
+
+
+def _removed_elements(simple: Circuit, complex_: Circuit, registry: Registry) -> list[str]:
+    """The elements of ``complex_`` that ``simple`` lacks and whose one parameter, with bounds
+    (0, ∞), takes it away at a bound: a series element at Z → 0 (W1.sigma -> 0, R0 -> 0), a
+    parallel branch at Z → ∞ (C1 -> 0, R1 -> inf), as "W1 removed: sigma -> 0". The smaller model
+    is then the larger one on the edge of its space as much as at a CPE's α = 1: W1.sigma ≥ 0
+    and the null σ = 0, so F's reference is the chi-bar-squared mixture too. Counted only where
+    a sibling of the element (or a part of one) stays: a removed block such as R2 || C2 (R2 -> 0
+    leaves C2 unidentified) takes more than one parameter away, and no mixture of this kind holds."""
+    from ..circuits.tree import Element, Parallel
+
+    pairs = embedding(simple, complex_, registry)
+    if pairs is None:
+        return []
+    kept = {large.name for _, large, _ in pairs}
+    out: list[str] = []
+
+    def walk(node) -> None:
+        if isinstance(node, Element):
+            return
+        for child in node.children:
+            if isinstance(child, Element):
+                spec = registry[child.symbol]
+                others = [e.name for c in node.children if c is not child for e in c.elements()]
+                if (child.name not in kept and len(spec.parameters) == 1 and any(n in kept for n in others)
+                        and spec.parameters[0].lower == 0.0 and spec.parameters[0].upper == math.inf):
+                    end = _vanishing_end(spec, opens=isinstance(node, Parallel))
+                    if end is not None:
+                        out.append(f"{child.name} removed: {spec.parameters[0].suffix or child.name} -> {end}")
+            else:
+                walk(child)
+
+    walk(complex_)
     return out
+
+
+def _vanishing_end(spec, opens: bool) -> str | None:
+    """Which end of a one-parameter element's range removes it: "0" or "inf", where its impedance
+    goes to 0 (in series) or to ∞ (``opens``: a parallel branch), at ω = 1 rad/s; None when
+    neither end does so."""
+    z = {end: abs(complex(spec.impedance(1.0, value))) for end, value in (("0", 1e-12), ("inf", 1e12))}
+    small, large = min(z, key=z.get), max(z, key=z.get)
+    if z[small] == z[large]:
+        return None
+    return large if opens else small
 
 
 def chi_bar_squared_p_value(f_value: float, df1: int, df2: int, n_boundary: int = 0) -> float:
