@@ -932,3 +932,17 @@ def test_corner_title_and_axis_of_a_small_q_use_one_prefix():
         low, high = map(float, title.split("[")[1].split("]")[0].split(", "))
         np.testing.assert_allclose([median, low, high], np.quantile(q, [0.5, 0.05, 0.95]) / scale, rtol=2e-3)
         plt.close(fig)
+
+
+def test_a_step_title_keeps_rms_rel_and_its_value_on_one_line():
+    """A residual panel's title wraps to its width but never inside "(rms_rel 1.72 %)" (REAL
+    VersaStudio's step 2 read "(rms_rel" / "1.72 %)"): the change text is lengthened word by
+    word, so the wrap falls at every place near the end once."""
+    refinement = refinement_stand_in()
+    for extra in range(0, 60, 3):
+        refinement.steps[1].change = "+ R2 || C2 [extra_relaxation]" + " word" * (extra // 3) + "x" * (extra % 3)
+        fig = plot_refinement(refinement)
+        titles = [ax.get_title() for ax in fig.axes[1:] if "rms_rel" in ax.get_title()]
+        plt.close(fig)
+        lines = [line for t in titles for line in t.split("\n") if "rms_rel" in line]
+        assert lines and all(line.rstrip().endswith("%)") for line in lines), lines

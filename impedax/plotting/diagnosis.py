@@ -209,7 +209,8 @@ def plot_refinement(refinement, *, title: str | None = None):
         else:
             fresh = False
         change = "start" if s.change == "(start)" else s.change
-        head = wrap_model(f"step {i}: {change}  (rms_rel {s.fit.rms_rel * 100:.3g} %)", title_chars)
+        # (no break inside "(rms_rel 1.72 %)": REAL VersaStudio's step 2 wrapped as "(rms_rel / 1.72 %)")
+        head = wrap_model(f"step {i}: {change}  (rms_rel\u00a0{s.fit.rms_rel * 100:.3g}\u00a0%)", title_chars)
         a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=font_size("title", 8))
         a.set_ylabel("res. [%]", fontsize=font_size("label", 8))
         a.grid(alpha=0.3)
