@@ -166,3 +166,61 @@ def test_a_legend_wider_than_its_panel_is_moved_off_the_axis():
     assert not box.overlaps(wide.get_window_extent())
     assert not box.overlaps(narrow.get_window_extent())  # (before: across the panel and its axis, 500 px wide on a panel of 5)
     plt.close(fig)
+
+
+# SYNTHETIC R0 + R1 || CPE1 + Wo1 + G1 from 10 mHz to 1 MHz (review 2026-12-06): the open Warburg is
+# a capacitor below ~1 Hz, −Z'' reaches 8 kΩ beside a structure 137 Ω wide (58×, under TAIL_RATIO)
+WO_F = np.geomspace(1e-2, 1e6, 71)
+
+
+def arcs_with_a_tail(f: np.ndarray) -> np.ndarray:
+    jw = 2j * np.pi * f
+    cpe = 1 / (1e-6 * jw**0.8)
+    s = np.sqrt(jw * 0.1)
+    return 10 + 100 * cpe / (100 + cpe) + 50 / (np.tanh(s) * s) + 20 / np.sqrt(1 + jw * 1e-3)
+
+
+@pytest.mark.parametrize("with_data", [True, False], ids=["fit", "model_alone"])
+def test_arcs_below_a_58x_tail_are_not_drawn_as_a_strip(with_data):
+    z_true = arcs_with_a_tail(WO_F)
+    span = np.ptp(z_true.real)
+    assert 20 * span < np.ptp(-z_true.imag) < TAIL_RATIO * span  # (the premise: between the two ratios)
+    z = noisy(z_true, seed=5, level=0.002)
+    fig = plot_spectrum((WO_F, z), (WO_F, z_true)) if with_data else plot_spectrum(model=(WO_F, z_true))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    box = ax.get_window_extent()
+    assert box.width > 0.25 * box.height, (box.width, box.height)  # before: 8-11 px wide beside 440-590 px high
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert x0 <= z_true.real.min() and x1 >= z_true.real.max()
+    arcs = -z_true.imag < 2 * span  # the two arcs and the Warburg's start, above 1 Hz
+    assert ((-z.imag[arcs] >= y0) & (-z.imag[arcs] <= y1)).all()
+    assert_equal_scales(ax)
+    assert "runs off the top" in " ".join(t.get_text() for t in ax.texts)
+    legend = ax.get_legend().get_window_extent(renderer)
+    inside = legend.x0 >= box.x0 - 0.5 and legend.x1 <= box.x1 + 0.5 and legend.y0 >= box.y0 - 0.5 and legend.y1 <= box.y1 + 0.5
+    assert inside or not legend.overlaps(box)
+    plt.close(fig)
+
+
+def test_meyer_s_finger_simulated_alone_is_zoomed_on_the_skin():
+    # `impedax simulate --plot` draws the model alone: it drew a vertical line on a GΩ axis
+    z_true = finger(FINGER_F)
+    fig = plot_spectrum(model=(FINGER_F, z_true))
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    skin = np.ptp(z_true.real)
+    assert y1 - y0 < 5 * skin and x1 - x0 < 5 * skin, (x0, x1, y0, y1)
+    assert "runs off the top" in " ".join(t.get_text() for t in ax.texts)
+    plt.close(fig)
+
+
+def test_a_steep_cpe_line_is_not_taken_for_a_tail():
+    # a blocking electrode's line keeps its whole extent at any slope under TAIL_RATIO: α = 0.99,
+    # −Z''/Z' = tan(89.1°) = 64, points spread evenly up the line
+    jw = 2j * np.pi * np.geomspace(1e-2, 1e5, 60)
+    line = 1 / (1e-5 * jw**0.99)
+    assert 20 < np.ptp(-line.imag) / np.ptp(line.real) < TAIL_RATIO
+    assert tail_frame(line, line) is None

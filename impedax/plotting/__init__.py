@@ -136,8 +136,9 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
     ``plot_nyquist(Z)``). The panel's range and box follow the data (`nyquist_view`), the
     model's curve and ``curves`` (complex Z of further curves the caller draws on ``ax``)
     widening it by at most `MODEL_OVERSHOOT` of the data's span, ``points`` (complex Z the
-    caller draws as data, masked points) held inside. A model alone is followed as data are
-    (a capacitive tail: equal scales over the whole curve, as before)."""
+    caller draws as data, masked points) held inside. A model alone is followed as data are,
+    a capacitive tail zoomed on as theirs (`impedax simulate --plot` of Meyer's finger drew a
+    vertical line on a GΩ axis until 2026-12-06)."""
     d = _as_arrays(data, "data", "plot_nyquist", frequency_needed=False)
     m = _as_arrays(model, "model", "plot_nyquist", frequency_needed=False)
     if d is not None:
@@ -148,8 +149,8 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
     ax.set_ylabel("−Z'' [Ω]")
     if d is not None:
         nyquist_view(ax, d[1], *([m[1]] if m is not None else []), *curves, frequency=d[0], points=points)
-    elif m is not None and tail_frame(m[1]) is None:
-        equal_aspect(ax, frame=nyquist_frame(np.concatenate([m[1], np.asarray(points, complex).ravel()]), *curves))
+    elif m is not None:
+        nyquist_view(ax, m[1], m[1], *curves, frequency=m[0], points=points)
     else:
         equal_aspect(ax)
     ax.grid(alpha=0.3)
@@ -216,6 +217,14 @@ def nyquist_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tupl
 TAIL_RATIO = 100.0
 # ... the panel then shows −Z'' up to this many times that Z' span above the lowest −Z''
 TAIL_VIEW = 3.0
+# a tail from this ratio on where the structure sits at the bottom: the points within `TAIL_VIEW`
+# spans of the lowest −Z'' cover at least `TAIL_COVER` of the structure's Z' span (2026-12-06:
+# a SYNTHETIC R0 + R1 || CPE1 + Wo1 + G1 from 10 mHz, its Wo a capacitor at low frequency,
+# reached 58× and was drawn as a strip 2 mm wide under a legend that spilled over its axis).
+# A blocking electrode's CPE line covers only TAIL_VIEW/tan(α·90°) of its Z' span there (24 %
+# at α = 0.95) and keeps its whole line
+STRUCTURED_TAIL_RATIO = 10.0
+TAIL_COVER = 0.5
 
 
 def tail_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tuple[float, float, float, float] | None:
@@ -223,7 +232,9 @@ def tail_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tuple[f
     spectrum with a capacitive tail, or None for one of ordinary shape. The structure's Z' span
     is that of the model curves ``z_models`` (noise-free) within the data's, else the data's
     (complex Z ``z_data``); a tail is a −Z'' span of `TAIL_RATIO` times that or more (the
-    equal scales then draw the spectrum as a vertical line). The frame's −Z'' runs from the
+    equal scales then draw the spectrum as a vertical line), or of `STRUCTURED_TAIL_RATIO`
+    times that or more where the points within `TAIL_VIEW` spans of the lowest −Z'' cover
+    `TAIL_COVER` of the Z' span (a strip of a panel otherwise). The frame's −Z'' runs from the
     lowest point (a model's by at most ``overshoot`` of the span below) to `TAIL_VIEW` spans
     above it; its Z' over the structure and the data inside (`mark_tail` names where the tail
     leaves it). impedance.py's ``plot_nyquist`` sets equal scales over all it draws, the whole tail."""
@@ -239,8 +250,12 @@ def tail_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tuple[f
         x0, x1 = max(x0, float(curves.real.min())), min(x1, float(curves.real.max()))
     span = x1 - x0
     y = -z.imag
-    if not span > 0 or np.ptp(y) < TAIL_RATIO * span:
+    if not span > 0 or np.ptp(y) < STRUCTURED_TAIL_RATIO * span:
         return None
+    if np.ptp(y) < TAIL_RATIO * span:  # (a tail only where the structure sits below it)
+        low = z.real[(y <= y.min() + TAIL_VIEW * span) & (z.real >= x0) & (z.real <= x1)]
+        if low.size < 2 or np.ptp(low) < TAIL_COVER * span:
+            return None
     y0 = float(y.min())
     for m in models:
         y0 = min(y0, max(float((-m.imag).min()), y0 - overshoot * span))
