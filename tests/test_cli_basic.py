@@ -53,6 +53,12 @@ def test_info_json(capsys):
         (["simulate", "R1", "--param", "R1=abc"], "is not a number"),
         (["simulate", "R1", "--param", "R1"], "expected NAME=VALUE"),
         (["simulate", "R1", "--fmin", "0"], "positive"),
+        # the option named, as the commands that fit name it (they read "frequencies must be
+        # positive and finite, got fmin=0.0, fmax=1000000.0": no option, a default fmax never given)
+        (["simulate", "R1", "--fmin", "0"], "--fmin must be positive, got 0"),
+        (["simulate", "R1", "--fmin", "1", "--fmax", "-2"], "--fmax must be positive, got -2"),
+        (["force", "meyer", "--fmin", "0"], "--fmin must be positive, got 0"),
+        (["force", "vezzoli", "--fmin", "-3", "--fmax", "5"], "--fmin must be positive, got -3"),
         (["simulate", "R1", "--fmin", "10", "--fmax", "1"], "--fmax (1 Hz) is below --fmin (10 Hz)"),
         (["simulate", "R1", "--out", "/nonexistent/dir/x.csv"], "does not exist"),
         (["info", "R1 + + C1"], "expected an element"),

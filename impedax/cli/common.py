@@ -185,7 +185,9 @@ def check_band_options(fmin: float | None, fmax: float | None) -> None:
     from ..errors import ParameterError
 
     for flag, value in (("--fmin", fmin), ("--fmax", fmax)):
-        if value is not None and not (value > 0 and value < float("inf")):
+        if value is not None and not math.isfinite(value):
+            raise ParameterError(f"{flag} must be finite, got {value:g}")
+        if value is not None and not value > 0:
             raise ParameterError(f"{flag} must be positive, got {value:g}")
     if fmin is not None and fmax is not None and fmax < fmin:
         raise ParameterError(f"--fmax ({number_text(fmax)} Hz) is below --fmin ({number_text(fmin)} Hz)")

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..arguments import number_text
-from .common import accept_negative_numbers, add_output_options, add_positional_model, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
+from .common import accept_negative_numbers, add_output_options, add_positional_model, check_band_options, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -352,6 +352,7 @@ def run(args) -> int:
     out = _out_path(args.out)
     outputs = plan_outputs([("--out", out, "result"), ("--plot", args.plot, "figure")])
     low, high = _RANGES[args.model]
+    check_band_options(args.fmin, args.fmax)  # (each option named before the model's defaults fill the other)
     fmin = low if args.fmin is None else args.fmin
     fmax = high if args.fmax is None else args.fmax
     points = check_points(args.points, fmin, fmax, default=161)

@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from .common import (JSON_SUMMARY_HELP, add_model_argument, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
+from .common import (JSON_SUMMARY_HELP, add_model_argument, check_band_options, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
                      model_and_values, number_option, plan_outputs, spectrum_summary, spectrum_writer)
 
 # memory per frequency while simulating and writing CSV: the frequencies, the complex impedance
@@ -39,6 +39,7 @@ def run(args) -> int:
     circuit, specs, given = model_and_values(args.model, args.param, "--param", args.registry)
     check_json_with_spectrum_out(args.json, args.out, "simulate")
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], stdout="--json" if args.json else None)
+    check_band_options(args.fmin, args.fmax)  # (the option named: log_frequencies' message named none)
     points = check_points(args.points, args.fmin, args.fmax, default=61)
     check_memory("--points", points * POINT_BYTES, f"a spectrum of {points} frequencies")
     params = {**circuit.defaults(args.registry), **given}
