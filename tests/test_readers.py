@@ -859,6 +859,26 @@ def test_a_last_row_cut_short_is_refused_naming_its_line(tmp_path, cut, message)
     np.testing.assert_allclose(ix.load(path)["Z"].values, z, rtol=1e-6)
 
 
+def test_a_canonical_csv_cut_short_is_refused_as_any_table_is(tmp_path, capsys):
+    """impedax's own header (frequency_hz,z_real_ohm,z_imag_ohm) over numpy's fixed '%.18e' rows,
+    cut inside the last number (the REAL exampleData.csv's rows so cut: '-4.62397280' for
+    -4.623972802104744234e-03, read as -4.62 Ω beside |Z| ≤ 0.054 Ω, silently, before)."""
+    freq, z = _lab_spectrum()
+    rows = [",".join(f"{v:.18e}" for v in (f, zi.real, zi.imag)) for f, zi in zip(freq, z)]
+    path = tmp_path / "cut.csv"
+    path.write_text("\n".join(["frequency_hz,z_real_ohm,z_imag_ohm", *rows[:-1], rows[-1][:-9]]))
+    with pytest.raises(ix.DataError, match=r"cut\.csv, line 14: column 'z_imag_ohm': '-[0-9.]+' on the last row has fewer digits") as err:
+        ix.load(path)
+    assert "ends without a line end" in str(err.value)
+    from impedax.cli import main
+    assert main(["inspect", str(path)]) == 2
+    assert "line 14" in capsys.readouterr().err
+    # the whole file, with or without its last line end, reads exactly
+    for end in ("", "\n"):
+        path.write_text("\n".join(["frequency_hz,z_real_ohm,z_imag_ohm", *rows]) + end)
+        np.testing.assert_array_equal(ix.load(path)["Z"].values, [complex(*map(float, r.split(",")[1:])) for r in rows])
+
+
 def test_a_header_less_table_with_the_frequency_last_is_refused_naming_the_column(tmp_path):
     """Z', Z'', f without a header was read as f = Z', Z' = Z'', Z'' = f, silently."""
     freq, z = _lab_spectrum()

@@ -66,9 +66,10 @@ def _read_canonical(path: Path, raw: bytes) -> xr.Dataset | None:
     """impedax's own layout (the canonical header, then rows of three finite numbers with
     positive, distinct frequencies) parsed straight into arrays, without a Python object per
     row: a million points take ~0.1 GB instead of ~1 GB. None for anything else, which the
-    general reader then reads, or refuses with its line-numbered message."""
+    general reader then reads, or refuses with its line-numbered message; so is a file that ends
+    without a line end, whose last row the general reader checks for a cut (`_check_last_row_complete`)."""
     header = ",".join(CSV_HEADER).encode()
-    if not (raw.startswith(header + b"\n") or raw.startswith(header + b"\r\n")):
+    if not (raw.startswith(header + b"\n") or raw.startswith(header + b"\r\n")) or not raw.endswith((b"\n", b"\r")):
         return None
     try:
         with warnings.catch_warnings():  # (a header without rows: the general reader says so, by line)
