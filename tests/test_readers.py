@@ -879,6 +879,35 @@ def test_a_canonical_csv_cut_short_is_refused_as_any_table_is(tmp_path, capsys):
         np.testing.assert_array_equal(ix.load(path)["Z"].values, [complex(*map(float, r.split(",")[1:])) for r in rows])
 
 
+@pytest.mark.parametrize("header_sep, row_sep, said", [
+    (";", ",", "this row is separated by ',' where the header is by ';'"),
+    (",", ";", "this row is separated by ';' where the header is by ','"),
+    ("\t", ",", "this row is separated by ',' where the header is by a tab"),
+    (";", " ", "this row is separated by spaces where the header is by ';'"),
+])
+def test_rows_separated_otherwise_than_the_header_are_named_as_such(tmp_path, header_sep, row_sep, said):
+    """A header typed with ';' over rows exported with ',' was refused as '1 fields, but the
+    header has 3', which does not say why; the message now names both delimiters."""
+    freq, z = _lab_spectrum()
+    rows = [row_sep.join(repr(v) for v in (f, zi.real, zi.imag)) for f, zi in zip(freq.tolist(), z.tolist())]
+    path = tmp_path / "mixed.csv"
+    path.write_text(header_sep.join(["frequency_hz", "z_real_ohm", "z_imag_ohm"]) + "\n" + "\n".join(rows) + "\n")
+    with pytest.raises(ix.DataError) as err:
+        ix.load(path)
+    message = str(err.value)
+    assert message.startswith(f"{path}, line 2: 1 field, but the header has 3 (")
+    assert said in message and "one delimiter" in message
+    # a row short of a cell, separated as its header is, gets no such note
+    rows[3] = header_sep.join(rows[3].split(row_sep)[:2])
+    path.write_text(header_sep.join(["frequency_hz", "z_real_ohm", "z_imag_ohm"]) + "\n" + "\n".join(r.replace(row_sep, header_sep) for r in rows) + "\n")
+    with pytest.raises(ix.DataError, match=r"mixed\.csv, line 5: 2 fields, but the header has 3 \(a missing or extra cell would shift values\)$"):
+        ix.load(path)
+    # nor does a line of text under the table, whatever it splits into ('End of data': 3 words)
+    path.write_text(header_sep.join(["frequency_hz", "z_real_ohm", "z_imag_ohm"]) + "\n" + "\n".join(r.replace(row_sep, header_sep) for r in rows[:3]) + "\nEnd of data\n")
+    with pytest.raises(ix.DataError, match=r"mixed\.csv, line 5: 1 field, but the header has 3 \(a missing or extra cell would shift values\)$"):
+        ix.load(path)
+
+
 def test_a_header_less_table_with_the_frequency_last_is_refused_naming_the_column(tmp_path):
     """Z', Z'', f without a header was read as f = Z', Z' = Z'', Z'' = f, silently."""
     freq, z = _lab_spectrum()

@@ -282,7 +282,7 @@ def read_csv(path: str | Path) -> xr.Dataset:
             skipped.add(number, f"comment line ({text_line.strip()[:40]!r})")
     headerless = "interpretation" in attrs
     try:
-        ds = spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True, skipped=skipped)
+        ds = spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True, skipped=skipped, delimited=True)
     except DataError:
         columns = _headerless_columns(rows, delimiter, comma) if headerless else None
         if columns is not None:  # (Z'', Z', f fails as 'frequency must be positive': the column order is the cause)

@@ -359,6 +359,22 @@ def detect_layout(header: Sequence[str], path: Path, line: int | None) -> Layout
 #: A cell holding one number, with a decimal point or comma (``1.5E+03``, ``0,1``).
 NUMBER_CELL = re.compile(r"[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?")
 
+DELIMITER_NAMES = {"\t": "a tab", ";": "';'", ",": "','", None: "spaces"}
+"""The delimiters of delimited text (`csv.find_delimiter`: None is runs of spaces), as messages name them."""
+
+
+def delimiter_hint(cells: Sequence[str], delimiter: str | None, n_fields: int) -> str:
+    """What a refusal of a row of other fields than its header's (``cells``, split by the
+    header's ``delimiter``) says when another delimiter splits the row into ``n_fields``
+    numbers: the row was written with another delimiter than its header (a header typed with ';'
+    over rows exported with ','); "" otherwise (a line of text under the table gets none)."""
+    text = (delimiter or " ").join(cells)
+    for other, name in DELIMITER_NAMES.items():
+        split = text.split(other) if other else text.split()
+        if other != delimiter and len(split) == n_fields and all(NUMBER_CELL.fullmatch(c.strip().strip('"')) for c in split):
+            return f"this row is separated by {name} where the header is by {DELIMITER_NAMES[delimiter]}: save the file with one delimiter throughout"
+    return ""
+
 PREAMBLE_ROWS_MAX = 100
 """How far below the first row `find_header` looks for a table's header when the first row is
 not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``)."""
@@ -551,11 +567,14 @@ def spectrum_from_rows(
     header_line: int | None = None,
     split_sweeps: bool = False,
     cut_line: int | None = None,
+    delimited: bool = False,
 ) -> xr.Dataset:
     """One spectrum from ``rows`` (line number, cells) laid out as ``layout``. ``cut_line``: the
     file's last line when the file ends without a line end (`_common.cut_last_line`); a row
     there short of fields, or cut inside its last field (`check_last_field_digits`), is refused
-    saying the file looks cut short (`check_field_count`). With
+    saying the file looks cut short (`check_field_count`). ``delimited``: the rows are
+    delimited text split by ``delimiter`` (the header's), and a row of other fields than the
+    header's that another delimiter would split right is refused naming both. With
     ``split_sweeps``, a table of several sweeps of one frequency list (the list restarts, or an
     EC-Lab ``cycle number`` column changes) becomes a ``sweep`` (``cycle``) dimension
     (`_sweep_blocks`)."""
@@ -586,7 +605,8 @@ def spectrum_from_rows(
         if not any(c.strip('"').strip() for c in cells):
             skipped.add(line, EMPTY_ROW)  # (',,' or ';;' as a spreadsheet program leaves them: a blank line)
             continue
-        check_field_count(cells, n_fields, path, line, where=where, last_of_cut_file=line == cut_line)
+        hint = delimiter_hint(cells, delimiter, n_fields) if delimited and len(cells) != n_fields else ""
+        check_field_count(cells, n_fields, path, line, where=where, last_of_cut_file=line == cut_line, hint=hint)
         last_fields.append(cells[-1])
         if line == cut_line:
             check_last_field_digits(last_fields, path, line, name=header[-1])
