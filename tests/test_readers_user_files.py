@@ -464,6 +464,50 @@ def test_an_ivium_table_cut_short_at_the_end_says_so(tmp_path):
     assert CUT_SHORT in str(info.value)
 
 
+# --- a file cut before its table ends: the part missing is named, and the cut too ---------------
+
+# REAL files of tests/fixtures/real, each cut inside a line before or inside its impedance table
+# (at a byte offset, or at a line and a character), and what the reader finds missing there
+_CUT_REAL = [
+    ("exampleDataGamry.DTA", ("bytes", 0.6), "no ZCURVE table"),
+    ("exampleDataZPlot.z", ("bytes", 300), "no 'End Comments' line ending the ZPlot header"),
+    ("exampleDataBioLogic.mpt", ("bytes", 300), "'Nb header lines : 61' does not fit a file of 12 lines"),
+    ("exampleDataVersaStudio.par", ("bytes", 300), "no segment with Frequency(Hz), Z Real and Z Imag columns"),
+    ("exampleDataVersaStudio.par", ("line", 150, 40), "<Segment1> is not closed by </Segment1>"),
+    ("data.idf", ("bytes", 300), "no 'primary_data' table"),
+    ("data.idf", ("line", 185, 20), "'primary_data' announces 29 points but 17 lines follow"),
+    ("data.dfr", ("bytes", 0.6), "header announces 29 points but the file holds at most 17 records"),
+]
+
+
+@pytest.mark.parametrize("name, cut, missing", _CUT_REAL, ids=[f"{n}-{c[0]}" for n, c, _ in _CUT_REAL])
+def test_a_real_file_cut_before_its_table_ends_says_the_file_looks_cut_short(tmp_path, capsys, name, cut, missing):
+    """A file copied before it was complete, cut before its table's end: the reader's refusal of the
+    part it lacks used to be all ('no ZCURVE table (is this an impedance experiment?)' for a Gamry
+    file cut at 60 %); it now adds that the file ends without a line end, as a cut file does."""
+    raw = (FIXTURES / "real" / name).read_bytes()
+    if cut[0] == "bytes":
+        text = raw[: int(len(raw) * cut[1]) if isinstance(cut[1], float) else cut[1]]
+    else:
+        lines = raw.split(b"\n")
+        text = b"\n".join(lines[: cut[1] - 1]) + b"\n" + lines[cut[1] - 1][: cut[2]]
+    assert not text.endswith((b"\n", b"\r"))
+    path = tmp_path / name
+    path.write_bytes(text)
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    assert missing in message and name in message
+    assert "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again" in message
+    assert main(["inspect", str(path)]) == 2
+    assert "cut short" in capsys.readouterr().err
+    # cut at a line end instead: the same refusal, and no word of a cut (nothing shows one)
+    path.write_bytes(text[: text.rstrip(b"\r\n").rfind(b"\n") + 1])
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    assert "cut short" not in str(info.value)
+
+
 # --- a last row cut inside its LAST field keeps its field count: its digits say it was cut ------
 
 

@@ -27,7 +27,7 @@ from ..errors import DataError, SweepGridsDiffer
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
-    "check_field_count", "CUT_SHORT", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
+    "check_field_count", "CUT_BEFORE_END", "CUT_SHORT", "cut_short_note", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
     "significant_digits", "check_last_field_digits", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS",
 ]
 
@@ -241,8 +241,19 @@ def column_entry(role: str, column: str, unit: str = "", scale: float = 1.0, *, 
     return {"column": column, "unit": unit or SI_UNITS[COLUMN_ROLES[role]], "scale": float(scale), "negated": bool(negated)}
 
 
-CUT_SHORT = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again, or delete the line"
+CUT_BEFORE_END = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again"
+"""What a refusal of a part the file lacks (a table, the end of a header, the points a header
+announces) adds when the file ends without a line end (`cut_short_note`)."""
+
+CUT_SHORT = f"{CUT_BEFORE_END}, or delete the line"
 """What a refusal of a last row adds when the file ends without a line end."""
+
+
+def cut_short_note(content: str | bytes) -> str:
+    """``"; "`` and `CUT_BEFORE_END` when a file's ``content`` ends without a line end, as a file
+    cut short while copied does; ``""`` otherwise. A reader that finds a part missing (no table,
+    fewer points than its header announces) adds it to its refusal: the cut is the likely cause."""
+    return f"; {CUT_BEFORE_END}" if content and content[-1:] not in ("\n", "\r", b"\n", b"\r") else ""
 
 
 def cut_last_line(text: str, lines: Sequence[str]) -> int | None:

@@ -18,7 +18,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import cut_last_line, head_text, read_text
+from .._common import cut_last_line, cut_short_note, head_text, read_text
 from ..registry import Reader
 from ..table import NoLayout, detect_layout, spectrum_from_rows
 
@@ -53,7 +53,7 @@ def read_biologic(path: str | Path) -> xr.Dataset:
         raise DataError("second line should be 'Nb header lines : N'", path=path, line=2)
     n_header = int(m.group(1))
     if n_header < 3 or n_header > len(lines):
-        raise DataError(f"'Nb header lines : {n_header}' does not fit a file of {len(lines)} lines", path=path, line=2)
+        raise DataError(f"'Nb header lines : {n_header}' does not fit a file of {len(lines)} lines" + cut_short_note(text), path=path, line=2)
     attrs: dict[str, object] = {"format": "BioLogic EC-Lab mpt", "instrument": "BioLogic"}
     if len(lines) > 3 and lines[3].strip() and ":" not in lines[3]:
         attrs["technique"] = lines[3].strip()

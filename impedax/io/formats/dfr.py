@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import column_entry, head_text, number, read_text, finish
+from .._common import column_entry, cut_short_note, head_text, number, read_text, finish
 from ..registry import Reader
 
 __all__ = ["read_dfr", "READER"]
@@ -35,14 +35,15 @@ def sniff(path: Path, head: bytes) -> str | None:
 def read_dfr(path: str | Path) -> xr.Dataset:
     """Read an FRA ``.dfr`` file (see module docstring)."""
     path = Path(path)
-    lines = read_text(path).splitlines()
+    text = read_text(path)
+    lines = text.splitlines()
     if len(lines) < 3 or not lines[1].strip().isdigit():
         raise DataError("second line should be the number of points", path=path, line=2)
     n = int(lines[1].strip())
     first = 3
     available = (len(lines) - first) // _RECORD
     if n < 1 or n > available:
-        raise DataError(f"header announces {n} points but the file holds at most {available} records of {_RECORD} lines", path=path, line=2)
+        raise DataError(f"header announces {n} points but the file holds at most {available} records of {_RECORD} lines" + cut_short_note(text), path=path, line=2)
     freq, real, neg_imag, where = [], [], [], []
     for k in range(n):
         start = first + k * _RECORD  # 0-based index of the record's first line

@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import Skipped, check_field_count, check_last_field_digits, column_entry, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
+from .._common import Skipped, check_field_count, check_last_field_digits, column_entry, cut_short_note, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
 from ..registry import Reader
 from ..table import NUMBER_CELL
 
@@ -73,7 +73,7 @@ def read_gamry(path: str | Path) -> xr.Dataset:
             attrs[_ATTR_KEYS[key]] = value
         i += 1
     if not tables:
-        raise DataError("no ZCURVE table (is this an impedance experiment?)", path=path)
+        raise DataError("no ZCURVE table (is this an impedance experiment?)" + cut_short_note(text), path=path)
     if "date" in attrs and "time" in attrs:
         attrs["date"] = f"{attrs['date']} {attrs.pop('time')}"
     if notes:

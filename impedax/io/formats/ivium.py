@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import CUT_SHORT, check_last_field_digits, column_entry, finish, number, read_bytes, stack
+from .._common import CUT_SHORT, check_last_field_digits, cut_short_note, column_entry, finish, number, read_bytes, stack
 from ..registry import Reader
 
 __all__ = ["read_ivium", "READER"]
@@ -46,7 +46,7 @@ def read_ivium(path: str | Path) -> xr.Dataset:
     lines = raw.decode("latin-1").replace("\r\n", "\n").split("\n")
     starts = [k for k, ln in enumerate(lines) if ln.strip() == "primary_data"]
     if not starts:
-        raise DataError("no 'primary_data' table", path=path)
+        raise DataError("no 'primary_data' table" + cut_short_note(raw), path=path)
     spectra = []
     for i, k in enumerate(starts):
         if k + 2 >= len(lines) or not (lines[k + 1].strip().isdigit() and lines[k + 2].strip().isdigit()):
@@ -55,7 +55,7 @@ def read_ivium(path: str | Path) -> xr.Dataset:
         if n_cols != 3:
             raise DataError(f"'primary_data' has {n_cols} columns; impedance tables have 3 (Z', Z'', f)", path=path, line=k + 2)
         if not 1 <= n <= len(lines) - k - 3:
-            raise DataError(f"'primary_data' announces {n} points but {len(lines) - k - 3} lines follow", path=path, line=k + 3)
+            raise DataError(f"'primary_data' announces {n} points but {len(lines) - k - 3} lines follow" + cut_short_note(raw), path=path, line=k + 3)
         freq, real, imag, where = [], [], [], []
         last_fields: list[str] = []
         for j in range(k + 3, k + 3 + n):

@@ -18,7 +18,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import head_text, read_text, stack
+from .._common import cut_short_note, head_text, read_text, stack
 from ..registry import Reader
 from ..table import NoLayout, detect_layout, spectrum_from_rows
 
@@ -37,7 +37,8 @@ def sniff(path: Path, head: bytes) -> str | None:
 def read_versastudio(path: str | Path) -> xr.Dataset:
     """Read the impedance segment(s) of a VersaStudio ``.par`` file (see module docstring)."""
     path = Path(path)
-    lines = read_text(path).splitlines()
+    text = read_text(path)
+    lines = text.splitlines()
     spectra = []
     tried = []
     k = 0
@@ -49,7 +50,7 @@ def read_versastudio(path: str | Path) -> xr.Dataset:
         tag = m.group(1)
         end = next((j for j in range(k + 1, len(lines)) if lines[j].strip() == f"</Segment{tag}>"), None)
         if end is None:
-            raise DataError(f"<Segment{tag}> is not closed by </Segment{tag}>", path=path, line=k + 1)
+            raise DataError(f"<Segment{tag}> is not closed by </Segment{tag}>" + cut_short_note(text), path=path, line=k + 1)
         definition = next((j for j in range(k + 1, end) if lines[j].startswith("Definition=")), None)
         if definition is None:
             tried.append(f"segment {tag}: no Definition= line")
@@ -69,7 +70,7 @@ def read_versastudio(path: str | Path) -> xr.Dataset:
         spectra.append((tag, spectrum_from_rows(path, layout, rows, attrs, delimiter=",", where=f"segment {tag}: ")))
         k = end + 1
     if not spectra:
-        raise DataError("no segment with Frequency(Hz), Z Real and Z Imag columns" + (f" ({'; '.join(tried)})" if tried else ""), path=path)
+        raise DataError("no segment with Frequency(Hz), Z Real and Z Imag columns" + (f" ({'; '.join(tried)})" if tried else "") + cut_short_note(text), path=path)
     return stack(path, spectra, "segment")
 
 

@@ -18,7 +18,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import cut_last_line, decimal_comma, head_text, read_text
+from .._common import cut_last_line, cut_short_note, decimal_comma, head_text, read_text
 from ..registry import Reader
 from ..table import Layout, NoLayout, detect_layout, spectrum_from_rows
 
@@ -57,7 +57,7 @@ def read_zplot(path: str | Path) -> xr.Dataset:
     if end is None:
         end = next((k for k, ln in enumerate(lines[:5]) if _names_line(ln)), None)
         if end is None:
-            raise DataError("no 'End Comments' line ending the ZPlot header", path=path)
+            raise DataError("no 'End Comments' line ending the ZPlot header" + cut_short_note(text), path=path)
         names_line = lines[end]
     else:
         date = time = None
