@@ -508,6 +508,46 @@ def test_a_real_file_cut_before_its_table_ends_says_the_file_looks_cut_short(tmp
     assert "cut short" not in str(info.value)
 
 
+@pytest.mark.parametrize("keep, refusal", [
+    (1001, "starts with a UTF-16 byte-order mark but is not UTF-16 text"),
+    (0.6, "Expecting ',' delimiter"),
+    (0.3, "Unterminated string"),
+])
+def test_a_real_palmsens_session_cut_short_says_so(tmp_path, capsys, keep, refusal):
+    """The REAL data.pssession (UTF-16 JSON) cut while copying: to an odd byte count it was
+    refused as 'not UTF-16 text', to an even one as 'invalid JSON (Expecting ',' delimiter)',
+    neither saying that the file stops early nor where; both now say so, and a JSON error its
+    line and column."""
+    raw = (FIXTURES / "real" / "data.pssession").read_bytes()
+    n = keep if isinstance(keep, int) else int(len(raw) * keep) // 2 * 2
+    path = tmp_path / "cut.pssession"
+    path.write_bytes(raw[:n])
+    with pytest.raises(DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    assert refusal in message and "cut.pssession" in message
+    assert "as a file cut short does (copied before it was complete?): copy it again" in message
+    if n % 2:
+        assert f"its {n} bytes are an odd count" in message
+    else:  # the column: the text's end, or where the string that never ends opens (the file's one line)
+        text = raw[:n].decode("utf-16").lstrip("\ufeff")
+        column = len(text) + 1 if "delimiter" in refusal else text.rindex('"') + 1
+        assert f"line 1: not a PalmSens session: invalid JSON at column {column}: {refusal}; the JSON stops" in message
+    assert main(["inspect", str(path)]) == 2
+    capsys.readouterr()
+    # JSON broken inside, with its end intact: invalid JSON, and no word of a cut
+    text = raw.decode("utf-16").lstrip("\ufeff")
+    at = text.index(",", len(text) // 2)
+    path.write_bytes((text[:at] + "#" + text[at + 1:]).encode("utf-16"))
+    with pytest.raises(DataError, match=rf"line 1: not a PalmSens session: invalid JSON at column {at + 1}: ") as info:
+        ix.load(path)
+    assert "cut short" not in str(info.value)
+    # blank lines and spaces before the JSON: the line and column are still the file's
+    path.write_bytes(("\n\n  " + text[:at] + "#" + text[at + 1:]).encode("utf-16"))
+    with pytest.raises(DataError, match=rf"line 3: not a PalmSens session: invalid JSON at column {at + 3}: "):
+        ix.load(path)
+
+
 # --- a last row cut inside its LAST field keeps its field count: its digits say it was cut ------
 
 

@@ -27,7 +27,7 @@ from ..errors import DataError, SweepGridsDiffer
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
-    "check_field_count", "CUT_BEFORE_END", "CUT_SHORT", "cut_short_note", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
+    "check_field_count", "CUT_AS", "CUT_BEFORE_END", "CUT_SHORT", "cut_short_note", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
     "significant_digits", "check_last_field_digits", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS",
 ]
 
@@ -154,7 +154,8 @@ def decode_text(raw: bytes, path: Path | None = None) -> str:
         try:
             return raw.decode("utf-16").replace("\ufeff", "")
         except UnicodeDecodeError:
-            raise DataError("starts with a UTF-16 byte-order mark but is not UTF-16 text", path=path) from None
+            odd = f"; its {len(raw)} bytes are an odd count, which UTF-16 text never has, {CUT_AS}" if len(raw) % 2 else ""
+            raise DataError("starts with a UTF-16 byte-order mark but is not UTF-16 text" + odd, path=path) from None
     utf16 = utf16_without_bom(raw)
     if utf16 is not None:
         try:
@@ -241,7 +242,10 @@ def column_entry(role: str, column: str, unit: str = "", scale: float = 1.0, *, 
     return {"column": column, "unit": unit or SI_UNITS[COLUMN_ROLES[role]], "scale": float(scale), "negated": bool(negated)}
 
 
-CUT_BEFORE_END = "the file ends without a line end, as a file cut short does (copied before it was complete?): copy it again"
+CUT_AS = "as a file cut short does (copied before it was complete?): copy it again"
+"""How a refusal names a cut as the likely cause, after the sign of it it found."""
+
+CUT_BEFORE_END = f"the file ends without a line end, {CUT_AS}"
 """What a refusal of a part the file lacks (a table, the end of a header, the points a header
 announces) adds when the file ends without a line end (`cut_short_note`)."""
 

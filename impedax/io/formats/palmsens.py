@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import column_entry, decode_text, finish, head_text, read_bytes, stack
+from .._common import CUT_AS, column_entry, decode_text, finish, head_text, read_bytes, stack
 from ..registry import Reader
 
 __all__ = ["read_palmsens", "READER"]
@@ -53,11 +53,16 @@ def _array(values: list, description: str, path: Path, where: str) -> np.ndarray
 def read_palmsens(path: str | Path) -> xr.Dataset:
     """Read the EIS measurements of a PalmSens ``.pssession`` file (see module docstring)."""
     path = Path(path)
-    text = decode_text(read_bytes(path), path).strip("\ufeff\x00 \r\n\t")
-    try:
-        session, _ = json.JSONDecoder().raw_decode(text)
-    except (json.JSONDecodeError, RecursionError) as exc:
-        raise DataError(f"not a PalmSens session: invalid JSON ({getattr(exc, 'msg', 'nested too deeply')})", path=path) from None
+    text = decode_text(read_bytes(path), path)
+    padding = "\ufeff\x00 \r\n\t"
+    try:  # (from the first character of the JSON, so that an error's line and column are the file's)
+        session, _ = json.JSONDecoder().raw_decode(text, len(text) - len(text.lstrip(padding)))
+    except json.JSONDecodeError as exc:  # (a cut file: its JSON stops at the end of the text, or inside a string that never ends)
+        stops = exc.pos >= len(text.rstrip(padding)) or exc.msg.startswith("Unterminated string")
+        cut = f"; the JSON stops at the end of the file before it is complete, {CUT_AS}" if stops else ""
+        raise DataError(f"not a PalmSens session: invalid JSON at column {exc.colno}: {exc.msg.removesuffix(' starting at')}{cut}", path=path, line=exc.lineno) from None
+    except RecursionError:
+        raise DataError("not a PalmSens session: invalid JSON (nested too deeply)", path=path) from None
     measurements = session.get("Measurements") if isinstance(session, dict) else None
     if not isinstance(measurements, list):
         raise DataError("PalmSens session without a 'Measurements' list", path=path)
