@@ -319,6 +319,31 @@ def test_biologic_header_count_that_misses_the_column_names_says_where_they_are(
         ix.load(path)
 
 
+def test_biologic_file_of_another_technique_names_it(tmp_path, capsys):
+    """The REAL exampleDataBioLogic.mpt's header over a cyclic voltammetry table (EC-Lab's CV
+    columns): refused as "columns ['freq/Hz', ...] not found on header line 61", which does not
+    say that the file holds another experiment; the technique on its line 4 is now named."""
+    lines = (FIXTURES / "real" / "exampleDataBioLogic.mpt").read_bytes().decode("latin-1").split("\n")
+    lines[3] = "Cyclic Voltammetry"
+    names = "mode\tox/red\terror\tcontrol changes\tcounter inc.\ttime/s\tcontrol/V\tEwe/V\t<I>/mA\tcycle number"
+    rows = [f"2\t1\t0\t0\t0\t{k}\t0.1\t0.2\t0.003\t1" for k in range(20)]
+    path = tmp_path / "cv.mpt"
+    path.write_bytes("\n".join(lines[:60] + [names] + rows + [""]).encode("latin-1"))
+    with pytest.raises(DataError, match=r"cv\.mpt, line 61: columns \['freq/Hz', 'Re\(Z\)/Ohm', '-Im\(Z\)/Ohm'\] not found on header line 61; .*"
+                                        r"the file holds a 'Cyclic Voltammetry' experiment \(line 4\), not an impedance spectrum"):
+        ix.load(path)
+    assert main(["inspect", str(path)]) == 2
+    assert "Cyclic Voltammetry" in capsys.readouterr().err
+    # an impedance file (line 4: Potentio Electrochemical Impedance Spectroscopy) whose names were
+    # edited away is not told it holds another technique
+    lines = (FIXTURES / "real" / "exampleDataBioLogic.mpt").read_bytes().decode("latin-1").split("\n")
+    lines[60] = lines[60].replace("freq/Hz", "frequency")
+    path.write_bytes("\n".join(lines).encode("latin-1"))
+    with pytest.raises(DataError, match=r"not found on header line 61") as info:
+        ix.load(path)
+    assert "experiment" not in str(info.value)
+
+
 def test_zplot_with_decimal_commas_says_so(tmp_path):
     names = "Freq(Hz)\tAmpl\tBias\tTime(Sec)\tZ'(a)\tZ''(b)\tGD\tErr\tRange"
     rows = [f"{f:.6E}\t1.0000E-02\t0.0000E+00\t{k:.6E}\t{z.real:.4E}\t{z.imag:.4E}\t0.0000E+00\t0\t3" for k, (f, z) in enumerate(zip(FREQ, Z))]

@@ -112,7 +112,10 @@ def _columns(path: Path, lines: list[str], header_index: int, attrs: dict, *, cu
     missing = [n for n in REQUIRED_COLUMNS if n not in names]
     if missing:
         found = [n for n in names if n][:8]
-        raise DataError(f"columns {missing} not found on header line {header_index + 1}; found {found}", path=path, line=header_index + 1)
+        technique = attrs.get("technique")
+        other = (f": the file holds a {technique!r} experiment (line 4), not an impedance spectrum (EC-Lab's PEIS or GEIS): "
+                 "export the impedance technique's data") if technique and "freq/Hz" not in names and "impedance" not in str(technique).lower() else ""
+        raise DataError(f"columns {missing} not found on header line {header_index + 1}; found {found}{other}", path=path, line=header_index + 1)
     try:
         layout = detect_layout(names, path, header_index + 1)
     except NoLayout as exc:
