@@ -52,7 +52,7 @@ def _read_csv(path):
 def test_fit_csv_rows_are_the_fitted_parameters(rc_fit, tmp_path):
     ix.write_result(rc_fit, tmp_path / "fit.csv")
     rows = _read_csv(tmp_path / "fit.csv")
-    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined"]  # (goodness of fit and flags: added 2026-12-01)
+    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings"]  # (goodness of fit and flags: added 2026-12-01; warnings 2026-12-06, as a batch's)
     assert [r["name"] for r in rows] == ["R0", "R1", "C1"]
     for r in rows:
         assert float(r["value"]) == rc_fit.values[r["name"]]  # shortest exact text: no rounding
@@ -228,6 +228,25 @@ def test_cli_out_picks_the_format_by_extension(tmp_path, capsys):
     assert {r["name"]: float(r["value"]) for r in rows} == {n: p["value"] for n, p in printed["params"].items()}
     assert main(["fit", str(data), "--model", "R0 + R1 || C1", "--out", str(tmp_path / "fit.json")]) == 0
     assert json.loads((tmp_path / "fit.json").read_text())["params"] == printed["params"]
+
+
+def test_single_fit_csv_carries_its_warnings_as_a_batch_csv_does(tmp_path, capsys):
+    # synthetic R0 + R1 || C1 fitted with a CPE in place of C1: the truth is alpha = 1, the CPE's
+    # upper bound, so the fit must warn "CPE1.alpha is at its upper bound 1" (known by construction)
+    text, fn, truth, (lo, hi) = CASES["rc"]
+    f = np.geomspace(lo, hi, 40)
+    data = tmp_path / "rc.csv"
+    ix.save(ix.make_spectrum(f, noisy(fn(f, truth), 0.005, np.random.default_rng(0))), data)
+    assert main(["fit", str(data), "--model", "R0 + R1 || CPE1", "-q", "--json", "--out", str(tmp_path / "fit.csv")]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    rows = _read_csv(tmp_path / "fit.csv")
+    assert list(rows[0])[:14] == ["name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings"]
+    # the batch's column: the spectrum's warnings joined by "; ", the same on every row
+    assert {r["warnings"] for r in rows} == {"; ".join(printed["warnings"])}
+    assert rows[0]["warnings"].startswith("CPE1.alpha is at its upper bound 1")
+    # a fit without warnings: the column is there, empty
+    assert main(["fit", str(data), "--model", "R0 + R1 || C1", "-q", "--json", "--out", str(tmp_path / "clean.csv")]) == 0
+    assert json.loads(capsys.readouterr().out)["warnings"] == [] and {r["warnings"] for r in _read_csv(tmp_path / "clean.csv")} == {""}
 
 
 def test_init_from_a_fit_result(rc_fit):
