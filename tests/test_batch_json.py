@@ -278,3 +278,21 @@ def test_a_batch_whose_labels_repeat_is_refused():
     with pytest.raises(ix.DataError, match=r"the labels along cycle repeat \(1\): each spectrum of a batch is found by its label"):
         ix.fit(MODEL, data)
     assert ix.fit(MODEL, data.assign_coords(cycle=[1, 2, 3])).n_spectra == 3
+
+
+def test_a_batch_says_how_many_points_each_fit_used_after_the_band_and_exclusions(stack, tmp_path, capsys):
+    """--fmin 0.5 --fmax 20k --exclude 119.378 on the 40-point grid 0.1 Hz–100 kHz: the 30
+    frequencies 0.588 Hz–17 kHz inside the band (counted on the grid here) less the one left out,
+    29, in the JSON's ``n_points`` (a single fit's key) and in the report's second line."""
+    path = tmp_path / "stack.nc"
+    ix.save(stack.isel(cycle=slice(0, 3)), path)
+    inside = np.count_nonzero((FREQ >= 0.5) & (FREQ <= 2e4))
+    assert inside == 30
+    band = ["--fmin", "0.5", "--fmax", "20k", "--exclude", "119.378", "-q"]
+    capsys.readouterr()
+    assert main(["fit", str(path), "--model", MODEL, *band, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["n_points"] == inside - 1
+    assert main(["fit", str(path), "--model", MODEL, *band]) == 0
+    second = capsys.readouterr().out.splitlines()[1]
+    assert second.endswith("   29 points each (588 mHz–17 kHz)"), second
+    assert ix.fit(MODEL, stack).summary()["n_points"] == FREQ.size  # (no band: every point)

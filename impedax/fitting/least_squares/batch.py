@@ -21,7 +21,7 @@ import xarray as xr
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...circuits.nesting import carried_values
-from ...data import column_width, concise_repr, report_text, coordinate_labels, counted, format_relative_error, label_value, unit_text
+from ...data import column_width, concise_repr, report_text, coordinate_labels, counted, format_band, format_relative_error, label_value, unit_text
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
@@ -138,6 +138,13 @@ class BatchFitResult:
     @property
     def n_spectra(self) -> int:
         return int(self.dataset["rms_rel"].size)
+
+    @property
+    def n_points(self) -> int | None:
+        """The frequencies each spectrum's fit used: the data's after ``fmin``/``fmax`` (and the
+        command line's ``--exclude``), the same for every spectrum (a batch's Z is finite
+        everywhere); None for a result stored without its spectra."""
+        return int(self.dataset.sizes["frequency"]) if "frequency" in self.dataset.dims else None
 
     _KIND = "batch_fit"  # (`impedax_kind` of the saved result; a joint fit's is its own)
 
@@ -433,6 +440,7 @@ class BatchFitResult:
             "dims": {d: int(ds.sizes[d]) for d in self.dims},
             "sizes": {d: int(ds.sizes[d]) for d in self.dims},  # (added 2026-12-01: the key kk and drt give too; "dims" here was already this mapping)
             "n_spectra": self.n_spectra,
+            "n_points": self.n_points,  # (a single fit's key: the frequencies each fit used, after the band; added 2026-12-06)
             "params": {  # (the spread across the spectra, and each one's unit: added 2026-12-01, as a single fit's)
                 str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84)), "unit": specs[str(p)].unit}
                 for p in ds["param"].values
@@ -585,7 +593,7 @@ class BatchFitResult:
         s = self.summary()
         width = column_width(s["params"], 16)
         noun = "spectrum" if self.n_spectra == 1 else "spectra"
-        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %", ""]
+        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %{self._points_text()}", ""]
         specs = self.circuit.parameter_specs(self.registry)
         if self.n_spectra <= SPECTRA_AS_COLUMNS:
             rows = s["spectra"]
@@ -606,6 +614,15 @@ class BatchFitResult:
         if self.n_spectra <= SPECTRA_AS_ROWS:
             return lines + ["", *self._spectrum_lines(s)]
         return lines + ["", f"each spectrum's values, standard errors and rms_rel: {EACH_SPECTRUM_WHERE}"]
+
+    def _points_text(self) -> str:
+        """The points each fit used and their band, for the report's second line
+        ("   29 points each (588 mHz–17 kHz)"; "" for a result stored without its spectra): what
+        ``fmin``/``fmax`` and ``--exclude`` left (added 2026-12-06)."""
+        if self.n_points is None:
+            return ""
+        f = self.dataset["frequency"].values
+        return f"   {counted(self.n_points, 'point')} each ({format_band(float(f.min()), float(f.max()))})"
 
     def _spectrum_lines(self, s: dict) -> list[str]:
         """Each spectrum's fit, one row per spectrum (its labels, then each parameter as the
