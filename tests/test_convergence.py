@@ -147,8 +147,23 @@ def test_proportional_weighting_on_a_near_zero_component_warns_with_the_frequenc
     z[3] = z[3].real + 1e-7j
     result = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z), weighting="proportional")
     notes = [w for w in result.warnings if "weighting gives" in w]
-    assert len(notes) == 1 and f"{f[3]:.4g} Hz" in notes[0] and "1 of 50 points" in notes[0]
+    assert f[3] == pytest.approx(0.2330, rel=1e-3)  # 0.1 Hz × 10^(6·3/49)
+    assert len(notes) == 1 and "(233 mHz)" in notes[0] and "1 of 50 points" in notes[0]
     assert not any("weighting gives" in w for w in ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z)).warnings)
+
+
+def test_the_weighting_warning_writes_its_frequencies_as_the_rest_of_impedax():
+    """REAL ZPlot file, proportional weighting: the two points that take the weight are the
+    file's 238.3 kHz and 300 kHz (read from the file here), written "238 kHz" and "300 kHz" as
+    every other frequency impedax prints, not "2.383e+05 Hz"."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataZPlot.z")
+    top = np.sort(data["frequency"].values)[-2:]
+    np.testing.assert_allclose(top, [2.383e5, 3e5], rtol=1e-3)
+    notes = [w for w in ix.fit("R0 + R1 || CPE1 + W1", data, weighting="proportional").warnings if "weighting gives" in w]
+    assert len(notes) == 1 and "2 of 21 points" in notes[0] and "(238 kHz, 300 kHz)" in notes[0], notes
+    assert "e+05" not in notes[0]
 
 
 def test_points_with_a_negative_real_part_are_named():

@@ -858,7 +858,7 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
         if not row.any():
             out.append(())
             continue
-        where = ", ".join(f"{f:.4g} Hz" for f in np.sort(freq[row]))
+        where = ", ".join(format_frequency(f) for f in np.sort(freq[row]))  # (238 kHz, as impedax writes frequencies; "2.383e+05 Hz" until 2026-12-06)
         out.append((
             f"the {weighting} weighting gives {int(row.sum())} of {row.size} points {s * 100:.0f}% of the weight ({where}): "
             "the fit is dominated by them; consider weighting='modulus'",
