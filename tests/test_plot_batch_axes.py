@@ -5,6 +5,7 @@ Nyquist panel's Z' range ending near the data (before, equal scales on a wide pa
 8 MΩ beside data ending at 3.1 MΩ). Oracle: the labels' own boxes on an Agg canvas
 (`get_window_extent`) and the data's extent from numpy; the spectra are SYNTHETIC."""
 
+import dataclasses
 import re
 
 import matplotlib
@@ -219,3 +220,32 @@ def test_every_figure_taking_figsize_checks_it():
     fig = plot_batch(batch, figsize=(9, 5))
     assert tuple(fig.get_size_inches()) == (9.0, 5.0)
     plt.close("all")
+
+
+def test_values_beyond_the_axis_have_their_triangles_in_the_legend():
+    """Undetermined values far off the determined ones are drawn as ▲ / ▼ at the panel's edge; the
+    legend named the open circles only. SYNTHETIC R0 + R1 ∥ C1 over 4 cells, R1 of cell b set by
+    hand to 1e30 ± 1e52 Ω (above the axis) and of cell c to 1e-30 ± 1 Ω (below): the R1 panel's
+    legend has an entry drawn with each triangle marker the panel draws, in the grey they are
+    drawn in (the legend read back from matplotlib)."""
+    f = np.logspace(-1, 5, 30)
+    r1 = np.array([1e3, 1.2e3, 1.4e3, 1.1e3])
+    z = 10 + r1[:, None] / (1 + 2j * np.pi * f * r1[:, None] * 1e-6)
+    data = xr.Dataset({"Z": (("cell", "frequency"), z)}, coords={"cell": list("abcd"), "frequency": f})
+    batch = ix.fit("R0 + R1 || C1", data)
+    ds = batch.dataset.copy(deep=True)
+    ds["value"].loc[dict(param="R1", cell="b")], ds["stderr"].loc[dict(param="R1", cell="b")] = 1e30, 1e52
+    ds["value"].loc[dict(param="R1", cell="c")], ds["stderr"].loc[dict(param="R1", cell="c")] = 1e-30, 1.0
+    edited = dataclasses.replace(batch, dataset=ds)
+    assert edited.undetermined("R1").values.tolist() == [False, True, True, False]
+    fig = edited.plot()
+    try:
+        (ax,) = [a for a in fig.axes if a.get_title().startswith("R1")]
+        drawn = {line.get_marker() for line in ax.get_lines() if line.get_marker() in ("^", "v") and len(line.get_xdata())}
+        assert drawn == {"^", "v"}
+        legend = ax.get_legend()
+        entries = {handle.get_marker(): text.get_text() for handle, text in zip(legend.legend_handles, legend.get_texts()) if hasattr(handle, "get_marker")}
+        assert {"^", "v"} <= set(entries), entries
+        assert "above" in entries["^"] and "below" in entries["v"]
+    finally:
+        plt.close(fig)

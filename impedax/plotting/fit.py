@@ -236,16 +236,16 @@ def _mark_undetermined(ax, x, y, determined, label: str) -> None:
     """Values the data do not determine (`BatchFitResult.undetermined`) as open grey markers
     without error bars (theirs span decades and flattened the panel: a battery's idle R2 at
     1e30 ± 1e52 Ω), the axis scaled to the determined ones; values beyond it sit at its edge as
-    ▲ / ▼."""
+    ▲ / ▼, each named in the legend (until 2026-12-06 they had no entry)."""
     if determined.size:
         ax.autoscale_view()
         lo, hi = ax.get_ylim()
         above, below = y > hi, y < lo
         inside = ~(above | below)
         ax.plot(x[inside], y[inside], "o", ms=3.5, mfc="none", color="0.55", label=label)
-        for beyond, edge, marker in ((above, hi, "^"), (below, lo, "v")):
+        for beyond, edge, marker, side in ((above, hi, "^", "above"), (below, lo, "v", "below")):
             if beyond.any():  # (an empty unclipped line would stretch the layout's box to the figure's corner)
-                ax.plot(x[beyond], np.full(beyond.sum(), edge), marker, ms=4, mfc="none", color="0.55", clip_on=False)
+                ax.plot(x[beyond], np.full(beyond.sum(), edge), marker, ms=4, mfc="none", color="0.55", clip_on=False, label=f"undetermined, {side} the axis")
         ax.set_ylim(lo, hi)
     else:
         ax.plot(x, y, "o", ms=3.5, mfc="none", color="0.55", label=label)
