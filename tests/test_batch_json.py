@@ -296,3 +296,37 @@ def test_a_batch_says_how_many_points_each_fit_used_after_the_band_and_exclusion
     second = capsys.readouterr().out.splitlines()[1]
     assert second.endswith("   29 points each (588 mHz–17 kHz)"), second
     assert ix.fit(MODEL, stack).summary()["n_points"] == FREQ.size  # (no band: every point)
+
+
+def test_a_bound_note_quotes_the_linearised_error_the_json_gives_not_a_standard_error_it_lacks(tmp_path, capsys):
+    """SYNTHETIC R0 + R1 ∥ CPE1 (closed form, R1 3 and 4 kΩ, Q 1 µF s^(α-1), α 0.9) fitted with R0
+    fixed at 1e9 Ω (the `--fix R0=1e9` case of docs/fitting.md): the misfit swamps the arc, and
+    CPE1.Q ends far off its lower bound 0 yet flagged at it. A parameter at a bound has no
+    standard error (JSON null, docs/fitting.md "Standard errors at a bound"); the warning read
+    "CPE1.Q = 2.11e+04 F s^(α-1) cannot be told from its lower bound 0 (standard error 6.2e+18 ...)",
+    quoting one. It now names the number what it is, the linearisation's, which each spectrum's
+    ``linearised_stderr`` in the JSON gives (the key of a single fit's parameters)."""
+    import re
+
+    f = np.geomspace(0.1, 1e5, 25)
+
+    def r_cpe(r1):  # R0 + R1 ∥ CPE1 written here: Z_CPE = 1 / (Q (jω)^α)
+        return 30.0 + r1 / (1 + r1 * 1e-6 * (2j * np.pi * f) ** 0.9)
+
+    path = tmp_path / "cells.nc"
+    ix.save(ix.make_spectrum(f, np.stack([r_cpe(3000.0), r_cpe(4000.0)]), dims=("cell",), coords={"cell": ["a", "b"]}), path)
+    capsys.readouterr()
+    assert main(["fit", str(path), "--model", "R0 + R1 || CPE1", "--fix", "R0=1e9", "-q", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    quoted = 0
+    for row in out["spectra"]:
+        for name in row["at_bound"]:
+            assert row["stderr"][name] is None  # (the contract: no standard error at a bound)
+            for w in row["warnings"]:
+                if w.startswith(f"{name} = ") and "cannot be told from" in w:
+                    assert "(standard error" not in w, w
+                    shown = re.search(r"linearised standard error ([0-9.e+-]+)", w).group(1)
+                    assert float(shown) == float(f"{row['linearised_stderr'][name]:.2g}"), (w, row["linearised_stderr"])
+                    quoted += 1
+    assert quoted == 2  # (CPE1.Q of both cells)
+    assert all(r["linearised_stderr"]["R0"] is None for r in out["spectra"])  # (fixed: none, as its stderr)

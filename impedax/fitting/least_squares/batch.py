@@ -528,7 +528,8 @@ class BatchFitResult:
         """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension
         (the position where a dimension has no coordinates), then ``labels`` (dimension → label,
         every dimension, as a KK or DRT batch's rows), ``values``, ``stderr`` (None when fixed or
-        there is none, as `to_table`), ``rms_rel``, ``chi2``, ``chi2_red``, ``aic``, ``bic`` (as a
+        there is none, as `to_table`), ``linearised_stderr`` (the linearisation's, bounds ignored,
+        as a single fit's JSON: at a bound, the number its note quotes; added 2026-12-06), ``rms_rel``, ``chi2``, ``chi2_red``, ``aic``, ``bic`` (as a
         single fit's JSON; added 2026-12-01), ``converged``, ``at_bound`` (names, as a
         single fit's JSON), its ``warnings`` and ``unidentified_groups`` (lists of names, as a
         single fit's JSON; only where the result records them, `unidentified_groups_of`). A dimension named as one of these keys (a batch
@@ -536,6 +537,7 @@ class BatchFitResult:
         ds = self.dataset
         names = [str(p) for p in ds["param"].values]
         value, stderr, at_bound = (ds[v].transpose(*self.dims, "param").values for v in ("value", "stderr", "at_bound"))
+        linearised = ds["linearised_stderr"].transpose(*self.dims, "param").values if "linearised_stderr" in ds else None
         statistics = self._spectrum_statistics()
         converged = ds["converged"].transpose(*self.dims).values
         fixed = ds["fixed"].values.tolist()
@@ -545,6 +547,8 @@ class BatchFitResult:
             own = {
                 "values": {n: float(value[index + (p,)]) for p, n in enumerate(names)},
                 "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
+                # (the linearisation's, bounds ignored, as a single fit's params[NAME]["linearised_stderr"]: the number a bound note quotes; added 2026-12-06)
+                **({} if linearised is None else {"linearised_stderr": {n: shown_stderr(float(linearised[index + (p,)]), fixed[p]) for p, n in enumerate(names)}}),
                 **{k: float(a[index]) for k, a in statistics.items()},
                 "converged": bool(converged[index]),
                 "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],

@@ -625,8 +625,11 @@ def bound_note(name: str, bound: float, side: str, *, value: float | None = None
     value (in ``unit``) approaches without reaching it (fitted in log space, `Transform.LOG`),
     "W1.sigma = 0.000677 Ω s^-1/2 runs to its lower bound 0 (...)": a bare "at its lower bound
     0" beside a value that is not 0 read as a contradiction; off it (``value`` and its
-    ``stderr`` given) but not told from it by the data, "R1 = 7.96e+07 Ω cannot be told from
-    its lower bound 0 (standard error 1.3e+18 Ω)"."""
+    ``stderr`` given: the linearisation's, bounds ignored) but not told from it by the data,
+    "R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω,
+    bounds ignored)": the result gives a parameter at a bound no standard error (JSON null), so
+    the note names the number as the JSON's ``linearised_stderr`` (until 2026-12-06 it read
+    "(standard error 1.3e+18 Ω)" beside the JSON's null)."""
     at = "∞" if bound == math.inf else f"{bound:g}"
     u = unit_text(unit)
     u = f" {u}" if u else ""
@@ -634,7 +637,7 @@ def bound_note(name: str, bound: float, side: str, *, value: float | None = None
         return f"{name} = {value:.3g}{u} runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)"
     if value is None or on:
         return f"{name} is at its {side} bound {at}"
-    return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {at} (standard error {stderr:.2g}{u})"
+    return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {at} (linearised standard error {stderr:.2g}{u}, bounds ignored)"
 
 
 def on_bound(table: ParameterTable, values: np.ndarray, sides: np.ndarray, freq=None, z=None, fraction: float = ON_BOUND_FRACTION) -> np.ndarray:
