@@ -1496,9 +1496,11 @@ def is_remainder(attrs) -> bool:
 
 
 def listed_frequencies(freq, mask, shown: int = 6) -> str:
-    """The first ``shown`` frequencies where ``mask`` holds, in Hz, then "…" when there are more."""
+    """The first ``shown`` frequencies where ``mask`` holds, as impedax writes frequencies
+    (`impedax.data.format_frequency`: "702 kHz, 1 MHz"; "7.017e+05 Hz, 1e+06 Hz" until
+    2026-12-06), then "…" when there are more."""
     picked = np.sort(np.asarray(freq, float)[np.asarray(mask, bool)])
-    return ", ".join(f"{f:.4g} Hz" for f in picked[:shown]) + (", …" if picked.size > shown else "")
+    return ", ".join(format_frequency(f) for f in picked[:shown]) + (", …" if picked.size > shown else "")
 
 
 def non_passive_notes(freq, z, sigma=None, *, remainder: bool = False, noise=None) -> tuple[str, ...]:
