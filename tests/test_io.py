@@ -127,6 +127,26 @@ def test_bad_csv_names_file_and_line(tmp_path, content, line, fragment):
     assert_load_names(path, fragment, line)
 
 
+@pytest.mark.parametrize(
+    "content, line",
+    [
+        ("1000,10.5,-3.2\n100,12.1,-8.4\n10,20.3,-15.6\n1,40", 4),  # the last row, cut short
+        ("1000,10.5,-3.2\n100,12.1\n10,20.3,-15.6\n1,40,-30\n", 2),  # a middle row missing a cell
+    ],
+)
+def test_headerless_csv_row_short_of_fields_names_no_header(tmp_path, content, line):
+    """A file without header has no header to count against: a row short of fields is refused
+    against the three columns (f, Z', Z'') every other row has."""
+    path = tmp_path / "cut.csv"
+    path.write_text(content)
+    with pytest.raises(ix.DataError) as info:
+        ix.load(path)
+    message = str(info.value)
+    assert f"line {line}" in message and "2 fields" in message
+    assert "the header has" not in message
+    assert "without header has 3 (f, Z', Z'')" in message
+
+
 def test_binary_and_missing_files(tmp_path):
     path = tmp_path / "garbage.csv"
     path.write_bytes(bytes(range(256)) * 4)

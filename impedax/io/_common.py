@@ -267,17 +267,19 @@ def cut_last_line(text: str, lines: Sequence[str]) -> int | None:
 
 
 def check_field_count(cells: Sequence[str], n_fields: int, path: Path, line: int | None, *, where: str = "", last_of_cut_file: bool = False,
-                      hint: str = "") -> None:
+                      hint: str = "", expected: str = "") -> None:
     """A table row must have as many fields as its header ("Rules every reader follows": a
     missing or extra cell would shift values onto other columns, and a row cut short would be
     read as other numbers); `DataError` naming the line otherwise, saying the file looks cut
     short when ``last_of_cut_file`` (its last row, with no line end after it), then ``hint``
-    (the reader's word on the cause, e.g. `table.delimiter_hint`)."""
+    (the reader's word on the cause, e.g. `table.delimiter_hint`). ``expected``: what sets the
+    count, when not a header (`table.Layout.field_count_text`); default ``the header has N``."""
     if len(cells) != n_fields:
         cause = f"; {CUT_SHORT}" if last_of_cut_file and len(cells) < n_fields else ""
         cause += f"; {hint}" if hint else ""
         fields = "1 field" if len(cells) == 1 else f"{len(cells)} fields"
-        raise DataError(f"{where}{fields}, but the header has {n_fields} (a missing or extra cell would shift values){cause}", path=path, line=line)
+        expected = expected or f"the header has {n_fields}"
+        raise DataError(f"{where}{fields}, but {expected} (a missing or extra cell would shift values){cause}", path=path, line=line)
 
 
 _NUMBER_DIGITS = re.compile(r"[-+]?(\d*)(?:[.,](\d*))?(?:[eE][-+]?(\d*))?")

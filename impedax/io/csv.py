@@ -207,7 +207,7 @@ def _check_last_row_complete(path: Path, layout: Layout, rows: list[tuple[int, s
         cells.pop()
     cut = CUT_SHORT
     if len(cells) < len(header):
-        raise DataError(f"the last row has {len(cells)} fields, but the header has {len(header)}; {cut}", path=path, line=line)
+        raise DataError(f"the last row has {len(cells)} fields, but {layout.field_count_text(len(header))}; {cut}", path=path, line=line)
     column = len(header) - 1
     if len(cells) != len(header) or len(rows) < 3 or column not in {index for index, _ in layout.columns.values()}:
         return
@@ -253,7 +253,8 @@ def read_csv(path: str | Path) -> xr.Dataset:
                 f"(f, Z', Z''), else start it with a header such as {','.join(CSV_HEADER)}",
                 path=path, line=header_no,
             )
-        layout = Layout({"frequency": (0, 1.0), "real": (1, 1.0), "imag": (2, 1.0)}, ("column 1 (f)", "column 2 (Z')", "column 3 (Z'')"))
+        layout = Layout({"frequency": (0, 1.0), "real": (1, 1.0), "imag": (2, 1.0)}, ("column 1 (f)", "column 2 (Z')", "column 3 (Z'')"),
+                        headerless="f, Z', Z''")
         rows = lines
         attrs["interpretation"] = HEADERLESS_NOTE
     else:

@@ -217,11 +217,19 @@ def fallback_role(cell: str) -> tuple[str, float, str] | None:
 
 @dataclass(frozen=True)
 class Layout:
-    """Which column holds what: ``columns[role] = (index, scale to SI)``; ``header[index]`` its name."""
+    """Which column holds what: ``columns[role] = (index, scale to SI)``; ``header[index]`` its name.
+    ``headerless``: for a file without header, what its columns are read as (``"f, Z', Z''"``);
+    "" for a table under a header."""
 
     columns: dict[str, tuple[int, float]]
     header: tuple[str, ...]
     ignored: tuple[str, ...] = field(default=())
+    headerless: str = ""
+
+    def field_count_text(self, n_fields: int) -> str:
+        """What sets a row's number of fields, for `check_field_count`: ``the header has 3``, or
+        for a file without header ``a file without header has 3 (f, Z', Z'')``."""
+        return f"a file without header has {n_fields} ({self.headerless})" if self.headerless else f"the header has {n_fields}"
 
     @property
     def cartesian(self) -> bool:
@@ -606,7 +614,8 @@ def spectrum_from_rows(
             skipped.add(line, EMPTY_ROW)  # (',,' or ';;' as a spreadsheet program leaves them: a blank line)
             continue
         hint = delimiter_hint(cells, delimiter, n_fields) if delimited and len(cells) != n_fields else ""
-        check_field_count(cells, n_fields, path, line, where=where, last_of_cut_file=line == cut_line, hint=hint)
+        check_field_count(cells, n_fields, path, line, where=where, last_of_cut_file=line == cut_line, hint=hint,
+                          expected=layout.field_count_text(n_fields))
         last_fields.append(cells[-1])
         if line == cut_line:
             check_last_field_digits(last_fields, path, line, name=header[-1])
