@@ -325,6 +325,29 @@ def test_a_phase_without_unit_that_looks_like_radians_is_noted(tmp_path, capsys)
     assert "phase unit note: column 'phase' has no unit" in captured.out and "warning" not in captured.err
 
 
+def test_a_phase_in_radians_beyond_a_full_turn_is_noted(tmp_path, capsys):
+    """A column named 'Phase (rad)' holding the degrees of `oracle`'s arc (down to −51.2): no
+    impedance phase written in radians leaves ±2π, so the values are read as the unit says and
+    noted as likely degrees (until 2026-12-06 they were read without a word)."""
+    from impedax.cli import main
+
+    z = oracle(F_HZ)
+    degrees = np.degrees(np.angle(z))
+    assert -52 < degrees.min() < -51  # the oracle's own numbers: the note quotes this extreme
+    rows = [f"{f!r},{abs(zi)!r},{p!r}" for f, zi, p in zip(F_HZ.tolist(), z.tolist(), degrees.tolist())]
+    (tmp_path / "deg_as_rad.csv").write_text("\n".join(["Frequency (Hz),|Z| (Ohm),Phase (rad)", *rows]) + "\n")
+    ds = ix.load(tmp_path / "deg_as_rad.csv")
+    np.testing.assert_allclose(ds["Z"].values, abs(z) * np.exp(1j * degrees), rtol=1e-12)  # read as the unit says
+    note = ds.attrs["phase_unit_note"]
+    assert "'Phase (rad)'" in note and "-51.2" in note and "±2π" in note and "'Phase (deg)'" in note
+    assert main(["inspect", str(tmp_path / "deg_as_rad.csv")]) == 0
+    assert "phase unit note: column 'Phase (rad)'" in capsys.readouterr().out
+    # radians inside a turn, and the same values read as degrees, are not noted
+    rows = [f"{f!r},{abs(zi)!r},{p!r}" for f, zi, p in zip(F_HZ.tolist(), z.tolist(), np.angle(z).tolist())]
+    (tmp_path / "rad.csv").write_text("\n".join(["Frequency (Hz),|Z| (Ohm),Phase (rad)", *rows]) + "\n")
+    assert "phase_unit_note" not in ix.load(tmp_path / "rad.csv").attrs
+
+
 def _sweeps_file(path, grids, *, header="frequency,Zreal,Zimag,time/s", cycles=None):
     """Sweeps one after another in one table; sweep k is the oracle plus k Ω in series."""
     rows, t = [header], 0.0

@@ -558,6 +558,24 @@ def _radians_note(layout: Layout, phase: np.ndarray, freq: np.ndarray, modulus: 
     return {"phase_unit_note": note}
 
 
+def _degrees_note(layout: Layout, phase: np.ndarray) -> dict:
+    """A ``phase_unit_note`` when a phase column whose unit says radians holds values beyond
+    ±2π (a full turn), where no impedance phase written in radians goes: they look like degrees
+    (``Phase (rad)`` over values down to −60). Read as the unit says; impedax does not guess."""
+    name = layout.name("phase" if "phase" in layout.columns else "neg_phase")
+    found = role_of(name) or fallback_role(name)
+    if found is None or not np.isclose(found[1], np.degrees(1.0)):  # (the unit's scale to degrees: radians)
+        return {}
+    radians = np.deg2rad(phase[np.isfinite(phase)])  # (scaled to degrees when read)
+    if radians.size == 0 or np.abs(radians).max() <= 2 * np.pi:
+        return {}
+    extreme = float(radians[np.argmax(np.abs(radians))])
+    base = split_header_cell(name)[0]
+    note = (f"column {name!r} says radians, but its values reach {extreme:.3g}, beyond ±2π (a full turn), where no impedance "
+            f"phase in radians goes; read as radians: if they are degrees, name the column '{base} (deg)'")
+    return {"phase_unit_note": note}
+
+
 #: How `spectrum_from_rows` reports a row of delimiters only (``,,`` or ``;;``), skipped as a blank line.
 EMPTY_ROW = "empty row (delimiters only)"
 
@@ -635,7 +653,7 @@ def spectrum_from_rows(
     else:
         phase = col["phase"] if "phase" in col else -col["neg_phase"]
         z = col["modulus"] * np.exp(1j * np.deg2rad(phase))
-        attrs = {**attrs, **_radians_note(layout, phase, col["frequency"], col["modulus"], path, header_line)}
+        attrs = {**attrs, **_radians_note(layout, phase, col["frequency"], col["modulus"], path, header_line), **_degrees_note(layout, phase)}
     attrs = {**attrs, **layout.notes()}
     if layout.ignored:
         attrs.setdefault("other_columns", ", ".join(layout.ignored))
