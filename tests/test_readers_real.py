@@ -238,3 +238,27 @@ def test_gamry_header_numbers_are_numbers():
     assert attrs["dc_voltage_v"] == -0.05 and attrs["ac_voltage_mv_rms"] == 10.0 and attrs["area_cm2"] == 1.0
     assert (attrs["initial_frequency_hz"], attrs["final_frequency_hz"]) == (2e5, 0.02)
     assert isinstance(attrs["title"], str)
+
+
+@pytest.mark.parametrize("name", ["data.xlsx", "data.ods"])
+@pytest.mark.parametrize("kept", [0.4, 0.999])
+def test_a_spreadsheet_cut_short_says_so(tmp_path, name, kept):
+    """The REAL workbooks cut short (the first 40 %, or all but their last bytes): a zip ends with
+    its directory (the 'PK\\x05\\x06' record, 22 bytes from the end of data.xlsx), which a cut
+    file lacks, so the refusal names the cut as the likely cause. A whole file damaged inside
+    keeps its directory and is refused without that note."""
+    raw = (REAL / name).read_bytes()
+    assert raw.rfind(b"PK\x05\x06") == len(raw) - 22  # the file's own layout: the directory ends it
+    cut = tmp_path / name
+    cut.write_bytes(raw[: int(len(raw) * kept)])
+    with pytest.raises(ix.DataError) as info:
+        ix.load(cut)
+    message = str(info.value)
+    assert "not a readable spreadsheet" in message and "cut short" in message and "copy it again" in message
+    pytest.importorskip("openpyxl" if name.endswith(".xlsx") else "odf")
+    damaged = bytearray(raw)
+    damaged[2000:2400] = b"x" * 400
+    (tmp_path / f"damaged{cut.suffix}").write_bytes(bytes(damaged))
+    with pytest.raises(ix.DataError) as info:
+        ix.load(tmp_path / f"damaged{cut.suffix}")
+    assert "cut short" not in str(info.value)

@@ -24,7 +24,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError, SweepGridsDiffer
-from .._common import check_file, max_file_bytes, stack
+from .._common import CUT_AS, check_file, max_file_bytes, stack
 from ..registry import Reader
 from ..table import NoLayout, find_header, header_layout, preamble_note, spectrum_from_rows, units_row_note
 
@@ -33,6 +33,25 @@ __all__ = ["read_spreadsheet", "READER"]
 CONVENTIONS = "one table per sheet, columns named as for text (f, Z', Z'' or -Z'', |Z|, phase)"
 _ZIP = b"PK\x03\x04"
 _ODS = b"mimetypeapplication/vnd.oasis.opendocument.spreadsheet"
+#: A zip file ends with its directory's end record: this signature, then 18 bytes and a comment
+#: of at most 65 535 bytes.
+_ZIP_END = b"PK\x05\x06"
+_ZIP_END_SPAN = 22 + 65535
+
+
+def _cut_zip_note(path: Path) -> str:
+    """``"; "`` and what a cut is when the zip file ``path`` lacks the end record of its
+    directory (`_ZIP_END`), or part of it, as a file cut short while copied does; ``""`` otherwise."""
+    try:
+        with open(path, "rb") as stream:
+            stream.seek(max(0, path.stat().st_size - _ZIP_END_SPAN))
+            tail = stream.read()
+    except OSError:
+        return ""
+    at = tail.rfind(_ZIP_END)
+    # (the record is whole when its 22 bytes and the comment whose length its last two give are all there)
+    whole = at >= 0 and len(tail) - at >= 22 and len(tail) - at >= 22 + int.from_bytes(tail[at + 20:at + 22], "little")
+    return "" if whole else f"; the file ends without the directory every zip file (.xlsx, .ods) ends with, {CUT_AS}"
 
 
 def sniff(path: Path, head: bytes) -> str | None:
@@ -47,7 +66,7 @@ def _kind(path: Path) -> str:
             names = zf.namelist()
             total = sum(i.file_size for i in zf.infolist())
     except (zipfile.BadZipFile, OSError, ValueError) as exc:
-        raise DataError(f"not a readable spreadsheet ({exc})", path=path) from None
+        raise DataError(f"not a readable spreadsheet ({exc}){_cut_zip_note(path)}", path=path) from None
     if total > 8 * max_file_bytes():
         raise DataError(f"spreadsheet expands to {total / 2**20:.0f} MB; too large for a spectrum", path=path)
     if "xl/workbook.xml" in names:
@@ -102,7 +121,8 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
     try:
         sheets = pd.read_excel(path, sheet_name=None, header=None, dtype=object, engine=engine)
     except Exception as exc:  # the engines raise many types for damaged files
-        raise DataError(f"not a readable spreadsheet ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})", path=path) from None
+        raise DataError(f"not a readable spreadsheet ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}){_cut_zip_note(path)}",
+                        path=path) from None
     spectra = []
     reasons = []
     for name, frame in sheets.items():
