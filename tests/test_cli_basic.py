@@ -35,6 +35,35 @@ def test_simulate_to_file_and_plot(tmp_path):
     assert ds.sizes["frequency"] == 61 and png.stat().st_size > 1000
 
 
+@pytest.mark.parametrize("model", ["R0 + R1 || C1", "R0 + R1 || C1 + R2 || C2 + R_ab || CPE_3", "R0 + L1 + R1 || (C1 + R2 || CPE2) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7"])
+def test_simulate_plot_legends_stay_inside_their_panels(tmp_path, monkeypatch, model):
+    """Every legend of `impedax simulate --plot` lies inside its panel and clear of the axis
+    labels (read back from matplotlib's geometry): a circuit of 72 characters, written whole in
+    the |Z| panel's legend, ran 130 px past the panel's left side, over the '|Z| [Ω]' label."""
+    import matplotlib.figure
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    saved = []
+    original = matplotlib.figure.Figure.savefig
+
+    def keep(self, *args, **kwargs):
+        saved.append(self)
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
+    assert main(["simulate", model, "--plot", str(tmp_path / "s.png"), "--out", str(tmp_path / "s.csv"), "-q"]) == 0
+    (figure,) = saved
+    renderer = FigureCanvasAgg(figure).get_renderer()
+    figure.draw(renderer)
+    legends = [ax for ax in figure.axes if ax.get_legend() is not None]
+    assert legends
+    for ax in legends:
+        box, panel = ax.get_legend().get_window_extent(renderer), ax.get_window_extent(renderer)
+        assert panel.x0 <= box.x0 and box.x1 <= panel.x1 and panel.y0 <= box.y0 and box.y1 <= panel.y1
+        assert not box.overlaps(ax.yaxis.label.get_window_extent(renderer))
+    assert model in figure.texts[0].get_text()  # the title names the circuit
+
+
 def test_info_json(capsys):
     assert main(["info", "R_f + R_sc || CPE_sc", "--json"]) == 0
     info = json.loads(capsys.readouterr().out)

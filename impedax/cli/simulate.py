@@ -13,6 +13,10 @@ from .common import (JSON_SUMMARY_HELP, add_model_argument, check_band_options, 
 # and JAX's intermediates, and the CSV text with its line list (measured about 0.4 kB)
 POINT_BYTES = 1024
 
+#: The longest circuit text `--plot` writes in its legends; a longer one, which would run past
+#: the half-width |Z| panel, is named there "model" (the figure's title names it whole).
+LEGEND_MODEL_CHARS = 40
+
 
 def register(sub) -> None:
     p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description=("Evaluate MODEL at log-spaced frequencies (both ends included) and write frequency_hz,z_real_ohm,z_imag_ohm: "
@@ -53,7 +57,8 @@ def run(args) -> int:
     def figure():
         from ..plotting import plot_spectrum
 
-        return plot_spectrum(model=ds, title=str(circuit), model_label=str(circuit))
+        text = str(circuit)
+        return plot_spectrum(model=ds, title=text, model_label=text if len(text) <= LEGEND_MODEL_CHARS else "model")
 
     record = command_provenance(args, points_used=points, params_used=params)  # (no data file: the model and its values made it)
     written = outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": figure_writer(figure, **figure_options(args))})
