@@ -200,6 +200,21 @@ def test_a_bad_plugin_is_one_message_naming_the_file_and_exit_2(source, message,
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
 
 
+def test_a_plugin_reader_whose_sniff_raises_is_named_with_its_file_and_line(tmp_path, capsys):
+    """A sniff that raises does not stop the built-in readers; when none claims the file, the
+    one message names the reader, the plugin file and the line of the sniff that raised (line
+    4 of the file written here), not only the reader's name."""
+    bad = tmp_path / "bad_sniff.py"
+    bad.write_text("from impedax.io import Reader\n\ndef sniff(path, head):\n    return head[0] + 'x'\n\n"
+                   "READER = Reader('Bad', '.bad', sniff, lambda path: None)\n")
+    data = tmp_path / "run1.lab"
+    data.write_text("LABEIS\n0.1 10 -1\n1 9 -2\n")
+    code, out, err = run(["inspect", data, "--plugin", bad], capsys)
+    assert code == 2 and out == ""
+    assert f"reader 'Bad': its sniff ({bad}, line 4) raised TypeError: unsupported operand" in err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
 def test_a_missing_plugin_and_a_symbol_in_two_plugins_are_refused(lab, tmp_path, capsys):
     plugin, _ = lab
     code, _, err = run(["--plugin", tmp_path / "nothere.py", "info", "R0"], capsys)

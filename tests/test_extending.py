@@ -191,7 +191,8 @@ def test_one_extension_as_text_is_one_suffix():
 @pytest.mark.parametrize(
     "sniff, says",
     [
-        (lambda p, h: h[0:0] + 1, "reader 'LABEIS': its sniff raised TypeError: can't concat int to bytes"),
+        # (named by the file and line of the sniff that raised: the lambda's own)
+        (lambda p, h: h[0:0] + 1, "reader 'LABEIS': its sniff{where} raised TypeError: can't concat int to bytes"),
         (lambda p, h: 1, "reader 'LABEIS': its sniff returned int 1"),
     ],
 )
@@ -199,6 +200,7 @@ def test_a_sniff_that_breaks_its_contract_is_named_when_no_reader_claims_the_fil
     readers = register_reader(Reader("LABEIS", (".lab",), sniff, _read_lab))
     with pytest.raises(ix.DataError) as caught:
         ix.load(lab_file, readers=readers)
+    says = says.format(where=f" ({__file__}, line {sniff.__code__.co_firstlineno})")
     assert f"not a recognised spectrum file: {says} (a sniff returns None (or True) for a file in its format, else the reason it is not); as delimited text" in str(caught.value)
 
 

@@ -11,6 +11,7 @@ read.
 from __future__ import annotations
 
 import os
+import traceback
 from pathlib import Path
 from typing import Mapping, Sequence
 
@@ -50,6 +51,16 @@ def _head(path: Path) -> bytes:
         raise DataError(f"cannot read file: {exc.strerror}", path=path) from None
 
 
+def _raised_at(function, exc: BaseException) -> str:
+    """`` (FILE, line N)``: where in ``function``'s own file ``exc`` was raised (the innermost
+    such frame: a user's sniff named by its file and line, a plugin's too); "" when unknown."""
+    code = getattr(function, "__code__", None)
+    if code is None:
+        return ""
+    lines = [frame.lineno for frame in traceback.extract_tb(exc.__traceback__) if frame.filename == code.co_filename]
+    return f" ({code.co_filename}, line {lines[-1]})" if lines else ""
+
+
 def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> tuple[Reader | None, list[str]]:
     """The reader that claims ``path`` (``None`` for plain text) and the reasons of those that did not."""
     reader, tried, _faults = _identify(path, readers)
@@ -70,7 +81,7 @@ def _identify(path: str | os.PathLike, readers: Sequence[Reader] | None) -> tupl
         except Exception as exc:  # a user's sniff must not hide the other formats
             reason = f"sniff failed ({type(exc).__name__})"
             detail = (str(exc).strip().splitlines() or [""])[0][:200]
-            faults.append(f"reader {reader.name!r}: its sniff raised {type(exc).__name__}{': ' + detail if detail else ''}")
+            faults.append(f"reader {reader.name!r}: its sniff{_raised_at(reader.sniff, exc)} raised {type(exc).__name__}{': ' + detail if detail else ''}")
         else:
             if answer is None or answer is True:
                 return reader, tried, faults
