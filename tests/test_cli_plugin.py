@@ -186,6 +186,10 @@ BAD_PLUGINS = {
         "import impedax as ix\nX = ix.ElementSpec('G', 'mine', 'Z = R', (ix.ParameterSpec('R', 'Ohm', 1.0),), lambda w, r: r + 0 * w)\n",
         "bad.py: element symbol 'G' of element 'mine' is impedax's built-in Gerischer: choose another",
     ),
+    "missing unit": (
+        "import impedax as ix\nX = ix.ElementSpec('Xa', 'mine', 'Z = R',\n    (ix.ParameterSpec('R', 1.0),), lambda w, r: r + 0 * w)\n",
+        "bad.py, line 3: executing it raised CircuitError: parameter 'R': no unit: ParameterSpec('R', 1.0) takes 1.0 for the unit",
+    ),
     "declares nothing": ("TOLERANCE = 1e-3\n", "bad.py: declares no ElementSpec and no impedax.io.Reader"),
 }
 

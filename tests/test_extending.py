@@ -58,6 +58,23 @@ def test_a_bad_parameter_is_refused_naming_it_and_the_field(kwargs, message):
     assert str(caught.value).startswith(message)
 
 
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        # the unit left out: the default is taken for the unit, and the default is missing
+        (("R", 1.0), "parameter 'R': no unit: ParameterSpec('R', 1.0) takes 1.0 for the unit and has no default; the unit comes second: "
+                     "ParameterSpec('R', UNIT, 1.0), UNIT text such as 'Ohm', 'F', 's' or '1' (none)"),
+        (("tau", 1e-3, 0.0), "parameter 'tau': unit must be text, got float 0.001; the unit comes second: ParameterSpec('tau', UNIT, 0.001), UNIT text "
+                             "such as 'Ohm', 'F', 's' or '1' (none)"),
+        (("R", "Ohm"), "parameter 'R': no default: its starting value comes third, ParameterSpec('R', 'Ohm', DEFAULT)"),
+    ],
+)
+def test_a_parameter_declared_without_its_unit_says_so(arguments, message):
+    with pytest.raises(ix.CircuitError) as caught:
+        ParameterSpec(*arguments)
+    assert str(caught.value) == message
+
+
 def test_a_parameter_within_its_bounds_is_kept_and_its_numbers_become_floats():
     p = ParameterSpec("x", "1", 1, lower=-math.inf, upper=1, upper_inclusive=True)  # default at an inclusive upper
     assert (p.default, p.lower, p.upper) == (1.0, -math.inf, 1.0) and all(type(v) is float for v in (p.default, p.lower, p.upper))

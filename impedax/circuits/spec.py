@@ -84,6 +84,16 @@ _ROLE_BY_UNIT = {
 }
 
 
+class _Required:
+    """The marker of a `ParameterSpec` built without a default."""
+
+    def __repr__(self) -> str:
+        return "<required>"
+
+
+_NO_DEFAULT = _Required()
+
+
 @dataclass(frozen=True)
 class ParameterSpec:
     """One parameter of an element.
@@ -100,7 +110,7 @@ class ParameterSpec:
 
     suffix: str | None
     unit: str
-    default: float
+    default: float = _NO_DEFAULT  # (required; the marker only lets a unit left out be named: `_unit_hint`)
     lower: float = 0.0
     upper: float = math.inf
     description: str = ""
@@ -111,9 +121,15 @@ class ParameterSpec:
         what = self.label
         if self.suffix is not None and not isinstance(self.suffix, str):
             raise CircuitError(f"parameter suffix must be text or None (the element's single parameter), got {_value_text(self.suffix)}")
+        if self.default is _NO_DEFAULT:
+            if isinstance(self.unit, str):
+                raise CircuitError(f"{what}: no default: its starting value comes third, ParameterSpec({self.suffix!r}, {self.unit!r}, DEFAULT)")
+            raise CircuitError(f"{what}: no unit: ParameterSpec({self.suffix!r}, {self.unit!r}) takes {self.unit!r} for the unit and has no default; "
+                               f"{self._unit_hint(self.unit)}")
         for name in ("unit", "description"):
             if not isinstance(getattr(self, name), str):
-                raise CircuitError(f"{what}: {name} must be text, got {_value_text(getattr(self, name))}")
+                hint = f"; {self._unit_hint(self.unit)}" if name == "unit" and isinstance(self.unit, numbers.Real) else ""
+                raise CircuitError(f"{what}: {name} must be text, got {_value_text(getattr(self, name))}{hint}")
         if not isinstance(self.upper_inclusive, bool):
             raise CircuitError(f"{what}: upper_inclusive must be True or False, got {_value_text(self.upper_inclusive)}")
         for name in ("default", "lower", "upper"):
@@ -131,6 +147,10 @@ class ParameterSpec:
             raise CircuitError(f"{what}: default={number_text(self.default)} is outside its bounds {self.bounds_text()}")
         if self.role is not None:
             object.__setattr__(self, "role", _enum_value(StartRole, self.role, f"{what}: start role"))
+
+    def _unit_hint(self, default) -> str:
+        """How to write this parameter with its unit second (a number given where the unit goes)."""
+        return f"the unit comes second: ParameterSpec({self.suffix!r}, UNIT, {default!r}), UNIT text such as 'Ohm', 'F', 's' or '1' (none)"
 
     @property
     def label(self) -> str:
