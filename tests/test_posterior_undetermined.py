@@ -67,3 +67,25 @@ def test_a_start_fit_warning_is_repeated_without_advising_to_sample(pad_posterio
     post = dataclasses.replace(pad_posterior, fit=dataclasses.replace(pad_posterior.fit, warnings=(text + "; for an honest interval, sample the posterior (impedax sample)",)))
     assert f"least-squares start: {text}" in post.warnings
     assert not any("impedax sample" in w for w in post.warnings)
+
+
+def test_a_parameter_whose_draws_pile_up_at_its_prior_edge_is_marked_as_the_undetermined_are():
+    """REAL exampleData.csv with the EDL model: the start fit ends with C_gap at its bound 0 (NaN
+    standard error: not the start fit's rule), and the draws pile up against the lower end of its
+    log-uniform prior. The table said nothing on C_gap's row, the warning alone did (2026-12-06)."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleData.csv")
+    post = ix.sample("R_EP || CPE_EP || C_gap", data, steps=1500, progress=False)
+    # the pile-up by hand, in the prior's log coordinate: the lowest 1 % of ln C_gap's range holds
+    # the draws more densely than the draws' central 90 % does (1.4× here): the likelihood has not
+    # fallen off by the prior's edge
+    lo, hi = post.priors["C_gap"].a, post.priors["C_gap"].b
+    t = np.log(post.samples["C_gap"] / lo) / np.log(hi / lo)
+    t05, t95 = np.quantile(t, [0.05, 0.95])
+    assert np.mean(t <= 0.01) / 0.01 > 0.9 / (t95 - t05)
+    rows = {line.split()[0]: line for line in post.report().splitlines() if line.split() and line.split()[0] in post.names}
+    assert rows["C_gap"].endswith("← NOT DETERMINED"), rows["C_gap"]
+    assert "NOT DETERMINED" not in rows["CPE_EP.Q"] and "NOT DETERMINED" not in rows["sigma_rel"]
+    assert "← C_gap: their draws pile up against an edge of their prior or bound" in post.report()
+    assert post.summary()["piled_up"]["C_gap"] == "lower"

@@ -353,10 +353,12 @@ def chain_warnings(
 class PriorEdges(NamedTuple):
     """The parameters whose draws pile up against an edge of their prior (`prior_edges`):
     ``piled_up`` maps each to its side ("lower", "upper" or "both"), ``warnings`` says it in
-    words, one warning per side."""
+    words, one warning per side; ``at_reduction`` names those piled up only at the bound where
+    their element is a simpler one (a CPE's alpha at 1: the data are consistent with that element)."""
 
     warnings: list[str]
     piled_up: dict[str, str]
+    at_reduction: frozenset[str] = frozenset()
 
 
 def user_bound_sides(user_bounds: Mapping[str, tuple[float, float]], circuit: Circuit, registry: Registry) -> dict[str, frozenset[str]]:
@@ -409,7 +411,7 @@ def prior_edges(
     user's 0.78 is no capacitor).
     """
     reductions, bound_causes, user_sides = reductions or {}, bound_causes or {}, user_sides or {}
-    out, piled_up = [], {}
+    out, piled_up, at_reduction = [], {}, set()
     for i, n in enumerate(names):
         prior = priors[n]
         x = np.asarray(draws[:, i], float)
@@ -441,6 +443,7 @@ def prior_edges(
                     f"the data want {beyond} values — widen {n}'s bound if they are plausible"
                 )
             elif end == bound and reductions.get(n, ("",))[0] == side:
+                at_reduction.add(n)
                 out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data are consistent with {n} = {end:g}, and {reductions[n][1]}")
             elif end == bound and n in bound_causes:
                 out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values. {bound_causes[n]}")
@@ -451,7 +454,7 @@ def prior_edges(
                     f"{n} piles up against the {side} end of its prior {prior} ({where}): the prior, not the data, sets {interval}; "
                     f"the data allow {beyond} values — give {n} a prior that says how {'small' if side == 'lower' else 'large'} it can be"
                 )
-    return PriorEdges(out, piled_up)
+    return PriorEdges(out, piled_up, frozenset(n for n in at_reduction if piled_up[n] != "both"))
 
 
 
@@ -483,6 +486,15 @@ class PiledUp:
         each with its side: "lower", "upper" or "both" (`prior_edges`; the warnings say it in
         words)."""
         return dict(self._prior_edges.piled_up)
+
+    @property
+    def set_by_prior_edge(self) -> tuple[str, ...]:
+        """The piled-up parameters (`piled_up`) whose table rows the reports mark NOT DETERMINED:
+        a prior's or a bound's edge, not the data, sets one end of their interval. Left out: those
+        piled up only at the bound where their element is a simpler one (a CPE's alpha at 1),
+        which their warning names instead, as the start fit's bound note does."""
+        edges = self._prior_edges
+        return tuple(n for n in self.names if n in edges.piled_up and n not in edges.at_reduction)
 
 def interval_warnings(
     linearised: Mapping[str, float],

@@ -76,6 +76,18 @@ UNDETERMINED_MARK = "← NOT DETERMINED"
 UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule: an unidentified group, a relative standard error above 100 %, or a term that vanishes from Z, such as a resistor open at ∞); "
                      "their intervals show where the priors take over, not a measurement: fix one of a group from another measurement, or report what the data fix")
 """The report's mark on a row of `Posterior.undetermined` and the line under its table."""
+EDGE_SET_ROWS = ("their draws pile up against an edge of their prior or bound (see the warnings): that edge, not the data, sets one end of their intervals, "
+                 "so their medians are no measurement either; give them a prior that says how small or large they can be, or report only the end the data set")
+"""The line under a report's table for the rows marked for `PiledUp.set_by_prior_edge` (added 2026-12-06)."""
+
+
+def undetermined_rows(undetermined: Sequence[str], set_by_edge: Sequence[str]) -> tuple[set[str], list[str]]:
+    """The rows a posterior's report marks `UNDETERMINED_MARK` and the lines under its table:
+    the start fit's rule (``undetermined``) and the draws piled up at a prior's or bound's edge
+    (``set_by_edge``, `PiledUp.set_by_prior_edge`), each group with its reason."""
+    piled = [n for n in set_by_edge if n not in undetermined]
+    lines = [f"← {', '.join(names)}: {why}" for names, why in ((list(undetermined), UNDETERMINED_ROWS), (piled, EDGE_SET_ROWS)) if names]
+    return {*undetermined, *piled}, lines
 DERIVED_FROM_UNDETERMINED = "its interval shows where the priors take over, not a measurement; fix one of them at a value you know"
 
 
@@ -329,7 +341,7 @@ class Posterior(PiledUp):
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  {'unit':<{unit_width}}  prior",
         ]
-        loose = self.undetermined
+        loose, footnotes = undetermined_rows(self.undetermined, self.set_by_prior_edge)
         for i, n in enumerate(self.names):
             lines.append(
                 f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {units[i]:<{unit_width}}  {self.priors[n]}"
@@ -337,8 +349,7 @@ class Posterior(PiledUp):
             )
         for (n, value), unit in zip(self.fixed.items(), fixed_units):  # (derived quantities such as the force depend on them too)
             lines.append(f"{n:<{width}}  {value:>11.5g}  {'(fixed)':>11}  {'':>11}  {'':>9}  {'':>7}  {unit:<{unit_width}}".rstrip())
-        if loose:
-            lines.append(f"← {', '.join(loose)}: {UNDETERMINED_ROWS}")
+        lines.extend(footnotes)
         for w in self.warnings:
             lines.append(f"warning: {w}")
         return "\n".join(lines)

@@ -44,7 +44,7 @@ from ..frozen import freeze_fields
 from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
-from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, UNDETERMINED_ROWS, Posterior, chain_figures, checked_copies, sigma_between, with_noise
+from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, Posterior, undetermined_rows, chain_figures, checked_copies, sigma_between, with_noise
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
@@ -289,15 +289,14 @@ class SharedPosterior(PiledUp):
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
-        loose = self.undetermined
+        loose, footnotes = undetermined_rows(self.undetermined, self.set_by_prior_edge)
         unit_width = max(4, *(len(unit_text(u)) for u in self.units))
         for i, n in enumerate(self.names):
             lines.append(
                 f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  "
                 + (f"{unit_text(self.units[i]):<{unit_width}}  {UNDETERMINED_MARK}" if n in loose else unit_text(self.units[i]))
             )
-        if loose:
-            lines.append(f"← {', '.join(loose)}: {UNDETERMINED_ROWS}")
+        lines += footnotes
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
