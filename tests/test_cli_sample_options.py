@@ -97,3 +97,19 @@ def test_known_corner_parameters_pass_the_early_check(monkeypatch, spectrum, tmp
     _nothing_computed(monkeypatch)
     with pytest.raises(AssertionError, match="the start fit or the sampling ran"):
         main(["sample", str(spectrum), "--model", "R0 + R1 || C1", "--init", "R1=90", "--corner", str(tmp_path / "c.png"), "--corner-params", names])
+
+
+CYCLES = __import__("pathlib").Path(__file__).parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc"
+
+
+def test_a_corner_label_the_data_lack_is_refused_before_the_sampling(capsys, monkeypatch, tmp_path):
+    """``--shared`` with ``--corner-params R1[cycle=65]`` on the REAL battery cycles (cycles 0, 64
+    and 129 in the file) was refused only after the whole sampling; now once the data are read."""
+    _nothing_computed(monkeypatch)
+    png = tmp_path / "c.png"
+    argv = ["sample", str(CYCLES), "--model", "R0 + R1 || C1", "--shared", "R0", "--corner", str(png)]
+    assert main([*argv, "--corner-params", "R0,R1[cycle=65]"]) == 2
+    err = capsys.readouterr().err
+    assert "R1[cycle=65]" in err and "cycle=0, cycle=64, cycle=129" in err and "Traceback" not in err and not png.exists()
+    with pytest.raises(AssertionError, match="the start fit or the sampling ran"):  # (a label of the data passes)
+        main([*argv, "--corner-params", "R0,R1[cycle=64]"])

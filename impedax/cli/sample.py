@@ -113,7 +113,7 @@ def check_corner_names(names, parameters, fixed, shared, noise) -> None:
     """A `ParameterError` for a ``--corner-params`` name the posterior will not have, before any
     work: the model's ``parameters`` not in ``fixed``, and ``sigma_rel`` with proportional noise;
     with ``shared`` (--shared) the shared ones by name and the others as NAME[LABEL] (the labels
-    are checked against the data's after the sampling, `plotting.bayes.corner_params`). The
+    are checked against the data's once they are read: `check_corner_labels`). The
     names were checked only after the start fit and the sampler's compilation (a walkthrough's
     ``--corner-params R7``, 2026-12-06)."""
     from ..arguments import unknown_parameter
@@ -134,6 +134,26 @@ def check_corner_names(names, parameters, fixed, shared, noise) -> None:
         base, bracket, rest = name.partition("[")
         if not (name in shared or name in extra or (bracket and rest.endswith("]") and len(rest) > 1 and base in own)):
             raise unknown_parameter("--corner-params", name, _joint_names(free, shared, extra))
+
+
+def check_corner_labels(names, data, over) -> None:
+    """A `ParameterError` for a ``--corner-params`` NAME[LABEL] whose LABEL is none of the data's
+    spectra along ``over`` (--over; None: the data's only extra dimension), once the data are read
+    and before the start fit and the sampling: the labels were checked only after the sampling
+    (a walkthrough's ``R1[cycle=65]`` on the REAL battery cycles 0, 64, 129 cost the whole run,
+    2026-12-06). Data whose dimensions ``over`` does not name are left to the fit's message."""
+    from ..errors import ParameterError
+    from ..fitting.bayes.shared_posterior import spectrum_labels
+
+    extra = [d for d in data["Z"].dims if d != "frequency"]
+    dims = list(over) if over is not None else extra
+    if not dims or (len(dims) > 1 and over is None) or any(d not in extra for d in dims):
+        return
+    labels = spectrum_labels(data, dims)
+    for name in names:
+        base, bracket, rest = name.partition("[")
+        if bracket and rest[:-1] not in labels:
+            raise ParameterError(f"--corner-params: {name}: {rest[:-1]!r} is not a spectrum of the data along {', '.join(dims)} (labels: {', '.join(labels)}); give {base}[LABEL] with one of them")
 
 
 def _joint_names(free, shared, extra) -> list[str]:
@@ -186,6 +206,8 @@ def run(args) -> int:
         check_corner_names(corner_names, circuit.parameter_names(args.registry), fixed, sharing.get("shared"), args.noise)
     data = load_selected(args.data, args.select, single=None if sharing else "sample", readers=args.readers,
                          or_else="or sample them jointly with --shared NAMES (parameters one value for all, the others one per spectrum)")
+    if corner_names is not None and sharing:
+        check_corner_labels(corner_names, data, sharing.get("over"))
     note_unused_sigma(data, "sample", str(args.noise) == "sigma", "--noise sigma")
     start = None
     if init or max_steps is not None:  # the least-squares start, as `sample` runs it, from the given values or step limit

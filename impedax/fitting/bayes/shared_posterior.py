@@ -47,7 +47,7 @@ from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_set
 from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, Posterior, undetermined_rows, chain_figures, checked_copies, sigma_between, with_noise
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
-__all__ = ["SharedPosterior", "sample_shared", "MAX_JOINT_PARAMETERS"]
+__all__ = ["SharedPosterior", "sample_shared", "spectrum_labels", "MAX_JOINT_PARAMETERS"]
 
 # emcee's stretch move needs ever longer chains as the dimension grows (its autocorrelation
 # time grows roughly linearly with it); beyond this many sampled parameters it does not mix in
@@ -598,7 +598,9 @@ def _start_covariance(fit_ds: xr.Dataset, over, spectra, names) -> np.ndarray:
     return out
 
 
-def _spectrum_labels(ds: xr.Dataset, over: tuple[str, ...]) -> list[str]:
+def spectrum_labels(ds: xr.Dataset, over: Sequence[str]) -> list[str]:
+    """The labels of ``ds``'s spectra along the dimensions ``over`` (``cycle=64``; several:
+    ``trial=1, session=2``), in the order the joint posterior names its parameters NAME[LABEL]."""
     labels = [[f"{d}={c}" for c in (ds[d].values if d in ds.coords else range(ds.sizes[d]))] for d in over]
     return [", ".join(label[i] for label, i in zip(labels, index)) for index in np.ndindex(*(ds.sizes[d] for d in over))]
 
@@ -619,7 +621,7 @@ def sample_shared(
     table = ParameterTable.build(circuit, registry=registry, fixed=fixed)
     specs = circuit.parameter_specs(registry)
     own = [n for n in table.free_names if n not in start.shared]
-    labels = _spectrum_labels(ds, start.over)
+    labels = spectrum_labels(ds, start.over)
     m = len(labels)
     names = [*start.shared, *(f"{n}[{label}]" for label in labels for n in own)] + (["sigma_rel"] if noise is NoiseModel.PROPORTIONAL else [])
     if len(names) > MAX_JOINT_PARAMETERS:
