@@ -105,3 +105,21 @@ def test_gross_misfit_is_left_to_the_misfit_note():
     result = ix.fit("R0 + R1 || C1", ix.make_spectrum(FREQ, noisy(zt, 0.002, rng)))
     assert any("the model misses structure" in w for w in result.warnings)
     assert not uneven_warnings(result.warnings)
+
+
+def test_the_advice_to_give_sigma_reads_the_same_in_the_text_and_the_json(capsys):
+    """REAL Parstat file, R0 + R1 ∥ CPE1: the residuals are over 4× larger at 398 Hz – 10 kHz than at
+    10 – 50 Hz. The report told a command-line user to give "a 'sigma' variable of a netCDF file",
+    its JSON "make_spectrum(sigma=...)" (2026-12-06); now both give the file's and Python's ways."""
+    import json
+    from pathlib import Path
+
+    from impedax.cli import main
+
+    argv = ["fit", str(Path(__file__).parent / "fixtures" / "real" / "exampleDataParstat.txt"), "--model", "R0 + R1 || CPE1"]
+    assert main([*argv, "--json"]) == 0
+    in_json = uneven_warnings(json.loads(capsys.readouterr().out)["warnings"])
+    assert main(argv) == 0
+    in_text = [line.removeprefix("warning: ") for line in capsys.readouterr().out.splitlines() if MARK in line]
+    assert len(in_json) == 1 and in_text == in_json, (in_text, in_json)
+    assert "sigma column" in in_json[0] and "make_spectrum(sigma=...)" in in_json[0]

@@ -984,9 +984,11 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
             remedy = (f"{SIGMA_BAND_WORDS} {loud_band} or overstates it at {quiet_band}: check the sigma column "
                       "there (impedax sample --noise sigma takes σ as stated too)")
         else:
+            # (both ways of giving σ, in words the command line's phrasing leaves alone: its report and its JSON say the same)
             remedy = ("if the noise is larger there, weigh by σ: the data carry a sigma column, which this weighting does not use (impedax fit --weighting sigma; impedax sample --noise sigma)"
                       if has_sigma else
-                      "if the noise is larger there, give sigma (a sigma column, or make_spectrum(sigma=...)) and weigh by it (impedax fit --weighting sigma; impedax sample --noise sigma)")
+                      "if the noise is larger there, give sigma (a sigma column of the file or a 'sigma' variable of a netCDF file; in Python, make_spectrum(sigma=...)) "
+                      "and weigh by it (impedax fit --weighting sigma; impedax sample --noise sigma)")
         out[i] = (
             f"the weighted residuals are over {UNEVEN_RESIDUAL_RATIO:g}× larger (rms) at {loud_band} than at the {'lower' if lo[quiet] < lo[loud] else 'higher'} frequencies {quiet_band}: "
             f"{UNEVEN_NOISE_NOTE} ({weighting} weighting), so they are not to be trusted; {remedy}; "
