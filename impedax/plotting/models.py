@@ -69,11 +69,12 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
         ax.set_xscale("log")
     g = gap.gap
     ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90% credible interval")
-    ax.axvline(gap.paper.gap * 1e6, color="k", label=f"paper method {gap.paper.gap * 1e6:.2f} µm")
+    # (the lengths in the SI prefix of their size, as the report gives them: a paper method's 504 pm read "0.00 µm")
+    ax.axvline(gap.paper.gap * 1e6, color="k", label=f"paper method {format_quantity(gap.paper.gap, 'm', 4)}")
     if gap.paper_has_bounds:  # (one trial of each: no interval)
         ax.axvspan(gap.paper.gap_lower * 1e6, gap.paper.gap_upper * 1e6, color="tab:orange", alpha=0.15, label="paper bounds (extreme impedances)" + ("; NO interval for u: see the warning" if getattr(gap, "paper_bounds_no_interval", False) else ""))
     if true_gap is not None:
-        ax.axvline(true_gap * 1e6, color="tab:green", ls="--", label=f"truth (synthetic) {true_gap * 1e6:.2f} µm")
+        ax.axvline(true_gap * 1e6, color="tab:green", ls="--", label=f"truth (synthetic) {format_quantity(true_gap, 'm', 4)}")
     identified = getattr(gap, "gap_identified", True)
     bounded = getattr(gap, "gap_lower_bound", None) is not None
     if bounded:  # only C_EP + C_gap is determined: u ≥ the bound, the histogram is the priors'

@@ -1,0 +1,38 @@
+"""`impedax gap --plot` on the REAL Autolab data.dfr (one spectrum, 29 frequencies 1 Hz–10 kHz, a
+single contact: nothing subtracted), 2026-12-06 walkthrough: the figure's legends against the
+geometry drawn and the file's own shape."""
+
+import re
+from pathlib import Path
+
+import matplotlib
+import pytest
+
+import impedax as ix
+from impedax.models.gap import gap_analysis
+
+matplotlib.use("Agg")
+
+DFR = Path(__file__).parent / "fixtures" / "real" / "data.dfr"
+PREFIX = {"p": 1e-12, "n": 1e-9, "µ": 1e-6, "m": 1e-3, "": 1.0}
+
+
+@pytest.fixture(scope="module")
+def figure():
+    import matplotlib.pyplot as plt
+
+    gap = gap_analysis(ix.load(DFR), area=130e-6, method="pooled", steps=300, progress=False)
+    fig = gap.plot()
+    yield fig
+    plt.close(fig)
+
+
+def test_the_paper_methods_line_is_labelled_with_its_own_position(figure):
+    """The paper method's u here is 504 pm (C_gap = 2.29 µF): its line sat at 5.04e-4 µm, its
+    legend read "paper method 0.00 µm". The label's number, read back with its SI prefix, is the
+    line's x (the axis is in µm)."""
+    (line,) = [l for l in figure.axes[1].get_lines() if l.get_label().startswith("paper method")]
+    x_m = float(line.get_xdata()[0]) * 1e-6
+    number, prefix = re.fullmatch(r"paper method ([0-9.]+) ([pnµm]?)m", line.get_label()).groups()
+    assert float(number) * PREFIX[prefix] == pytest.approx(x_m, rel=5e-3), line.get_label()
+    assert 1e-10 < x_m < 1e-9  # (504 pm: no air gap, as the report says)
