@@ -36,3 +36,11 @@ def test_the_paper_methods_line_is_labelled_with_its_own_position(figure):
     number, prefix = re.fullmatch(r"paper method ([0-9.]+) ([pnµm]?)m", line.get_label()).groups()
     assert float(number) * PREFIX[prefix] == pytest.approx(x_m, rel=5e-3), line.get_label()
     assert 1e-10 < x_m < 1e-9  # (504 pm: no air gap, as the report says)
+
+
+def test_one_spectrum_is_not_called_a_mean_of_trials(figure):
+    """data.dfr holds one sweep (29 rows, no trial dimension): the data's legend read "Z (mean of
+    trials)" although no trial was averaged ("spectra used  total 1" in the report)."""
+    assert ix.load(DFR)["Z"].dims == ("frequency",)
+    labels = figure.axes[0].get_legend_handles_labels()[1]
+    assert labels[0].startswith("Z") and "trials" not in labels[0], labels

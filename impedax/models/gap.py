@@ -298,6 +298,12 @@ class GapAnalysis:
         return {"value": q["value"], "q05": q["q05"], "q95": q["q95"]}
 
     @property
+    def averages_trials(self) -> bool:
+        """Whether the remainder is a mean over trials: some input holds more than one spectrum
+        (the figure's data legend; a single sweep was called "mean of trials", 2026-12-06)."""
+        return _has_bounds(self.remaining)
+
+    @property
     def paper_has_bounds(self) -> bool:
         """False when total, skin and screen are one spectrum each: the paper's bounds (from the
         lowest- and highest-impedance trials) then equal its estimate and are no interval."""

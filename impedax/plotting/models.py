@@ -31,7 +31,8 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     f = gap.remaining["frequency"].values
     z = gap.remaining["Z"].values
     ax = axes[0]
-    ax.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label=("Z" if getattr(gap, "single_contact", False) else "Z_R") + " (mean of trials)")
+    averaged = " (mean of trials)" if getattr(gap, "averages_trials", True) else " (one spectrum each)" if not getattr(gap, "single_contact", False) else " (one spectrum)"
+    ax.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label=("Z" if getattr(gap, "single_contact", False) else "Z_R") + averaged)
     if "sigma" in gap.remaining:
         s = gap.remaining["sigma"].values
         ax.fill_between(f, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s, color="0.8", label="± SEM")
