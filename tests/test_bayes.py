@@ -922,7 +922,7 @@ def test_a_bound_where_the_element_is_a_simpler_one_says_so():
     assert alpha.startswith("CPE_sc.alpha piles up against its upper bound 1 ")
     assert "CPE_sc with alpha = 1 is a capacitor: the model with C_sc in its place may be enough" in alpha
     assert "the data are consistent with CPE_sc.alpha = 1" in alpha and "larger values" not in alpha and "missing" not in alpha
-    assert r.startswith("R_sc piles up against its lower bound 0 ") and "the data would take smaller values (is the model missing something?)" in r
+    assert r.startswith("R_sc piles up against its lower bound 0 Ω ") and "the data would take smaller values (is the model missing something?)" in r
     # without the reductions (as before), α's warning is the generic one
     assert "is the model missing something?" in prior_edges(names, ("", "Ohm"), draws, priors, (0.0, 0.0), (1.0, np.inf)).warnings[0]
 

@@ -1,6 +1,6 @@
-"""`impedax gap --plot` on the REAL Autolab data.dfr (one spectrum, 29 frequencies 1 Hz–10 kHz, a
-single contact: nothing subtracted), 2026-12-06 walkthrough: the figure's legends against the
-geometry drawn and the file's own shape."""
+"""`impedax gap` on the REAL Autolab data.dfr (one spectrum, 29 frequencies 1 Hz–10 kHz, a single
+contact: nothing subtracted), 2026-12-06 walkthrough: the figure's legends against the geometry
+drawn and the file's own shape, and the sampling's words against a hand computation."""
 
 import re
 from pathlib import Path
@@ -14,14 +14,19 @@ from impedax.models.gap import gap_analysis
 matplotlib.use("Agg")
 
 DFR = Path(__file__).parent / "fixtures" / "real" / "data.dfr"
+AREA = 130e-6  # [m²]
 PREFIX = {"p": 1e-12, "n": 1e-9, "µ": 1e-6, "m": 1e-3, "": 1.0}
 
 
 @pytest.fixture(scope="module")
-def figure():
+def gap():
+    return gap_analysis(ix.load(DFR), area=AREA, method="pooled", steps=300, progress=False)
+
+
+@pytest.fixture(scope="module")
+def figure(gap):
     import matplotlib.pyplot as plt
 
-    gap = gap_analysis(ix.load(DFR), area=130e-6, method="pooled", steps=300, progress=False)
     fig = gap.plot()
     yield fig
     plt.close(fig)
@@ -44,3 +49,13 @@ def test_one_spectrum_is_not_called_a_mean_of_trials(figure):
     assert ix.load(DFR)["Z"].dims == ("frequency",)
     labels = figure.axes[0].get_legend_handles_labels()[1]
     assert labels[0].startswith("Z") and "trials" not in labels[0], labels
+
+
+def test_the_pile_up_warning_gives_the_bound_of_u_in_metres(gap):
+    """u's upper bound is u at C_gap = 1 fF: ε0 ε_air A / 1 fF = 8.8541878128e-12 × 1.00059 × 130e-6
+    / 1e-15 = 1.15172 m by hand. The warning read "u piles up against its upper bound 1.15172 (…)"
+    beside a report in µm; now it gives the unit, as its q95 did."""
+    bound = 8.8541878128e-12 * 1.00059 * AREA / 1e-15
+    assert f"{bound:g}" == "1.15172"
+    (warning,) = [w for w in gap.warnings if w.startswith("sampling: u piles up against its upper bound")]
+    assert warning.startswith("sampling: u piles up against its upper bound 1.15172 m ("), warning

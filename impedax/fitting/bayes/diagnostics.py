@@ -439,16 +439,16 @@ def prior_edges(
                 out.append(f"{n} follows its prior {prior} into the {side} tail ({where}): the data do not cut that tail off, so the prior, not the data, sets {interval}")
             elif end == bound and side in user_sides.get(n, ()):
                 out.append(
-                    f"{n} piles up against its {side} bound {end:g}, the bound you set (bounds=, --bound) ({where}): your bound, not the data, sets {interval}; "
+                    f"{n} piles up against its {side} bound {end:g}{unit}, the bound you set (bounds=, --bound) ({where}): your bound, not the data, sets {interval}; "
                     f"the data want {beyond} values — widen {n}'s bound if they are plausible"
                 )
             elif end == bound and reductions.get(n, ("",))[0] == side:
                 at_reduction.add(n)
-                out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data are consistent with {n} = {end:g}, and {reductions[n][1]}")
+                out.append(f"{n} piles up against its {side} bound {end:g}{unit} ({where}): the bound, not the data, sets {interval}; the data are consistent with {n} = {end:g}{unit}, and {reductions[n][1]}")
             elif end == bound and n in bound_causes:
-                out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values. {bound_causes[n]}")
+                out.append(f"{n} piles up against its {side} bound {end:g}{unit} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values. {bound_causes[n]}")
             elif end == bound:
-                out.append(f"{n} piles up against its {side} bound {end:g} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values (is the model missing something?)")
+                out.append(f"{n} piles up against its {side} bound {end:g}{unit} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values (is the model missing something?)")
             else:
                 out.append(
                     f"{n} piles up against the {side} end of its prior {prior} ({where}): the prior, not the data, sets {interval}; "
