@@ -374,3 +374,24 @@ def test_meyer_area_alone_scales_the_force_as_one_over_area_and_says_so(capsys):
     assert float(scaled["R_sc"]) == pytest.approx(THESIS["R_sc"] * 2, rel=1e-3)
     given = _json(capsys, "meyer", "--points", "11", "--param", f"area={AREA / 2!r}", f"C_i={THESIS['C_i'] / 2!r}")
     assert given["warnings"] == []  # (an element of the area given: the user chose the values)
+
+
+@pytest.mark.parametrize(
+    "args, says, not_says",
+    [
+        (["--fmin", "1000", "--fmax", "1000"], "one frequency (no peak located): 128.7 mN at 1 kHz", "band's end"),
+        (["--param", "R_f=1e300", "--points", "9", "--no-param-check"], "no peak: 0 N at every frequency", "at 10 Hz"),
+    ],
+)
+def test_the_figures_marker_says_what_the_text_says(capsys, monkeypatch, tmp_path, args, says, not_says):
+    """One frequency (the text: "(one frequency: no peak located)") was marked "largest at the
+    band's end", and a force the same everywhere (the text: "no peak in the band: … 0 N at every
+    frequency") "peak: 0 N"; 128.7 mN is eq 3.6 at 1 kHz (the JSON's force_n, 0.12875 N)."""
+    import impedax.plotting.models as plots
+
+    drawn = []
+    draw = plots.plot_force_spectrum
+    monkeypatch.setattr(plots, "plot_force_spectrum", lambda *a, **k: drawn.append(draw(*a, **k)) or drawn[-1])
+    assert main(["force", "meyer", *args, "--plot", str(tmp_path / "f.png")]) == 0
+    (label,) = drawn[0].axes[0].get_legend_handles_labels()[1]
+    assert says in label and not_says not in label, label

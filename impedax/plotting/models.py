@@ -178,8 +178,9 @@ def plot_force_bands(gap):
 
 def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-average", peak=None, subtitle: str = "", notes=()):
     """Force [N] against frequency [Hz], drawn in the SI prefix of its largest value (`force_unit`); ``convention`` ("time-average" or
-    "peak") labels the axis. ``peak``: a mapping with ``frequency_hz``, ``force_n`` and
-    ``at_band_edge`` (`impedax force`'s JSON ``peak``), marked on the curve. ``subtitle``
+    "peak") labels the axis. ``peak``: a mapping with ``frequency_hz``, ``force_n``,
+    ``at_band_edge`` and, optionally, ``band_edge`` (`impedax force`'s JSON ``peak``), marked on
+    the curve. ``subtitle``
     (e.g. the drive and the parameters changed from the paper's) goes under the title, and
     ``notes`` (warnings) under the axes, in red."""
     import textwrap
@@ -194,7 +195,10 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
     unit_scale, unit = force_unit(force)
     ax.semilogx(freq, np.asarray(force) / unit_scale, marker="o" if np.size(freq) < 3 else None)
     if peak is not None:
-        label = ("largest at the band's end" if peak["at_band_edge"] else "peak") + f": {format_quantity(float(peak['force_n']), 'N', 4)} at {format_frequency(float(peak['frequency_hz']))}"
+        value, where = format_quantity(float(peak["force_n"]), "N", 4), format_frequency(float(peak["frequency_hz"]))
+        # (as `impedax force` says it: one frequency and a flat force have no peak, nor a band's end it rises past)
+        label = {"fmin=fmax": f"one frequency (no peak located): {value} at {where}", "flat": f"no peak: {value} at every frequency"}.get(
+            peak.get("band_edge"), ("largest at the band's end" if peak["at_band_edge"] else "peak") + f": {value} at {where}")
         ax.plot([peak["frequency_hz"]], [peak["force_n"] / unit_scale], "v", color="C3", label=label)
         ax.legend(fontsize=font_size("legend", 8))
     ax.set_xlabel("frequency [Hz]")
