@@ -40,7 +40,7 @@ import xarray as xr
 
 from ..progress import quiet_beneath
 from ..circuits import parse
-from ..data import report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
+from ..data import coordinate_labels, report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
@@ -1453,6 +1453,27 @@ def _check_hierarchical_trials(remaining: xr.Dataset) -> None:
         raise DataError(f"the hierarchical gap analysis needs at least 3 total trials, got {n_trials}; use --pooled (Python: method='pooled')")
 
 
+def _check_trials_hold_a_gap(batch, total: xr.Dataset) -> None:
+    """A `DataError` naming the trials, before the hierarchical sampling, when the EDL fits of at
+    least half the total trials (``batch``) put C_gap at its lower bound 0: u = ∞ there (no air
+    gap), so the trials' median, the centre of u's population prior, is no gap. On the REAL
+    battery cycles 0, 64 and 129 all three fits end so; the sampling ran for a minute and then
+    failed with "prior lognormal:inf,2: both numbers must be finite" (2026-12-06). A stray trial
+    or two in another mode are left to the median, as before."""
+    c_gap = batch.values("C_gap")
+    at_zero = [index for index in np.ndindex(*c_gap.shape) if not c_gap.values[index] > 0]
+    if 2 * len(at_zero) < c_gap.size:
+        return
+    by_dim = {d: coordinate_labels(c_gap, d) for d in c_gap.dims}
+    labels = [", ".join(f"{d}={by_dim[d][i]}" for d, i in zip(c_gap.dims, index)) for index in at_zero]
+    shown = "; ".join(labels if len(labels) <= 8 else labels[:3] + ["…"] + labels[-2:])
+    raise DataError(
+        f"the EDL fits of {len(at_zero)} of the {c_gap.size} total trials ({shown}) put C_gap at its lower bound 0 (u = ∞: no air gap), so the trials' median, "
+        "on which the hierarchical model centres the population of u, is no gap; use --pooled (Python: method='pooled'), which reports what the trials' mean holds",
+        path=total.attrs.get("source"),
+    )
+
+
 def trial_remainder_sigma(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None) -> np.ndarray | None:
     """The noise sd [Ω] (frequency,) of one total trial's remainder Z_total,t − mean Z_skin −
     mean Z_TS, for Re and Im alike: σ_k² = s_total,k² + SEM_skin,k² + SEM_TS,k², the total
@@ -1711,6 +1732,7 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
         batch = fit(circuit, weighted, init=dict(edl.values), weighting="sigma")
         strays = _per_trial_centre_notes(batch, edl, reparametrization, per_trial)
     notes = list(notes) + strays
+    _check_trials_hold_a_gap(batch, total)
     announce(f"gap: the hierarchical model, NUTS ({chains} chains, warm-up {warmup} + {steps} draws) …", progress)
     post, retry_notes = sampled_with_retry(
         lambda target: sample_hierarchical(circuit, trials, per_trial=per_trial, reparametrization=reparametrization, init=batch, chains=chains, warmup=warmup, draws=steps, seed=seed, progress=progress, target_accept=target),
