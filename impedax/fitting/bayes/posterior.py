@@ -76,8 +76,8 @@ UNDETERMINED_MARK = "← NOT DETERMINED"
 UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule: an unidentified group, a relative standard error above 100 %, or a term that vanishes from Z, such as a resistor open at ∞); "
                      "their intervals show where the priors take over, not a measurement: fix one of a group from another measurement, or report what the data fix")
 """The report's mark on a row of `Posterior.undetermined` and the line under its table."""
-EDGE_SET_ROWS = ("their draws pile up against an edge of their prior or bound (see the warnings): that edge, not the data, sets one end of their intervals, "
-                 "so their medians are no measurement either; give them a prior that says how small or large they can be, or report only the end the data set")
+EDGE_SET_ROWS = ("their draws pile up against an edge of their prior or bound: that edge, not the data, sets one end of their intervals, "
+                 "so their medians are no measurement either; the warnings say which end and what to do, or report only the end the data set")
 """The line under a report's table for the rows marked for `PiledUp.set_by_prior_edge` (added 2026-12-06)."""
 
 
