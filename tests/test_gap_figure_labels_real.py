@@ -6,12 +6,14 @@ import re
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 import pytest
 
 import impedax as ix
 from impedax.models.gap import gap_analysis
 
 matplotlib.use("Agg")
+pytestmark = pytest.mark.slow  # (the module's gap analysis: about 25 s)
 
 DFR = Path(__file__).parent / "fixtures" / "real" / "data.dfr"
 AREA = 130e-6  # [m²]
@@ -20,7 +22,8 @@ PREFIX = {"p": 1e-12, "n": 1e-9, "µ": 1e-6, "m": 1e-3, "": 1.0}
 
 @pytest.fixture(scope="module")
 def gap():
-    return gap_analysis(ix.load(DFR), area=AREA, method="pooled", steps=300, progress=False)
+    # (1500 steps: the draws of u spread from 0.7 µm to the prior's bound, as with steps="auto")
+    return gap_analysis(ix.load(DFR), area=AREA, method="pooled", steps=1500, progress=False)
 
 
 @pytest.fixture(scope="module")
@@ -59,3 +62,16 @@ def test_the_pile_up_warning_gives_the_bound_of_u_in_metres(gap):
     assert f"{bound:g}" == "1.15172"
     (warning,) = [w for w in gap.warnings if w.startswith("sampling: u piles up against its upper bound")]
     assert warning.startswith("sampling: u piles up against its upper bound 1.15172 m ("), warning
+
+
+def test_a_force_band_over_decades_is_drawn_on_a_log_axis_where_the_median_shows(figure):
+    """No air gap here: u's draws reach from 0.7 µm to the prior's 1.15 m, so the force's 90 % band
+    spans pN to N, while its median is µN. A linear axis up to 6.6 N drew that median on the zero
+    line (0.0001 % of the axis' height); now it stands clear of both ends of a log axis."""
+    ax = figure.axes[2]
+    (median,) = [l for l in ax.get_lines() if l.get_label().startswith("with EP branch")]
+    y = np.asarray(median.get_ydata(), float)
+    assert ax.get_yscale() == "log" and "[N]" in ax.get_ylabel()
+    low, high = ax.get_ylim()
+    share = (np.log10(y) - np.log10(low)) / (np.log10(high) - np.log10(low))  # (height in the axis, 0–1)
+    assert np.all((share > 0.05) & (share < 0.95)), share

@@ -88,7 +88,10 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "density", title=title)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]
-    unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="semilogx", alpha=0.2, suffix="median, 90% band")
+    wide = force_span(gap.force) > FORCE_LOG_SPAN
+    unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="loglog" if wide else "semilogx", alpha=0.2, suffix="median, 90% band", in_newtons=wide)
+    if wide:
+        plain_log_ticks(ax.yaxis)
     ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:.4g} V (Sirin eq 1, peak)" + _force_title_note(gap))
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 7))
     for a in axes:
@@ -125,11 +128,26 @@ def force_unit(force_n) -> tuple[float, str]:
     return scale, f"{prefix}N"
 
 
-def _force_bands(ax, force, *, ep_label: str, scale: str, alpha: float, suffix: str) -> str:
+FORCE_LOG_SPAN = 100.0
+"""The gap figure's force axis is logarithmic when the force's 90 % band and median span more
+than this factor (`force_span`): on REAL data.dfr (no air gap) the band reached from pN to 6.6 N,
+and a linear axis drew the median, 6.31 µN, on the zero line (2026-12-06)."""
+
+
+def force_span(force) -> float:
+    """The largest over the smallest positive, finite value of the force bands' ``q05``,
+    ``median`` and ``q95`` [N] (1 when there are none)."""
+    values = np.concatenate([np.ravel(force[k].values) for k in ("q05", "median", "q95")]).astype(float)
+    values = values[np.isfinite(values) & (values > 0)]
+    return float(values.max() / values.min()) if values.size else 1.0
+
+
+def _force_bands(ax, force, *, ep_label: str, scale: str, alpha: float, suffix: str, in_newtons: bool = False) -> str:
     """Median and 90 % band of the force [N] with and without the EP branch, drawn in the unit
-    of `force_unit` (returned, for the axis label)."""
+    of `force_unit` (``in_newtons``: in N, for a log axis whose ticks carry their own prefixes;
+    returned, for the axis label)."""
     ff = force["frequency"].values
-    unit_scale, unit = force_unit(force["q95"].values)
+    unit_scale, unit = (1.0, "N") if in_newtons else force_unit(force["q95"].values)
     for branch, color, label in (("with_ep", "tab:blue", ep_label), ("without_ep", "tab:red", "without EP (C_gap only)")):
         band = force.sel(branch=branch)
         ax.fill_between(ff, band["q05"] / unit_scale, band["q95"] / unit_scale, color=color, alpha=alpha)
