@@ -75,3 +75,10 @@ def test_a_force_band_over_decades_is_drawn_on_a_log_axis_where_the_median_shows
     low, high = ax.get_ylim()
     share = (np.log10(y) - np.log10(low)) / (np.log10(high) - np.log10(low))  # (height in the axis, 0–1)
     assert np.all((share > 0.05) & (share < 0.95)), share
+
+
+def test_a_single_contacts_force_is_flat_in_the_json_as_in_the_report(gap):
+    """A single contact: C_gap carries the whole V0 at every frequency, so F = ½ ε0 ε_gap A V0²/u²
+    does not depend on frequency; the JSON's force_max_n.band_edge said "fmin" (rising past 1 Hz)."""
+    assert gap.force_at_max()["band_edge"] == "flat" and gap.force_at_max("without_ep")["band_edge"] == "flat"
+    assert "at every frequency" in gap.report()

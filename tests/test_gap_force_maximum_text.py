@@ -43,3 +43,11 @@ def test_a_force_rising_past_the_band_says_so():
 
 def test_a_flat_force_keeps_its_every_frequency_wording():
     assert _force_maximum_text(_median(np.full(FREQ.size, 2.835))) == "2.83 N at every frequency (1 Hz–1 MHz)"
+
+
+def test_a_flat_force_has_no_band_end_in_its_shape():
+    """A single contact's force, ½ ε0 ε_gap A V0²/u², is the same at every frequency: its JSON
+    ``force_max_n.band_edge`` said "fmin" (the force "may still rise past" 1 Hz) where the report
+    said "at every frequency"; now "flat", the word of `impedax force`'s JSON for such a force."""
+    shape = force_maximum_shape(_median(np.full(FREQ.size, 2.835)))
+    assert shape["band_edge"] == "flat" and shape["index"] == 0 and shape["plateau_hz"] == (1.0, 1e6)

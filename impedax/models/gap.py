@@ -459,7 +459,8 @@ class GapAnalysis:
         i = shape["index"]
         return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["median"][i]),
                 "q05": float(band["q05"][i]), "q95": float(band["q95"][i]),
-                # (added 2026-12-05: "fmin"/"fmax" when the largest force is at an end of the band, else null; the plateau it lies on, else null)
+                # (added 2026-12-05: "fmin"/"fmax" when the largest force is at an end of the band, "flat" (2026-12-06) when it is the same
+                # at every frequency, else null; the plateau it lies on, else null)
                 "band_edge": shape["band_edge"], "plateau_hz": list(shape["plateau_hz"]) if shape["plateau_hz"] else None}
 
     def _sampling_summary(self) -> dict | None:
@@ -818,6 +819,11 @@ FLAT_FORCE_REL = 1e-3
 frequency, to rounding."""
 
 
+def _flat(values: np.ndarray) -> bool:
+    """Whether a median force over frequency is flat (`FLAT_FORCE_REL`)."""
+    return bool(values.size > 1 and np.all(np.isfinite(values)) and values.max() - values.min() <= FLAT_FORCE_REL * abs(values.max()))
+
+
 FORCE_PLATEAU_REL = 0.01
 """The force's maximum lies on a plateau (`force_maximum_shape`) where the median stays within this
 fraction of it over more than `FORCE_PLATEAU_SPAN` in frequency: where on the plateau the grid's
@@ -830,12 +836,15 @@ FORCE_PLATEAU_SPAN = 10.0
 def force_maximum_shape(median: xr.DataArray) -> dict:
     """Where the median force over frequency is largest and what kind of maximum it is:
     ``index`` of the grid's largest value, ``band_edge`` ``"fmin"`` or ``"fmax"`` when that is an
-    end of the band (the force may still rise past it) else None, and ``plateau_hz`` (low, high):
-    the contiguous frequencies about it within `FORCE_PLATEAU_REL` of it, when they span more than
-    `FORCE_PLATEAU_SPAN`, else None."""
+    end of the band (the force may still rise past it), ``"flat"`` for a force the same at every
+    frequency (`FLAT_FORCE_REL`; as `impedax force` says it: a single contact's was "fmin",
+    2026-12-06) else None, and ``plateau_hz`` (low, high): the contiguous frequencies about it
+    within `FORCE_PLATEAU_REL` of it, when they span more than `FORCE_PLATEAU_SPAN`, else None."""
     values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
     i = int(np.argmax(values))
     edge = ("fmin" if freq[i] == freq.min() else "fmax") if values.size > 1 and freq[i] in (freq.min(), freq.max()) else None
+    if _flat(values):
+        edge = "flat"
     plateau = None
     if values.size > 1 and np.all(np.isfinite(values)):
         near = values >= (1.0 - FORCE_PLATEAU_REL) * values[i]
@@ -860,7 +869,7 @@ def _force_maximum_text(median: xr.DataArray) -> str:
     values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
     shape = force_maximum_shape(median)
     i = shape["index"]
-    if values.size > 1 and np.all(np.isfinite(values)) and values.max() - values.min() <= FLAT_FORCE_REL * abs(values.max()):
+    if shape["band_edge"] == "flat":
         return f"{format_quantity(float(values[i]), 'N')} at every frequency ({format_band(float(freq.min()), float(freq.max()))})"
     end = {"fmin": "the band's lower end", "fmax": "the band's upper end"}.get(shape["band_edge"])
     if shape["plateau_hz"] is not None:
