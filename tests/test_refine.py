@@ -413,6 +413,10 @@ def test_a_path_of_cheaper_effects_is_kept_when_it_ends_as_good_with_fewer_param
         holder = "the second path" if kept[-1] == "RS+CPE" else "the first path"
         assert notes[1].startswith(f"the third path changes nothing: {holder}'s end is kept.") and "The third path started from constant_phase" in notes[1], notes
         assert f"against {holder}'s end {kept[-1]} (AIC" in notes[1], notes
+        # and it tells how that path started, not the first path when the second replaced it
+        # (the note on the REAL VersaStudio file's third path told how the first path started)
+        started = "The second path started from series_resistance (RS, in series), giving RS." if kept[-1] == "RS+CPE" else "The first path started from extra_relaxation (ARC, in series), giving ARC."
+        assert notes[1].endswith(started), notes
     else:
         assert notes == []
 

@@ -433,20 +433,23 @@ def _addition_text(s) -> str:
     return s.added if "+" in s.effect else f"{s.added}, {s.where}"
 
 
-def _starts_compared(alt, picked, label: str = "second path") -> str:
-    """How the further path ``label``'s start ``alt`` differs from the first path's ``picked``,
-    each with the model it gives: two sentences. Of one effect, the effect is named once and the
-    two additions told apart: the note read "starting from extra_relaxation (…) instead of
-    extra_relaxation (…)" (Gamry's real file, walkthrough 2026-12-02), the same name twice for
-    two placements."""
+def _starts_compared(alt, kept, label: str = "second path", kept_label: str = "the first path") -> str:
+    """How the further path ``label``'s start ``alt`` differs from ``kept``, the start of the path
+    whose end it is compared with (``kept_label``: the first path, or a further path kept before
+    it), each with the model it gives: two sentences. On the REAL VersaStudio file the third
+    path's note, compared with the kept second path's end, told how the first path started
+    (walkthrough 2026-12-06). Of one effect, the effect is named once and the two additions told
+    apart: the note read "starting from extra_relaxation (…) instead of extra_relaxation (…)"
+    (Gamry's real file, walkthrough 2026-12-02), the same name twice for two placements."""
+    holder = kept_label[:1].upper() + kept_label[1:]
     if alt.effect == DRT_EFFECT:
         return (f"The {label} started from the circuit the data's DRT reads (impedax drt), {alt.fit.model}, in place of the starting circuit."
-                + (f" The first path started from {_first_step_text(picked)}, giving {picked.fit.model}." if picked is not None else ""))
-    if alt.effect == picked.effect:
+                + (f" {holder} started from {_first_step_text(kept)}, giving {kept.fit.model}." if kept is not None else ""))
+    if alt.effect == kept.effect:
         return (f"The {label} started from {alt.effect} too, but added {_addition_text(alt)}, giving {alt.fit.model}. "
-                f"The first path added {_addition_text(picked)}, giving {picked.fit.model}.")
+                f"{holder} added {_addition_text(kept)}, giving {kept.fit.model}.")
     return (f"The {label} started from {_first_step_text(alt)}, giving {alt.fit.model}. "
-            f"The first path started from {_first_step_text(picked)}, giving {picked.fit.model}.")
+            f"{holder} started from {_first_step_text(kept)}, giving {kept.fit.model}.")
 
 
 DRT_EFFECT = "drt_circuit"
@@ -617,7 +620,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     starts = _distinct_networks(starts, picked)
     # the paths are numbered as the notes report them (a path not reported passes its number on),
     # and each note names the path whose end it is compared with: the one kept so far
-    holder, reported = "the first path", 0
+    holder, holder_start, reported = "the first path", picked, 0
     for number, alt in enumerate(starts, 1):
         if reported >= len(PATH_LABELS):
             break
@@ -675,10 +678,10 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         if own:
             sentences.append(f"It keeps {', '.join(restored)}, the starting circuit's, which {holder} left out: leaving {'them' if len(restored) > 1 else 'it'} out costs "
                              f"{a.aic - b.aic:.1f} of AIC, more than {DELTA_AIC_MIN:g}, the most refine lets an element go for.")
-        sentences.append(_starts_compared(alt, picked, label))
+        sentences.append(_starts_compared(alt, holder_start, label, holder))
         notes.append(" ".join(sentences))
         if better:
-            steps, holder = other, f"the {label}"
+            steps, holder, holder_start = other, f"the {label}", alt
     return steps
 
 
