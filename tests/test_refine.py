@@ -983,6 +983,31 @@ def test_a_further_path_of_the_same_effect_says_what_differs_not_the_effect_twic
     )
 
 
+def test_a_further_path_that_added_what_the_kept_path_added_is_told_without_but():
+    """`_starts_compared`: on REAL Gamry from ``R0 + R1 || CPE1`` both paths add R_relax ∥
+    CPE_relax behind R1, the first also leaving R0 out (it fell to 8.61e-40 Ω); the note read
+    "too, but added R_relax || CPE_relax, nested in series with R1 …", then the same words for the
+    first path: a contrast where there was none. It now says the first path added the same, and
+    what it left out; a note compared with the second path's end names that path
+    (``kept_label``). Stand-ins with the words of that run."""
+    from types import SimpleNamespace as NS
+
+    from impedax.fitting.diagnosis.refinement import _starts_compared
+
+    where = "nested in series with R1 (a layer behind that arc) (fitted τ = 5.4 s, within half a decade of the data's DRT peak at 6.29 s that the model does not explain)"
+    why = "it fell to 8.61e-40 Ω: the data do not reach a series-resistance plateau"
+    keeping = NS(effect="extra_relaxation", added="R_relax || CPE_relax", where=where, removed=(), fit=NS(model="R0 + (R1 + R_relax || CPE_relax) || CPE1"))
+    leaving = NS(effect="extra_relaxation", added="R_relax || CPE_relax", where=f"{where}, and R0 left out ({why})", removed=("R0",), fit=NS(model="(R1 + R_relax || CPE_relax) || CPE1"))
+    assert _starts_compared(keeping, leaving) == (
+        f"The second path started from extra_relaxation too and added R_relax || CPE_relax, {where}, giving R0 + (R1 + R_relax || CPE_relax) || CPE1. "
+        f"The first path added the same, and R0 left out ({why}), giving (R1 + R_relax || CPE_relax) || CPE1."
+    )
+    assert _starts_compared(leaving, keeping, "third path", "the second path") == (
+        f"The third path started from extra_relaxation too and added R_relax || CPE_relax, {where}, and R0 left out ({why}), giving (R1 + R_relax || CPE_relax) || CPE1. "
+        "The second path added the same, giving R0 + (R1 + R_relax || CPE_relax) || CPE1."
+    )
+
+
 @pytest.mark.slow  # (15-25 s)
 def test_a_tie_is_not_won_by_an_element_kept_only_at_zero():
     """REAL Gamry file (impedance.py's example), R0 + R1 || CPE1: both paths add R_relax ∥

@@ -433,6 +433,13 @@ def _addition_text(s) -> str:
     return s.added if "+" in s.effect else f"{s.added}, {s.where}"
 
 
+def _removal_words(s) -> str:
+    """What a start's ``where`` says after its placement of the elements it left out (``, and R0
+    left out (it fell to …)``, `diagnosis`'s derived candidates), or ""."""
+    cuts = [s.where.find(f", and {name} left out (") for name in getattr(s, "removed", ())]
+    return s.where[min(c for c in cuts if c >= 0):] if any(c >= 0 for c in cuts) else ""
+
+
 def _starts_compared(alt, kept, label: str = "second path", kept_label: str = "the first path") -> str:
     """How the further path ``label``'s start ``alt`` differs from ``kept``, the start of the path
     whose end it is compared with (``kept_label``: the first path, or a further path kept before
@@ -440,16 +447,23 @@ def _starts_compared(alt, kept, label: str = "second path", kept_label: str = "t
     path's note, compared with the kept second path's end, told how the first path started
     (walkthrough 2026-12-06). Of one effect, the effect is named once and the two additions told
     apart: the note read "starting from extra_relaxation (…) instead of extra_relaxation (…)"
-    (Gamry's real file, walkthrough 2026-12-02), the same name twice for two placements."""
+    (Gamry's real file, walkthrough 2026-12-02), the same name twice for two placements. Where
+    both added the same at the same place, the note says so, with no "but": on REAL Gamry from
+    ``R0 + R1 || CPE1`` it read "too, but added R_relax || CPE_relax, nested in series with R1
+    …", then the same words for the first path, whose only difference was R0 left out."""
     holder = kept_label[:1].upper() + kept_label[1:]
     if alt.effect == DRT_EFFECT:
         return (f"The {label} started from the circuit the data's DRT reads (impedax drt), {alt.fit.model}, in place of the starting circuit."
                 + (f" {holder} started from {_first_step_text(kept)}, giving {kept.fit.model}." if kept is not None else ""))
-    if alt.effect == kept.effect:
-        return (f"The {label} started from {alt.effect} too, but added {_addition_text(alt)}, giving {alt.fit.model}. "
-                f"{holder} added {_addition_text(kept)}, giving {kept.fit.model}.")
-    return (f"The {label} started from {_first_step_text(alt)}, giving {alt.fit.model}. "
-            f"{holder} started from {_first_step_text(kept)}, giving {kept.fit.model}.")
+    if alt.effect != kept.effect:
+        return (f"The {label} started from {_first_step_text(alt)}, giving {alt.fit.model}. "
+                f"{holder} started from {_first_step_text(kept)}, giving {kept.fit.model}.")
+    placed = [_addition_text(s).removesuffix(_removal_words(s)) for s in (alt, kept)]
+    if alt.added == kept.added and placed[0] == placed[1]:
+        return (f"The {label} started from {alt.effect} too and added {_addition_text(alt)}, giving {alt.fit.model}. "
+                f"{holder} added the same{_removal_words(kept)}, giving {kept.fit.model}.")
+    return (f"The {label} started from {alt.effect} too, but added {_addition_text(alt)}, giving {alt.fit.model}. "
+            f"{holder} added {_addition_text(kept)}, giving {kept.fit.model}.")
 
 
 DRT_EFFECT = "drt_circuit"
