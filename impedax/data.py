@@ -415,9 +415,12 @@ def si_prefix(magnitude: float) -> tuple[float, str]:
 
 def _quantity_parts(value: float, unit: str, digits: int) -> tuple[str, float, str]:
     """(number text, scale, unit text with its prefix) of `format_quantity`: ``("2.2", 1e3, "kΩ")``;
-    scale 1 and the plain unit where no prefix applies."""
+    a compound unit takes the prefix on its leading unit, as the figures' axes count it
+    (``("2.87", 1e-3, "mΩ s^-1/2")``, a Warburg σ; ``µF s^(α-1)``, a CPE's Q); scale 1 and the
+    plain unit where no prefix applies (a unit led by a power or a quotient: ``m^2``, ``1/s``)."""
     label = unit_text(unit) if unit else ""
-    if not label or not np.isfinite(value) or value == 0 or " " in label or "^" in label or "/" in label:  # (compound units, CPE Q, Warburg σ: plain)
+    lead = label.split(" ")[0]
+    if not label or not np.isfinite(value) or value == 0 or "^" in lead or "/" in lead:
         return f"{value:.{digits}g}", 1.0, label
     shown = float(f"{value:.{digits}g}")  # (the prefix of the value as printed: 999.6 Ω is 1 kΩ)
     if not SI_PREFIXES[-1][0] <= abs(shown) < 1e3 * SI_PREFIXES[0][0]:  # (beyond the prefixes: 1.19e+282 Ω, not 1.19e+270 TΩ)
@@ -443,9 +446,10 @@ def format_quantity(value: float, unit: str, digits: int = 3) -> str:
 def format_uncertain(value: float, stderr: float, unit: str) -> str:
     """``730 ± 120 Ω``, ``3.94 ± 0.19 kΩ``, ``1.1500 ± 0.0056 Ω``: `format_value_error`'s rule
     (the error to two significant digits, the value to the error's last digit, GUM JCGM
-    100:2008 §7.2.6, `round_to_error`) in the SI prefix of the value as so rounded; without a
-    prefix where `format_quantity` gives none (compound units, zero, not finite: then
-    ``(2.00 ± 0.30)e-05 F s^(α-1)``). An error that is not finite or not positive leaves the
+    100:2008 §7.2.6, `round_to_error`) in the SI prefix of the value as so rounded (a compound
+    unit in that of its leading unit: ``20.0 ± 3.0 µF s^(α-1)``); without a prefix where
+    `format_quantity` gives none (zero, not finite, a unit led by a power: then
+    ``(2.00 ± 0.30)e-05 m^2``). An error that is not finite or not positive leaves the
     value to 3 significant digits (``3.94 ± nan kΩ``). (Until 2026-12-01 the value always had
     3 digits whatever its error: ``1.15 ± 0.0056 Ω`` beside ``773 ± 5.1 mΩ``.)"""
     stderr = abs(stderr)  # (an error is a size)

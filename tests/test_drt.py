@@ -502,7 +502,7 @@ def test_format_uncertain_reads_as_written_by_hand():
     assert format_uncertain(0.5, 0.1, "1") == "0.50 ± 0.10"
     assert format_uncertain(0.0, 1.0, "Ohm") == "0.0 ± 1.0 Ω"
     assert format_uncertain(0.3, 0.5, "Ohm") == "300 ± 500 mΩ"  # below its error: each to 2 digits
-    assert format_uncertain(2e-5, 3e-6, "F s^(alpha-1)") == "(2.00 ± 0.30)e-05 F s^(α-1)"
+    assert format_uncertain(2e-5, 3e-6, "F s^(alpha-1)") == "20.0 ± 3.0 µF s^(α-1)"  # (a compound unit in the prefix of its leading unit; was "(2.00 ± 0.30)e-05 F s^(α-1)")
     assert format_uncertain(3939.0, float("nan"), "Ohm") == "3.94 ± nan kΩ"  # the value keeps its prefix
     assert format_uncertain(999.6, -5.0, "Ohm") == "999.6 ± 5.0 Ω"  # an error is a size
 

@@ -51,7 +51,7 @@ def test_a_note_within_the_deviation_with_sigma_by_hand_and_none_beyond_it():
     text = notes[0][1]
     sigma = 500.0 / math.sqrt(2 * deep)
     assert "ω_min·τ = 1e+06: its Z is within 5e-07 of R/√(jωτ)" in text
-    assert "the model with W1 in its place" in text and f"σ = R/√(2τ) = {sigma:.3g} Ω s^-1/2" in text
+    assert "the model with W1 in its place" in text and f"σ = R/√(2τ) = {sigma * 1e3:.3g} mΩ s^-1/2" in text  # (σ = 0.0886 Ω s^-1/2, in its prefix)
     # a fixed τ or R: the user chose the element; no note
     assert ParameterTable.build(ix.parse("R0 + G1"), fixed={"G1.tau": deep}).warburg_like == {}
 
