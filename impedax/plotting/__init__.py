@@ -364,22 +364,16 @@ class _PrefixedFormatter(ScalarFormatter):
         return [self.axis.get_label()] + [getattr(other, f"{name}axis").get_label() for other in siblings if other is not ax]
 
     def _ours(self, text) -> bool:
-        """Whether ``text``'s bracketed unit is one to prefix: bare (``[Ω]``), or a prefix this
-        formatter wrote."""
-        match = _BRACKETED_UNIT.search(text.get_text())
-        return match is not None and (not match.group(1) or self.written.get(id(text)) == text.get_text())
+        """Whether ``text``'s bracketed unit is one to prefix (`_prefixable_label`)."""
+        return _prefixable_label(text, self.written)
 
     def set_locs(self, locs):
         labels = self._labels()
         if not self._ours(labels[0]):
             self.scale = None
             return super().set_locs(locs)
-        top = max((abs(v) for axis in (self.axis, *self.along) for v in axis.get_view_interval() if np.isfinite(v)), default=0.0)
-        self.scale, prefix = si_prefix(top) if top > 0 else (1.0, "")
-        for label in labels:
-            if self._ours(label):
-                label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}{m.group(3)}]", label.get_text()))
-                self.written[id(label)] = label.get_text()
+        self.scale, prefix = view_prefix(self.axis, *self.along)
+        _prefix_labels(labels, prefix, self.written)
         # as few decimals as tell the ticks apart at the scale (a lone tick: as write its value,
         # "20", not "20.0")
         scaled = np.asarray(locs, float) / self.scale
@@ -406,6 +400,29 @@ class _PrefixedFormatter(ScalarFormatter):
 # (a gap thickness u, 2026-12-03: it read 2.8055 ×10⁻⁶ m beside matplotlib's 1e−6), and a
 # compound unit led by one of them, [F s^(α-1)] → [nF s^(α-1)] (a CPE's Q) ...
 _BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H|m)((?: [^\]]*)?)\]")
+
+
+def view_prefix(*axes) -> tuple[float, str]:
+    """The (scale, prefix) of `si_prefix` for the largest value in view on ``axes`` (matplotlib
+    axis objects: ``ax.xaxis``, ``ax.yaxis``); (1, "") when none is nonzero."""
+    top = max((abs(v) for axis in axes for v in axis.get_view_interval() if np.isfinite(v)), default=0.0)
+    return si_prefix(top) if top > 0 else (1.0, "")
+
+
+def _prefixable_label(text, written: dict) -> bool:
+    """Whether the label ``text``'s bracketed unit is one to prefix: bare (``[Ω]``), or a prefix
+    a formatter wrote (``written``: the texts it wrote, by the label's id)."""
+    match = _BRACKETED_UNIT.search(text.get_text())
+    return match is not None and (not match.group(1) or written.get(id(text)) == text.get_text())
+
+
+def _prefix_labels(labels, prefix: str, written: dict) -> None:
+    """Write ``prefix`` into the bracketed unit of each of ``labels`` that is one to prefix
+    (`_prefixable_label`), noting the texts in ``written``."""
+    for label in labels:
+        if _prefixable_label(label, written):
+            label.set_text(_BRACKETED_UNIT.sub(lambda m: f"[{prefix}{m.group(2)}{m.group(3)}]", label.get_text()))
+            written[id(label)] = label.get_text()
 
 
 def prefixed_axis(axis, *, along=(), label=None, max_bins="auto") -> None:
@@ -531,8 +548,9 @@ def plain_linear_ticks(axis) -> None:
     axis.set_major_formatter(PlainTicks())
 
 
-def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model"):
-    """|Z| (log-log) and phase [deg] against frequency."""
+def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model", nyquist=None):
+    """|Z| (log-log) and phase [deg] against frequency; |Z| in the SI prefix of the Nyquist
+    panel ``nyquist`` of the same figure when given (`plain_log_ticks`)."""
     for spec, style, label in ((_as_arrays(data, "data", "plot_bode"), "o", data_label), (_as_arrays(model, "model", "plot_bode"), "-", model_label)):
         if spec is None:
             continue
@@ -541,7 +559,7 @@ def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", mod
         ax_mod.loglog(f, np.abs(z), style, label=label, **kw)
         ax_phase.semilogx(f, np.degrees(np.angle(z)), style, label=label, **kw)
     ax_mod.set_ylabel("|Z| [Ω]")
-    plain_log_ticks(ax_mod.yaxis)
+    plain_log_ticks(ax_mod.yaxis, nyquist=nyquist)
     ax_phase.set_ylabel("phase [deg]")
     ax_phase.set_xlabel("frequency [Hz]")
     for ax in (ax_mod, ax_phase):
@@ -674,7 +692,7 @@ def plot_spectrum(
     with_residuals = d is not None and m is not None
     fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(d, m), with_residuals, figsize=figsize)
     plot_nyquist(ax_nyq, data, model, data_label=data_label, model_label=model_label, curves=nyquist_curves, points=nyquist_points)
-    plot_bode(ax_mod, ax_ph, data, model, data_label=data_label, model_label=model_label)
+    plot_bode(ax_mod, ax_ph, data, model, data_label=data_label, model_label=model_label, nyquist=ax_nyq)
     freq_axes = [ax_mod, ax_ph]
     if with_residuals:
         z_model = _model_at(d[0], m) if model_at_data is None else np.asarray(model_at_data, complex)
@@ -707,7 +725,7 @@ def plot_spectra(spectra: Sequence, labels: Sequence[str], *, title: str | None 
     else:
         equal_aspect(ax_nyq)
     ax_mod.set_ylabel("|Z| [Ω]")
-    plain_log_ticks(ax_mod.yaxis)
+    plain_log_ticks(ax_mod.yaxis, nyquist=ax_nyq)
     ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")
     for ax in (ax_nyq, ax_mod, ax_ph):
         ax.grid(alpha=0.3, which="both")
@@ -867,19 +885,39 @@ def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True) 
     return f"{x / scale:g}{prefix}"
 
 
-def plain_log_ticks(axis) -> None:
+def plain_log_ticks(axis, *, nyquist=None) -> None:
     """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40,
     10k, 1M) instead of 2×10⁻¹ or 1e+06 (`_plain_number`): percentages read as they are
     printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
     minor ticks (an axis over about a decade) would not fit between each other (`_MinorLogLabels`);
     those count in an SI prefix from 1000 up (2k, 3k next to 10k, 20k: "2000 3000 4000 6000"
     ran into one string beside "20k 30k"). An axis in % (``[%]`` in its label, `percent_axis`)
-    gets no prefix: ``1e-6`` (2026-12-03: a comparison's residuals read "1µ, 100p" of a percent)."""
+    gets no prefix: ``1e-6`` (2026-12-03: a comparison's residuals read "1µ, 100p" of a percent).
+
+    ``nyquist``: the Nyquist panel (Axes) of the same figure; the axis, in Ω (``|Z| [Ω]``), then
+    counts in that panel's prefix (`view_prefix` of its two axes, as `equal_aspect` counts it),
+    named in its label (``|Z| [mΩ]``, ticks 20, 30, 40), and writes no prefix of its own on a
+    tick (``1e-4`` of MΩ): REAL exampleData.csv's comparison had a Nyquist panel in mΩ beside
+    |Z| in Ω ticked 0.02, 0.03, 0.04 (2026-12-06)."""
     from matplotlib.ticker import LogFormatter
 
+    def scaled(formatter, x, prefix_from=1e4):
+        scale = getattr(axis.get_major_formatter(), "scale", 1.0)
+        return _plain_number(x / scale, prefix_from, prefixes=scale == 1.0 and not percent_axis(formatter.axis))
+
     class _Plain(LogFormatter):
+        def __init__(self):
+            super().__init__()
+            self.scale, self.written = 1.0, {}  # (the scale the ticks count in; the label texts written, `_prefix_labels`)
+
+        def set_locs(self, locs=None):
+            super().set_locs(locs)
+            if nyquist is not None and _prefixable_label(self.axis.label, self.written):
+                self.scale, prefix = view_prefix(nyquist.xaxis, nyquist.yaxis)
+                _prefix_labels([self.axis.label], prefix, self.written)
+
         def __call__(self, x, pos=None):
-            return _plain_number(x, prefixes=not percent_axis(self.axis)) if super().__call__(x, pos) else ""
+            return scaled(self, x) if super().__call__(x, pos) else ""
 
     class _MinorLogLabels(LogFormatter):
         def set_locs(self, locs=None):
@@ -887,7 +925,7 @@ def plain_log_ticks(axis) -> None:
             _thin_minor_labels(self)
 
         def __call__(self, x, pos=None):
-            return _plain_number(x, prefix_from=1e3, prefixes=not percent_axis(self.axis)) if super().__call__(x, pos) else ""
+            return scaled(self, x, 1e3) if super().__call__(x, pos) else ""
 
     axis.set_major_formatter(_Plain())
     axis.set_minor_formatter(_MinorLogLabels(labelOnlyBase=False))

@@ -98,7 +98,7 @@ def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
         ax.plot(frequency, data_values, "o", ms=3.5, mfc="none", color="k", label="data")
         ax.set_xscale("log")
     ax_mod.set(yscale="log", ylabel="|Z| [Ω]")
-    plain_log_ticks(ax_mod.yaxis)
+    plain_log_ticks(ax_mod.yaxis, nyquist=ax_nyq)
     ax_ph.set(ylabel="phase [deg]")
     for ax in axes:
         ax.grid(alpha=0.3, which="both")

@@ -40,7 +40,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     nyquist_view(ax_nyq, z, *curves, frequency=f, frame=nyquist_frame(z, *curves))
     ax_nyq.legend(fontsize=font_size("legend", 7), loc="best")  # (data and every model; the Bode panels draw them alike)
     ax_mod.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
-    plain_log_ticks(ax_mod.yaxis)
+    plain_log_ticks(ax_mod.yaxis, nyquist=ax_nyq)  # (in the Nyquist panel's prefix: one unit across the figure)
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]")
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
     plain_log_ticks(ax_res.yaxis)

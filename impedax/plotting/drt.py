@@ -116,7 +116,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_ph = fig.add_subplot(slots[4], sharex=ax_mod)
     plot_gamma(ax_g, result, overlay=overlay, legend_above=True)
     plot_nyquist(ax_nyq, data, model, model_label="DRT fit")
-    plot_bode(ax_mod, ax_ph, data, model, model_label="DRT fit")
+    plot_bode(ax_mod, ax_ph, data, model, model_label="DRT fit", nyquist=ax_nyq)
     order = np.argsort(result.frequency)
     f = result.frequency[order]
     ax_res.semilogx(f, result.residuals.real[order] * 100, "o-", ms=3, lw=0.8, label="Re")

@@ -16,7 +16,7 @@ def plot_kk(result, *, title: str | None = None):
     data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.kk_impedance, getattr(result, "predict", None))
     fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(data, model), True)
     plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={result.n_rc})")
-    plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={result.n_rc})")
+    plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={result.n_rc})", nyquist=ax_nyq)
     plot_residuals(ax_res, result.frequency, result.residuals_real, result.residuals_imag, labels=("Δ re", "Δ im"), ylabel="KK residual (Z − Z_kk)/|Z| [%]")
     order = np.argsort(result.frequency)
     magnitude = np.hypot(result.residuals_real, result.residuals_imag)[order]
