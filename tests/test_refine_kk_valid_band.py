@@ -133,7 +133,10 @@ def test_refine_of_the_real_gamry_file_keeps_every_point_and_reports_the_data_ap
     assert "left out as not Kramers" not in report
     assert "refine does not start again there: it would leave out 72 % of the points, more than the 25 %" in report
     data_line = next(x for x in report.splitlines() if x.startswith("data:"))
-    assert data_line.startswith("data: NOT Kramers–Kronig consistent at 15.9 mHz–2.26 kHz") and "would discard 72 % of the points" in data_line
+    # the finding as one range, the flagged points' (until 2026-12-06 "at 15.9 mHz–2.26 kHz", the bad
+    # band's edge halfway to 2.53 kHz, beside "52 of 72 points (15.9 mHz–2.02 kHz)" and the same run again)
+    assert data_line.startswith("data: NOT Kramers–Kronig consistent (KK rms_rel 4.79 %); the KK test flags 52 of 72 points (15.9 mHz–2.02 kHz)") and "would discard 72 % of the points" in data_line
+    assert data_line.count("kHz") == 1, data_line
     # the first diagnosis names the band the test passes; the final verdict names it for the final
     # model, so the data line does not say it twice (on CH Instruments' file the two differed)
     assert "the KK test passes at 2.53 kHz–200 kHz" in r.steps[0].diagnosis.kk_flagged_kept
@@ -171,7 +174,7 @@ def test_refine_on_a_drifting_low_decade_adds_the_cpe_or_names_the_trim(cpe, wal
         # (2026-12-02) the run the KK test passes is under 3 points per parameter of the last model,
         # and starting again on it would leave out more than `KK_MASK_MAX_FRACTION`: every point is
         # kept and the data's problem has its own line, apart from the verdict
-        assert r.masked_points == () and r.data_line.startswith("data: NOT Kramers–Kronig consistent at "), r.report()
+        assert r.masked_points == () and r.data_line.startswith("data: NOT Kramers–Kronig consistent "), r.report()
     else:
         assert r.verdict == "adequate", r.report()
 

@@ -375,6 +375,19 @@ class KKResult:
         return band_rules(*self._rule_masks())
 
     @property
+    def measured_bands(self) -> tuple[tuple[float, float], ...]:
+        """For each of ``bad_bands``, its lowest and highest flagged frequency [Hz], as measured:
+        the band a report names beside the points it counts (the edges of ``bad_bands`` lie
+        halfway to the neighbours: REAL Gamry's band ended at 2.26 kHz, between the flagged
+        2.02 kHz and 2.53 kHz, and the report named "15.9 mHz–2.26 kHz" beside "52 points
+        (15.9 mHz–2.02 kHz)", one finding as two ranges)."""
+        return tuple((points[0], points[-1]) for points in self.band_frequencies if points)
+
+    def measured_bands_text(self) -> str:
+        """`measured_bands` in words: ``15.9 mHz–2.02 kHz``, several joined by commas."""
+        return ", ".join(format_band(lo, hi) for lo, hi in self.measured_bands)
+
+    @property
     def band_frequencies(self) -> tuple[tuple[float, ...], ...]:
         """For each of ``bad_bands``, the measured frequencies [Hz] of its flagged points, ascending
         (the band's edges lie halfway to the neighbours; ``--exclude`` takes these)."""

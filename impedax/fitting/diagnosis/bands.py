@@ -17,6 +17,7 @@ from typing import Sequence
 
 import numpy as np
 
+from ...data import format_frequency  # (re-exported: this module's own copy wrote REAL test_data.txt's 0.99991 mHz as "0.001 Hz")
 from ..least_squares import FitResult
 
 __all__ = ["FailingBand", "failing_bands", "format_frequency", "RUN_P"]
@@ -28,14 +29,6 @@ WIDE_DECADES = 1.5
 """A band spanning more decades than this is described by its extremes unless its misfit is uniform."""
 PHASE_MIN_DEG = 2.0  # a phase difference worth a word [°]
 MAGNITUDE_MIN_PERCENT = 1.0  # a |Z| difference worth a word [%]
-
-
-def format_frequency(f: float) -> str:
-    """A frequency [Hz] in words: ``1.5 kHz``, ``20 mHz``."""
-    for unit, scale in (("MHz", 1e6), ("kHz", 1e3), ("Hz", 1.0), ("mHz", 1e-3)):
-        if f >= scale:
-            return f"{f / scale:.3g} {unit}"
-    return f"{f:.3g} Hz"
 
 
 @dataclass(frozen=True)

@@ -504,7 +504,9 @@ class Diagnosis:
             fit_command = " ".join(["impedax fit DATA", left_out_words(left_out)]).strip()
         lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}{self._chi2_red_basis()}, AIC {b.aic:.1f} ({b.n_points} points, {counted(b.n_params, 'free parameter')})"]
         if self.kk is not None:
-            kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent in " + ", ".join(format_band(lo, hi) for lo, hi in self.kk.bad_bands)
+            # (the band once: the note on the points kept names it where it names the same range)
+            named = self.kk_flagged_kept and f"points ({self.kk.measured_bands_text()})" in self.kk_flagged_kept
+            kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent" + ("" if named else f" in {self.kk.measured_bands_text()}")
             if not self.kk.conclusive:
                 kk_text = f"{b.n_points} frequencies are too few for the Kramers–Kronig test, and for the noise it estimates"
             kept = f"; without the {len(self.masked_points)} masked point(s) they are (KK rms_rel {self.kk_of_kept.rms_rel * 100:.3g} %)" if self.kk_of_kept is not None else ""
@@ -1322,7 +1324,7 @@ def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.nda
     kk_rms = float(np.sqrt(np.mean(dkk[run] ** 2)))
     ratio = float(np.sqrt(np.mean(np.abs(fit.residuals[run]) ** 2 / (2 * noise.sigma_rel[run] ** 2))))
     misses = model_rms >= kk_rms / KK_COMPARABLE and ratio > NOISE_RATIO_MAX
-    failing = ", ".join(format_band(lo, hi) for lo, hi in kk.bad_bands)
+    failing = kk.measured_bands_text()
     words = (
         f" The KK test fails at {failing} and passes at {format_frequency(float(f[run].min()))}–{format_frequency(float(f[run].max()))} "
         f"({int(run.sum())} points, KK rms_rel {kk_rms * 100:.2g} %{', tested again without the points outside' if retested else ''}): trim the measurement to that band ({trim})"
@@ -1413,8 +1415,15 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
         return DataProblem(None, ends, "; ".join(words) if words else None, kept=inside_words)
     if not ends.any():
         return DataProblem(None, none, inside_words and f"{inside_words}: diagnosed with every point", kept=inside_words)
+    # the run named once: by the flagged points' range where it is theirs, with the points beyond
+    # it it takes along listed (REAL test_data.txt: "21 of 67 points (1.78 mHz–585 mHz) … the
+    # flagged run at the end of the band (1 mHz–585 mHz)", two ranges for one run)
+    runs = f"run{'s' if len(runs_hz(ends, fit.frequency)) > 1 else ''}"
+    beyond = np.sort(fit.frequency[ends & ~flagged])
+    named = (f"the flagged {runs} at the end of the band" if not inside.any() else f"the flagged {runs} at the end of the band ({runs_words(ends & flagged, fit.frequency)})") + (
+        f", with the {counted(beyond.size, 'point')} beyond {'it' if runs == 'run' else 'them'} ({', '.join(format_frequency(f) for f in beyond)})," if beyond.size else "")
     why = (
-        f"leaving out the flagged run{'s' if len(runs_hz(ends, fit.frequency)) > 1 else ''} at the end of the band ({runs_words(ends, fit.frequency)}) would discard "
+        f"leaving out {named} would discard "
         f"{share_ends * 100:.0f} % of the points, more than the {KK_MASK_MAX_FRACTION * 100:.0f} % a diagnosis leaves out"
         if share_ends > KK_MASK_MAX_FRACTION else
         f"leaving them out would leave {n_left} point(s) for {counted(fit.n_params, 'free parameter')}"
@@ -1443,7 +1452,7 @@ def _kk_floor_words(best: FitResult, kk: KKResult, passing_band: tuple[float, fl
     ``passing_band``: the run the test passes, named with its trim on the data line."""
     if best.rms_rel * KK_COMPARABLE > kk.rms_rel:
         return ""
-    failing = ", ".join(format_band(lo, hi) for lo, hi in kk.bad_bands)
+    failing = kk.measured_bands_text()
     return (f" With it the fit ({best.rms_rel * 100:.3g} %) is as close as the data allow (the KK test's own misfit is {kk.rms_rel * 100:.3g} %): "
             f"past that the misfit is the data's, and the effect may stand in for their drift at {failing}"
             + (f"; diagnose {format_band(*passing_band)}, where the test passes, alone (the data line gives the trim)." if passing_band else "."))

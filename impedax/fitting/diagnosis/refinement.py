@@ -171,13 +171,14 @@ class Refinement:
         if kk is None or kk.valid or not getattr(kk, "conclusive", True):
             return ""
         flagged = int(np.sum(np.asarray(kk.flagged, bool)))
-        bands = ", ".join(f"{format_frequency(lo)}–{format_frequency(hi)}" for lo, hi in kk.bad_bands)
+        bands = kk.measured_bands_text()
         kept = getattr(start, "kk_flagged_kept", None)
         if kept and getattr(self.steps[-1].diagnosis, "kk_valid_band", None) is not None:  # (the verdict names the band it passes, for the final model)
             kept = kept.partition(KEPT_PASSING_LEAD)[0]
         left = len(self.masked_points) - len(getattr(start, "not_passive_points", ()))
         how = f"; {kept}" if kept else f"; the KK test flags {flagged} of {kk.frequency.size} points" + (f", {left} point(s) left out of every fit (masked, below)" if left > 0 else "")
-        return f"data: NOT Kramers–Kronig consistent at {bands} (KK rms_rel {kk.rms_rel * 100:.3g} %){how}."
+        at = "" if kept and f"points ({bands})" in kept else f" at {bands}"  # (the band once: the kept points' note names the same range)
+        return f"data: NOT Kramers–Kronig consistent{at} (KK rms_rel {kk.rms_rel * 100:.3g} %){how}."
 
     def summary(self) -> dict:
         """The JSON of ``impedax refine --json``: the steps, the final model with its parameters
