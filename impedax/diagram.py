@@ -3,7 +3,9 @@
 Layout, recursively: the elements of a series chain sit in one row, left to right; the branches
 of a parallel group are stacked downwards between two vertical rails, each branch padded with
 wire to the widest one. Every block's two terminals lie on its top line, so blocks nest
-without any search. Elements are labelled with their names and, when given, their values.
+without any search. Two parallel groups side by side are joined by a short wire, so that no
+branch ends on the next group's rail, and every point where a branch joins a rail carries a
+junction dot. Elements are labelled with their names and, when given, their values.
 """
 
 from __future__ import annotations
@@ -34,12 +36,25 @@ def _schemdraw():
     return schemdraw, elm
 
 
+def _rail_at(node: Circuit, side: int) -> bool:
+    """Whether ``node`` starts (``side=0``) or ends (``side=-1``) with a parallel group's rail."""
+    if isinstance(node, Element):
+        return False
+    return _rail_at(node.children[side], side) if isinstance(node, Series) else True
+
+
+def _gap_after(node: Circuit, following: Circuit) -> float:
+    """Wire between two series neighbours: a stub where a rail would otherwise meet a rail."""
+    return _STUB if _rail_at(node, -1) and _rail_at(following, 0) else 0.0
+
+
 def _size(node: Circuit) -> tuple[float, float]:
     if isinstance(node, Element):
         return _UNIT, _ROW
     sizes = [_size(c) for c in node.children]
     if isinstance(node, Series):
-        return sum(w for w, _ in sizes), max(h for _, h in sizes)
+        gaps = sum(_gap_after(a, b) for a, b in zip(node.children[:-1], node.children[1:]))
+        return sum(w for w, _ in sizes) + gaps, max(h for _, h in sizes)
     return max(w for w, _ in sizes) + 2 * _STUB, sum(h for _, h in sizes)
 
 
@@ -89,24 +104,29 @@ def _place(d, elm, node: Circuit, x: float, y: float, values, registry) -> None:
         d.add(part)
         return
     if isinstance(node, Series):
-        for child in node.children:
+        for child, following in zip(node.children, [*node.children[1:], None]):
             _place(d, elm, child, x, y, values, registry)
             x += _size(child)[0]
+            gap = 0.0 if following is None else _gap_after(child, following)
+            if gap:
+                d.add(elm.Line().at((x, y)).to((x + gap, y)))
+                x += gap
         return
     width = _size(node)[0]
     left, right = x, x + width
     yi = y
-    for child in node.children:
+    for i, child in enumerate(node.children):
         cw, ch = _size(child)
         d.add(elm.Line().at((left, yi)).to((left + _STUB, yi)))
         _place(d, elm, child, left + _STUB, yi, values, registry)
         d.add(elm.Line().at((left + _STUB + cw, yi)).to((right, yi)))
+        if i < len(node.children) - 1:  # a junction (the last branch turns the rails' corners)
+            d.add(elm.Dot(radius=0.1).at((left, yi)))
+            d.add(elm.Dot(radius=0.1).at((right, yi)))
         last = yi
         yi -= ch
     d.add(elm.Line().at((left, y)).to((left, last)))
     d.add(elm.Line().at((right, y)).to((right, last)))
-    d.add(elm.Dot(radius=0.1).at((left, y)))
-    d.add(elm.Dot(radius=0.1).at((right, y)))
 
 
 def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = None, *, registry: Registry = DEFAULT_REGISTRY):

@@ -59,3 +59,57 @@ def test_cli_draw(tmp_path, capsys):
     out = tmp_path / "d.svg"
     assert main(["draw", "R_f + R_sc || C_sc", "-o", str(out), "--param", "R_sc=1e5"]) == 0
     assert "100 kΩ" in out.read_text() and f"wrote {out}" in capsys.readouterr().err  # (every command says so on stderr)
+
+
+def _wire_junctions_without_dot(fig):
+    """Points where three or more wire directions meet and no filled dot sits, read back from
+    the figure's lines and circles (not from the layout code)."""
+    import math
+
+    import numpy as np
+    from matplotlib.patches import Circle
+
+    ax = fig.axes[0]
+    segments, wire_ends = [], set()
+    for line in ax.lines:
+        xy = line.get_xydata()
+        runs = np.split(xy, np.where(np.isnan(xy[:, 0]))[0])
+        runs = [r[~np.isnan(r[:, 0])] for r in runs]
+        for run in runs:
+            segments += [(tuple(a), tuple(b)) for a, b in zip(run[:-1], run[1:]) if not np.allclose(a, b)]
+        straight = len(runs) == 1 and (np.ptp(xy[:, 0]) < 1e-9 or np.ptp(xy[:, 1]) < 1e-9)
+        if straight:  # a plain wire (elements are zigzags, boxes, plates)
+            wire_ends |= {tuple(np.round(xy[0], 6)), tuple(np.round(xy[-1], 6))}
+    dots = [tuple(np.round(p.center, 6)) for p in ax.patches if isinstance(p, Circle) and p.get_facecolor()[:3] == (0.0, 0.0, 0.0)]
+
+    def arms(point):
+        directions = set()
+        for a, b in segments:
+            for start, end in ((a, b), (b, a)):
+                if math.dist(start, point) < 1e-6:
+                    d = np.subtract(end, start)
+                    directions.add(tuple(np.round(d / np.hypot(*d), 3)))
+            ab, ap = np.subtract(b, a), np.subtract(point, a)
+            t = np.dot(ap, ab) / np.dot(ab, ab)
+            if 1e-6 < t < 1 - 1e-6 and abs(ab[0] * ap[1] - ab[1] * ap[0]) < 1e-6:  # passes through
+                u = ab / np.hypot(*ab)
+                directions |= {tuple(np.round(u, 3)), tuple(np.round(-u, 3))}
+        return len(directions)
+
+    return sorted((float(x), float(y)) for x, y in wire_ends if arms((x, y)) >= 3 and not any(math.dist((x, y), d) < 1e-6 for d in dots))
+
+
+@pytest.mark.parametrize("model", [
+    "R0 + L1 + (R1 || (C1 + R2 || CPE2)) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7",
+    "R0 || C0 || L0 || W0",  # middle branches join the rails at T junctions
+    "R1 || C1 + R2 || C2",  # two parallel blocks side by side
+    *TOPOLOGIES,
+])
+def test_every_wire_junction_carries_a_dot(model):
+    import matplotlib.pyplot as plt
+
+    fig = draw_circuit(model)
+    try:
+        assert _wire_junctions_without_dot(fig) == []
+    finally:
+        plt.close(fig)
