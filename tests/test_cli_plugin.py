@@ -269,3 +269,15 @@ def test_stack_joins_files_only_the_user_reader_reads(lab, tmp_path, capsys):
 
     stacked = ix.load(out)
     np.testing.assert_allclose(stacked["Z"].sel(file="run2").values, z2, rtol=1e-12)
+
+
+def test_info_of_parameters_declared_without_description(tmp_path, capsys):
+    """A plugin's parameters without a description: the element's kind alone, no dangling colon."""
+    plugin = tmp_path / "bare.py"
+    plugin.write_text(PLUGIN.replace(', description="DC resistance"', "").replace(', description="time constant"', ""), encoding="utf-8")
+    code, out, err = run(["info", "R0 + Gx1", "--plugin", plugin], capsys)
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[2].endswith("resistor: resistance")
+    assert [line.startswith(name) and line.rstrip().endswith(" Gerischer-like") for name, line in zip(["Gx1.R", "Gx1.tau"], lines[3:])] == [True, True]
+    assert not any(line.rstrip().endswith(":") for line in lines)

@@ -38,5 +38,6 @@ def run(args) -> int:
     width = column_width((r["name"] for r in rows), "parameter")
     print(f"{'parameter':<{width}}  {'unit':<14} {'default':>10}  bounds          description")
     for r, p in zip(rows, (p for e in circuit.elements() for p in registry[e.symbol].parameters)):
-        print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {r['default']:>10.4g}  {p.bounds_text():<15} {r['element_kind']}: {r['description']}")
+        described = f"{r['element_kind']}: {r['description']}" if r["description"].strip() else r["element_kind"]  # (a user's element may declare none)
+        print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {r['default']:>10.4g}  {p.bounds_text():<15} {described}")
     return 0
