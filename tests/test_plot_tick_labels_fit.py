@@ -5,6 +5,8 @@ SI-prefixed and thinned: `plain_log_ticks`). Oracle: the labels' own boxes on an
 
 import re
 
+import pytest
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -129,4 +131,27 @@ def test_a_corner_axis_in_metres_counts_in_a_prefix():
     assert ticks and all(2.7 <= t <= 2.9 for t in ticks), ticks
     median = float(np.median(u)) * 1e6
     assert axes[1, 1].get_title().startswith(f"u = {median:.3f}") and axes[1, 1].get_title().endswith(" µm")
+    plt.close(fig)
+
+
+def test_a_bode_modulus_under_a_decade_labels_its_top():
+    """A |Z| axis over less than a decade (SYNTHETIC: impedax simulate's long walkthrough
+    circuit at its defaults, |Z| from 101 to 484 Ω, axis 94–523 Ω) was labelled 100, 200, 300,
+    400 only: the curve's top, the low-frequency |Z|, sat above the last label. A mantissa that
+    fits is now labelled at the axis' end too (500 here), apart from its neighbours."""
+    from impedax import make_spectrum, parse
+    from impedax.circuits import compile_circuit
+    from impedax.plotting import plot_spectrum
+
+    circuit = parse("R0 + L1 + (R1 || (C1 + R2 || CPE2)) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7")
+    f = np.geomspace(1, 1e6, 61)
+    z = np.asarray(compile_circuit(circuit)(circuit.defaults(), f))
+    fig = plot_spectrum(model=make_spectrum(f, z))
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    axis = fig.axes[1].yaxis
+    texts = assert_no_overlap(axis, renderer)
+    top = max(float(t) for t in texts)
+    assert abs(z).max() == pytest.approx(483.5, abs=1)  # (the case)
+    assert top >= 0.9 * abs(z).max(), texts
     plt.close(fig)

@@ -945,7 +945,9 @@ def _thin_minor_labels(formatter) -> None:
     """Narrow the mantissas ``formatter`` (a `LogFormatter` of minor ticks) labels to the first
     of matplotlib's own choice and `MINOR_LABEL_CHOICES` (each no larger than it) whose labels fit between their
     neighbours (`FittingLocator`'s measure: characters at `LABEL_CHAR_EM` and `LABEL_GAP_EM`
-    on an x axis, the font's height on a y axis)."""
+    on an x axis, the font's height on a y axis); then add the mantissa of the tick nearest
+    each end of the axis when its label fits too, so that the curve's extremes do not lie past
+    the last label (an axis of 94–523 Ω labelled up to 400 now reads 500 as well)."""
     axis = formatter.axis
     chosen = getattr(formatter, "_sublabels", None)
     if axis is None or not chosen or chosen == {1}:
@@ -956,18 +958,30 @@ def _thin_minor_labels(formatter) -> None:
     size = tick_label_size(axis)
     per_decade = axis_length_pt(axis) / math.log10(vmax / vmin)
     horizontal = axis is axis.axes.xaxis
-    for choice in (tuple(chosen), *(c for c in MINOR_LABEL_CHOICES if len(c) < len(chosen))):
-        marks = sorted(set(choice) | {1})
-        decades = range(math.floor(math.log10(vmin)), math.ceil(math.log10(vmax)) + 1)
-        values = [m * 10.0**d for d in decades for m in marks if vmin <= m * 10.0**d <= vmax]
-        if len(values) < 2:
-            break
+    decades = range(math.floor(math.log10(vmin)), math.ceil(math.log10(vmax)) + 1)
+
+    def labelled(marks):
+        return [m * 10.0**d for d in decades for m in sorted(marks) if vmin <= m * 10.0**d <= vmax]
+
+    def fits(values):
         where = np.log10(values) * per_decade
         widths = [(len(_plain_number(v, prefix_from=1e3, prefixes=not percent_axis(axis))) * LABEL_CHAR_EM if horizontal else 1.0) * size for v in values]
         gaps = np.diff(where) - (np.array(widths[:-1]) + np.array(widths[1:])) / 2
-        if np.all(gaps >= LABEL_GAP_EM * size):
+        return bool(np.all(gaps >= LABEL_GAP_EM * size))
+
+    for choice in (tuple(chosen), *(c for c in MINOR_LABEL_CHOICES if len(c) < len(chosen))):
+        marks = set(choice) | {1}
+        values = labelled(marks)
+        if len(values) < 2:
             break
-    formatter._sublabels = set(marks)
+        if fits(values):
+            break
+    ticks = labelled(range(1, 10))
+    for end in (ticks[-1:], ticks[:1]) if len(labelled(marks)) >= 2 else ():
+        mantissa = {round(v / 10.0 ** math.floor(math.log10(v) + 1e-9)) for v in end}
+        if not mantissa <= marks and fits(labelled(marks | mantissa)):
+            marks |= mantissa
+    formatter._sublabels = marks
 
 
 def characters_across(width_in: float, fontsize: float) -> int:
