@@ -377,7 +377,7 @@ def test_a_band_outside_the_data_says_where_the_data_are(files, capsys):
     """Before: ``no frequencies between fmin=1000000.0 and fmax=None``."""
     assert main(["fit", files["one"], "--model", "R1", "--fmin", "1e6"]) == 2
     err = capsys.readouterr().err
-    assert "no frequencies at or above --fmin = 1e+06 Hz (the data span 0.1–1e+05 Hz)" in err and "None" not in err
+    assert "no frequencies at or above --fmin = 1 MHz (the data span 100 mHz–100 kHz)" in err and "None" not in err
     assert main(["fit", files["one"], "--model", "R1", "--fmin", "10", "--fmax", "11"]) == 2
     assert "no frequencies from --fmin = 10 Hz to --fmax = 11 Hz" in capsys.readouterr().err
 

@@ -257,7 +257,7 @@ def test_min_peak_fraction_from_the_command_line(two_arcs_file, capsys):
         (["--fmin", "0"], "--fmin must be positive, got 0"),
         (["--fmax", "-5"], "--fmax must be positive, got -5"),
         (["--fmin", "10", "--fmax", "1"], "--fmax (1 Hz) is below --fmin (10 Hz)"),
-        (["--fmin", "1M"], "no frequencies at or above --fmin = 1e+06 Hz"),
+        (["--fmin", "1M"], "no frequencies at or above --fmin = 1 MHz"),
         (["--fmax", "lots"], "argument --fmax: 'lots' is not a number"),
         (["--min-peak-fraction", "1.5"], "argument --min-peak-fraction: '1.5' must be at least 0 and below 1"),
         (["--min-peak-fraction", "some"], "argument --min-peak-fraction: 'some' is not a number"),

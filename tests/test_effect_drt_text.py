@@ -198,3 +198,19 @@ def test_a_cpe_arc_uses_its_own_time_constant():
     text = drt_citation("extra_relaxation", p, values, ix.DEFAULT_REGISTRY, _evidence(_peak(0.25, 1.0)))
     m = _CITED.search(text)
     assert m and _seconds(*m.group(1, 2)) == pytest.approx(_tau_numpy(values, "R_relax || CPE_relax"), rel=0.006)
+def test_plausibility_notes_write_frequencies_as_impedax_does_elsewhere():
+    """The inductive loop's and the finite Warburg's plausibility notes gave ``{:.3g} Hz``
+    ("1.59e+04–3.18e+04 Hz", "band (0.1–1e+03 Hz)"); they use `format_band`/`format_frequency`.
+    Oracle: R_loop/(2πL) = 1e3/(2π·0.01) = 15.9 kHz, (R + R_loop)/(2πL) = 2e3/(2π·0.01) = 31.8 kHz;
+    5/(2π·1e-6 s) = 796 kHz."""
+    from impedax.circuits import parse
+    from impedax.fitting.diagnosis.catalog import Proposal
+    from impedax.fitting.diagnosis.effects import DEFAULT_EFFECTS
+
+    effects = {e.id: e for e in DEFAULT_EFFECTS.effects}
+    loop = Proposal("inductive_loop", parse("R0 + R1 || (R_loop + L_loop) || C1"), "R_loop + L_loop", "R1", ({},), band=(0.1, 1e3))
+    note = effects["inductive_loop"].plausible({"R0": 10.0, "R1": 1e3, "C1": 1e-6, "R_loop": 1e3, "L_loop": 0.01}, loop)
+    assert "put the loop at 15.9 kHz–31.8 kHz, outside the band (100 mHz–1 kHz)" in note, note
+    warburg = Proposal("diffusion", parse("R0 + Ws_d"), "Ws_d", "end", ({},), band=(0.1, 1e3))
+    note = effects["diffusion"].plausible({"R0": 10.0, "Ws_d.R": 100.0, "Ws_d.tau": 1e-6}, warburg)
+    assert "(45°, from 796 kHz) lies above the band's top (1 kHz)" in note, note

@@ -16,7 +16,7 @@ import xarray as xr
 from ..arguments import shown
 from ..circuits import DEFAULT_REGISTRY, Circuit, from_impedance_py, parse
 from ..circuits.parser import ARGUMENT_ORDERS
-from ..data import format_frequency, make_spectrum, validate_spectrum
+from ..data import format_band, format_frequency, make_spectrum, validate_spectrum
 from ..errors import IN_MEMORY, ArgumentsSwapped, DataError, FitError, ImpedaxError, ParameterError
 from ..io.table import ROLES
 from .parameters import ParameterTable
@@ -57,19 +57,20 @@ def select_band(ds: xr.Dataset, fmin: float | None, fmax: float | None, source: 
     if fmax is not None:
         keep &= f <= fmax
     if not keep.any():
-        raise DataError(f"no frequencies {band_text(fmin, fmax)} (the data span {f.min():.4g}–{f.max():.4g} Hz)", path=source)
+        raise DataError(f"no frequencies {band_text(fmin, fmax)} (the data span {format_band(f.min(), f.max())})", path=source)
     return ds.isel(frequency=np.flatnonzero(keep)) if not keep.all() else ds
 
 
 def band_text(fmin: float | None, fmax: float | None) -> str:
-    """The band ``fmin``..``fmax`` [Hz] in the words of messages: ``at or above fmin = 10 Hz``,
-    ``at or below fmax = …``, ``from fmin = … to fmax = …`` (the command line names its --fmin
-    and --fmax there: `impedax.cli.common.option_words`)."""
+    """The band ``fmin``..``fmax`` [Hz] in the words of messages: ``at or above fmin = 1 MHz``,
+    ``at or below fmax = …``, ``from fmin = … to fmax = …``, each frequency as
+    `impedax.data.format_frequency` writes it (the command line names its --fmin and --fmax
+    there: `impedax.cli.common.option_words`)."""
     if fmax is None:
-        return f"at or above fmin = {fmin:g} Hz"
+        return f"at or above fmin = {format_frequency(fmin)}"
     if fmin is None:
-        return f"at or below fmax = {fmax:g} Hz"
-    return f"from fmin = {fmin:g} Hz to fmax = {fmax:g} Hz"
+        return f"at or below fmax = {format_frequency(fmax)}"
+    return f"from fmin = {format_frequency(fmin)} to fmax = {format_frequency(fmax)}"
 
 
 def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = None, fmax: float | None = None, single: str | None = None) -> Spectrum:

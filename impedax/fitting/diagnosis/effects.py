@@ -18,7 +18,7 @@ import numpy as np
 
 from ...circuits import Circuit, DCPath, Element, Parallel, Registry, Series
 
-from ...data import format_quantity
+from ...data import format_band, format_frequency, format_quantity
 from ..arcs import arcs_beyond_band
 from ..drt import PeakEvidence, r_cpe_tau
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
@@ -583,7 +583,7 @@ def _loop_plausible(values, p: Proposal) -> str | None:
     f_zero, f_pole = r_loop / (2 * np.pi * inductance), (r_arc + r_loop) / (2 * np.pi * inductance)
     lo, hi = p.band
     if f_pole < lo or f_zero > hi:
-        return (f"{l_name}, {r_name} and {across} put the loop at {f_zero:.3g}–{f_pole:.3g} Hz, outside the band ({lo:.3g}–{hi:.3g} Hz): "
+        return (f"{l_name}, {r_name} and {across} put the loop at {format_band(f_zero, f_pole)}, outside the band ({format_band(lo, hi)}): "
                 "the data see a resistance or an open branch there, not an inductive loop")
     return None
 
@@ -604,7 +604,7 @@ def _diffusion_plausible(values, p: Proposal) -> str | None:
         return None
     f_diffusion = DIFFUSION_REGION_OMEGA_TAU / (2 * np.pi * tau)
     if f_diffusion > p.band[1]:
-        return (f"{p.added}.tau = {tau:.3g} s: its diffusion region (45°, from {f_diffusion:.3g} Hz) lies above the band's top ({p.band[1]:.3g} Hz); "
+        return (f"{p.added}.tau = {tau:.3g} s: its diffusion region (45°, from {format_frequency(f_diffusion)}) lies above the band's top ({format_frequency(p.band[1])}); "
                 "the data see only its low-frequency part, which an arc or a capacitor makes as well, not diffusion")
     return None
 
