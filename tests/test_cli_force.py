@@ -125,7 +125,15 @@ def test_meyer_peak_is_refined_to_the_dense_grid_maximum(capsys):
     assert peak["force_n"] >= peak["grid_force_n"]
     # thesis Fig 3.4: 164 mN near 37 kHz
     assert peak["force_n"] == pytest.approx(0.164, rel=0.01) and peak["frequency_hz"] == pytest.approx(37e3, rel=0.01)
-    assert "peak 0.1642 N at 37006 Hz" in _stderr_line(capsys, "meyer")
+    # the stderr line in SI prefixes, as the figure's legend and impedax elsewhere (it said
+    # "peak 0.1642 N at 37006 Hz (…; grid maximum 0.1641 N at 3.548e+04 Hz)" until 2026-12-06)
+    grid = _meyer_mean(np.array([peak["grid_frequency_hz"]]))[0]
+    says = f"peak {dense[k] * 1e3:.4g} mN at {f[k] / 1e3:.3g} kHz (refined between grid points; grid maximum {grid * 1e3:.4g} mN at 35.5 kHz)"
+    assert says == "peak 164.2 mN at 37 kHz (refined between grid points; grid maximum 164.2 mN at 35.5 kHz)"
+    assert says in _stderr_line(capsys, "meyer")
+    # vezzoli, a high-pass: largest at --fmax, eq 10's plateau ε0 A V_m²/(4 (h_i + h_s)(h_i/ε_i + h_s/ε_s)) = 74.49 mN at 1 MHz
+    plateau = 8.8541878128e-12 * 1e-4 * 2000.0**2 / (4 * (90e-6 + 350e-6) * (90e-6 / 3.35 + 350e-6 / 2340))
+    assert f"the force is largest at --fmax, {plateau * 1e3:.4g} mN at 1 MHz, and still rises above it" in _stderr_line(capsys, "vezzoli")
 
 
 def _stderr_line(capsys, *args):
