@@ -368,6 +368,10 @@ def test_gap_correlation_warning_says_what_a_gap_user_can_do():
         narrowing = 1 - np.sqrt(1 - max(v * v for v in r))
         assert said.startswith(raw[0][: raw[0].index("; fix one")]) and "fix one or give it an informative prior" not in said
         assert f"; {verdict}: " in said and f"{r[0]:+.2f} with R_EP and {r[1]:+.2f} with CPE_EP.Q" in said and f"by at most {narrowing:.0%}" in said
+        # u's interval as the report's headline gives it, to 1 nm (it said "4.01–4.03 µm" to 3
+        # significant digits, and "2.8–2.81 µm" beside the demo files' headline 2.797–2.814 µm)
+        u05, u95 = np.exp(np.quantile(ln_u, [0.05, 0.95])) * 1e6
+        assert f"u's interval {u05:.3f}–{u95:.3f} µm (±" in said, said
         assert "impedax gap has no --fix or --prior" in said and "fixed={'R_EP': …}" in said and "edl_fit=ix.fit('R_EP || CPE_EP || C_gap', ix.models.remaining_impedance(total, skin, touchscreen)" in said
         assert all(callable(getattr(ix.models, name)) for name in re.findall(r"ix\.models\.(\w+)\(", said))  # (the call it gives exists)
     other = ["the chain (225 draws per walker after burn-in) is shorter than 50 autocorrelation times"]

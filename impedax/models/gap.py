@@ -1109,7 +1109,7 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
         narrowing = 1.0 - math.sqrt(1.0 - min(1.0, max(r * r for r in rs.values())))
         correlations = " and ".join(f"{r:+.2f} with {n}" for n, r in rs.items())
         verdict = ("this matters little to u" if narrowing < U_CORRELATION_MATTERS else "this widens u's interval") + (
-            f": u's interval {_gap_range(q05, q95, 3)} (±{(q95 - q05) / (2 * q50):.2%}) already carries it, u's correlation (log space) is {correlations}, "
+            f": u's interval {_gap_range(q05, q95)} (±{(q95 - q05) / (2 * q50):.2%}) already carries it, u's correlation (log space) is {correlations}, "
             f"so knowing either exactly would narrow it by at most {narrowing:.0%} (√(1 − r²))"
         )
         out.append(
