@@ -223,6 +223,10 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None,
         gap = gap_analysis(total, skin, screen, area=AREA, v0=V0, remainder=final.circuit, edl_fit=final, steps=150 if fast else 400, warmup=150 if fast else 400, progress=not quiet)
         g, p, spread, new = gap.gap, gap.paper, gap.gap_spread, gap.gap_new_trial
         post = gap.hierarchical
+        for alarm in gap.alarms:  # (the report's and the figure's opening verdicts: the numbers below may be wrong)
+            story.say(f"  {alarm}")
+        if not gap.alarms:
+            story.say("  no alarm: the sampling passed its checks (divergences, R-hat) and the model fits")
         story.say(f"  Every one of the {n_trials} total trials gets its own u, R_EP and CPE_EP.Q, drawn from a log-normal population;")
         story.say("  the noise per frequency comes from the trial scatter, plus a sampled discrepancy floor for misfit the model lacks.")
         story.say(f"  u = {g['value'] * 1e6:.3f} µm, 90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm (population median; NUTS, {post.mu.shape[0]} chains × {post.mu.shape[1]} draws)")
@@ -237,6 +241,8 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None,
         true_gap = ix.models.gap_thickness(413e-12, area=AREA)  # the generator's population median
         story.say(f"  (the synthetic data were made with a population median u = {true_gap * 1e6:.3f} µm, trials varying by 7%; `impedax gap --pooled` gives the analysis of the trial means)")
         story.figure(_save(gap.plot(true_gap=true_gap), staging, "step4_gap_and_force.png"))
+        if gap.alarms:
+            facts["ALARM (step 4's numbers may be wrong)"] = "; ".join(gap.alarms)
         facts["gap thickness (hierarchical Bayesian, population median)"] = f"{g['value'] * 1e6:.3f} µm [{g['q05'] * 1e6:.3f}, {g['q95'] * 1e6:.3f}] (90%)"
         facts["air-gap capacitance C_gap (hierarchical Bayesian, population median)"] = f"{c['value'] * 1e12:.1f} pF [{c['q05'] * 1e12:.1f}, {c['q95'] * 1e12:.1f}] (90%)"
         facts["spread of u between trials"] = f"{spread['relative']['value']:.1%} (≈ {spread['sd_m'] * 1e6:.3f} µm); a new trial: [{new['q05'] * 1e6:.3f}, {new['q95'] * 1e6:.3f}] µm (90%)"
