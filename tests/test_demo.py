@@ -333,6 +333,8 @@ def test_gap_csv_names_the_unit_of_every_column(tmp_path, analysis):
 
 def test_report_says_what_the_force_bands_condition_on(analysis):
     assert "A taken as exact; skin and screen as their trial means, without their errors" in analysis.report()
+    # the area in mm² too, as the demo's C_gap line gives it ("A = 130 mm²"); it read "(A = 0.00013 m²)"
+    assert "force bands     A taken as exact; skin and screen as their trial means, without their errors (A = 0.00013 m², i.e. 130 mm²)" in analysis.report()
     assert analysis.summary()["force_conditions"].startswith("A taken as exact")
     assert not any("piles up at the" in w for w in analysis.warnings)  # u = 2.79 µm is far from 1 nm and 1 mm
 

@@ -567,7 +567,7 @@ class GapAnalysis:
             f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)}",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}{_edl_chi2_text(self.edl_fit, self.remaining)}",
             f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: {_force_maximum_text(peak)}; without EP: {_force_maximum_text(bare)}",
-            f"force bands     {self.force_conditions} (A = {self.area:g} m²)",
+            f"force bands     {self.force_conditions} (A = {self.area:g} m², i.e. {self.area * 1e6:g} mm²)",
         ]
         if self.single_contact:
             lines.insert(next(k for k, line in enumerate(lines) if line.startswith("paper method")), f"mode            {SINGLE_CONTACT_NOTE}{self._whole_drive_text()}")
