@@ -165,8 +165,10 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
     have_sigma = all(n >= 2 for n in counts.values()) and bool(np.all(sigma > 0))
     sigma = sigma if have_sigma else None
     single = not subtracted
+    # (a mean over trials only when some input holds several; 2026-12-06: one sweep was called "trial means")
+    averaged = ", trial means" if any(n > 1 for n in counts.values()) else ", one spectrum" if single else ", one spectrum each"
     attrs = {
-        "quantity": SINGLE_CONTACT_QUANTITY + ", trial means" if single else "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5), trial means",
+        "quantity": (SINGLE_CONTACT_QUANTITY if single else "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5)") + averaged,
         "sigma_method": ("SEM of Re and Im over the trials" if single else "SEM of Re and Im of each measurement over its trials, added in quadrature") + "; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)"
         if have_sigma
         else "not available: an input has a single spectrum, or the trials do not scatter",
