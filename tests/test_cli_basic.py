@@ -237,3 +237,47 @@ def test_commands_with_a_positional_model_take_the_model_option_too(capsys, tmp_
     with pytest.raises(SystemExit) as info:
         main(["force", "--model", "nope"])
     assert info.value.code == 2 and "invalid choice: 'nope'" in capsys.readouterr().err
+
+
+LONG_CIRCUIT = "R0 + L1 + R1 || (C1 + R2 || CPE2) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7"  # (89 characters)
+
+
+def _saved_simulate_figure(tmp_path, monkeypatch, *options):
+    """The figure `impedax simulate LONG_CIRCUIT --plot` saves with ``options``, drawn (Agg)."""
+    import matplotlib.figure
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    saved = []
+    original = matplotlib.figure.Figure.savefig
+
+    def keep(self, *args, **kwargs):
+        saved.append(self)
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
+    assert main(["simulate", LONG_CIRCUIT, "--plot", str(tmp_path / "s.png"), "--out", str(tmp_path / "s.csv"), "-q", *options]) == 0
+    (figure,) = saved
+    renderer = FigureCanvasAgg(figure).get_renderer()
+    figure.draw(renderer)
+    return figure, renderer
+
+
+@pytest.mark.parametrize("title", ["My title", ("A much longer title of the user's own, " * 2).strip()])
+def test_simulate_with_a_title_still_names_a_long_circuit(tmp_path, monkeypatch, title):
+    """An 89-character circuit is "model" in the legends (longer than 40 characters): with
+    ``--title`` the figure's only text was the user's title and named the circuit nowhere. Now the
+    circuit follows the title on lines of its own, every line inside the figure's width."""
+    figure, renderer = _saved_simulate_figure(tmp_path, monkeypatch, "--title", title)
+    legends = [t.get_text() for ax in figure.axes if ax.get_legend() is not None for t in ax.get_legend().get_texts()]
+    assert legends and set(legends) == {"model"}
+    (text,) = figure.texts
+    assert text.get_text().startswith(title)
+    assert " ".join(text.get_text()[len(title):].split()) == LONG_CIRCUIT  # (the circuit whole, however wrapped)
+    box = text.get_window_extent(renderer)
+    assert 0 <= box.x0 and box.x1 <= figure.bbox.width and box.y1 <= figure.bbox.height
+
+
+def test_simulate_with_an_empty_title_has_none(tmp_path, monkeypatch):
+    """``--title ''`` leaves the title out, the circuit's line with it (as for every figure)."""
+    figure, _ = _saved_simulate_figure(tmp_path, monkeypatch, "--title", "")
+    assert not any(t.get_text() for t in figure.texts)

@@ -1229,16 +1229,20 @@ def spectrum_writer(dataset: Callable[[], object], provenance: Mapping | None = 
     return write
 
 
-def figure_writer(figure: Callable[[], object], source: str | None = None, *, dpi: float | None = None, title: str | None = None) -> Callable[[Path], None]:
+def figure_writer(figure: Callable[[], object], source: str | None = None, *, dpi: float | None = None, title: str | None = None,
+                  subtitle: str | None = None) -> Callable[[Path], None]:
     """A writer of the matplotlib figure ``figure()`` (drawn only when written) at ``dpi``
     (`impedax.plotting.save_figure`; None: its default); ``source`` (`data_source`) is added to
-    its title as `short_source`, unless ``title`` is given: the figure's title then ("" none)."""
+    its title as `short_source`, unless ``title`` is given: the figure's title then ("" none),
+    followed by ``subtitle`` (a circuit the figure names nowhere else), wrapped as a circuit."""
     def write(path: Path) -> None:
-        from ..plotting import save_figure
+        from ..plotting import save_figure, wrap_model
 
         fig = figure()
         if title is not None:
             replace_title(fig, title)
+            if title and subtitle:
+                append_title_line(fig, subtitle, wrap_model)
         elif source:
             title_with_source(fig, source)
         save_figure(fig, path, **({} if dpi is None else {"dpi": dpi}))  # (no keyword unless given: a save_figure stand-in of two arguments still works)
@@ -1264,13 +1268,18 @@ def short_source(source: str) -> str:
 def title_with_source(fig, source: str) -> None:
     """Add `short_source` of ``source`` to ``fig``'s title (a line of its own, wrapped to the
     figure's width), unless the title names it already."""
+    shown = short_source(source)
+    if fig._suptitle is None or shown not in fig._suptitle.get_text():
+        append_title_line(fig, shown, lambda text, width: "\n".join(_wrapped(text, width)))
+
+
+def append_title_line(fig, text: str, wrap: Callable[[str, int], str]) -> None:
+    """``text`` as the last line of ``fig``'s title (its title when it has none), wrapped to
+    the figure's width by ``wrap(text, characters)`` (e.g. `impedax.plotting.wrap_model`)."""
     from ..plotting import characters_across, font_size
 
-    shown = short_source(source)
+    line = wrap(text, characters_across(fig.get_figwidth() - 0.4, font_size("suptitle", 12)))
     title = fig._suptitle.get_text() if fig._suptitle is not None else ""
-    if shown in title:
-        return
-    line = "\n".join(_wrapped(shown, characters_across(fig.get_figwidth() - 0.4, font_size("suptitle", 12))))
     if title:
         fig._suptitle.set_text(f"{title}\n{line}")
     else:

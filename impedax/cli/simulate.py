@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from .common import (JSON_SUMMARY_HELP, add_model_argument, check_band_options, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
+from .common import (JSON_SUMMARY_HELP, add_model_argument, append_title_line, check_band_options, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
                      model_and_values, number_option, plan_outputs, spectrum_summary, spectrum_writer)
 
 # memory per frequency while simulating and writing CSV: the frequencies, the complex impedance
@@ -14,7 +14,8 @@ from .common import (JSON_SUMMARY_HELP, add_model_argument, check_band_options, 
 POINT_BYTES = 1024
 
 #: The longest circuit text `--plot` writes in its legends; a longer one, which would run past
-#: the half-width |Z| panel, is named there "model" (the figure's title names it whole).
+#: the half-width |Z| panel, is named there "model" (the figure's title names it whole, and a
+#: ``--title`` is followed by it).
 LEGEND_MODEL_CHARS = 40
 
 
@@ -54,14 +55,20 @@ def run(args) -> int:
     if bad.size:
         raise ParameterError(f"the model's impedance is not finite (overflow) at {freq[bad[0]]:g} Hz and {bad.size - 1} other frequencies; check the parameter values ({', '.join(f'{n}={params[n]:g}' for n in specs)})")
     ds = make_spectrum(freq, z, attrs={"model": str(circuit), "synthetic": "simulated by impedax simulate"}, source="impedax simulate")
-    def figure():
-        from ..plotting import plot_spectrum
+    text = str(circuit)
+    in_legend = len(text) <= LEGEND_MODEL_CHARS
 
-        text = str(circuit)
-        return plot_spectrum(model=ds, title=text, model_label=text if len(text) <= LEGEND_MODEL_CHARS else "model")
+    def figure():
+        from ..plotting import plot_spectrum, wrap_model
+
+        fig = plot_spectrum(model=ds, model_label=text if in_legend else "model")
+        append_title_line(fig, text, wrap_model)  # (the title: the circuit, wrapped to the figure's width)
+        return fig
 
     record = command_provenance(args, points_used=points, params_used=params)  # (no data file: the model and its values made it)
-    written = outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": figure_writer(figure, **figure_options(args))})
+    # (a --title in place of the circuit keeps it on the next line when no legend names it: 2026-12-06)
+    plot = figure_writer(figure, **figure_options(args), subtitle=None if in_legend else text)
+    written = outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": plot})
     if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
         emit_json({"command": "simulate", "written": [p for p in written if p != "-"], "model": str(circuit), "parameters": {n: float(params[n]) for n in specs},
                    "parameter_units": {n: specs[n].unit for n in specs}, "defaulted": defaulted, **spectrum_summary(ds), "provenance": record})
