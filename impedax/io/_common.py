@@ -28,7 +28,7 @@ __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
     "check_field_count", "CUT_AS", "CUT_BEFORE_END", "CUT_SHORT", "cut_short_note", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
-    "significant_digits", "check_last_field_digits", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS",
+    "significant_digits", "check_last_field_digits", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS", "radians_beyond_turn_note",
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
@@ -232,6 +232,21 @@ COLUMN_ROLES = {"frequency": "frequency", "z_real": "resistance", "z_imag": "res
                 "z_phase": "angle", "sigma": "resistance"}
 #: The unit impedax holds each quantity in, and assumes for a column that names none.
 SI_UNITS = {"frequency": "Hz", "resistance": "ohm", "angle": "deg"}
+
+
+def radians_beyond_turn_note(phase_rad, field: str, remedy: str) -> dict:
+    """A ``phase_unit_note`` when ``phase_rad``, a phase read in radians because ``field`` says so
+    (a ``Phase (rad)`` column, LabOne's ``phasez``), reaches beyond ±2π (a full turn), where no
+    impedance phase in radians goes: they look like degrees (values down to −60). They are read as
+    radians all the same (impedax does not guess); ``remedy`` says what to do if they are degrees.
+    {} otherwise."""
+    radians = np.asarray(phase_rad, dtype=float)
+    radians = radians[np.isfinite(radians)]
+    if radians.size == 0 or np.abs(radians).max() <= 2 * np.pi:
+        return {}
+    extreme = float(radians[np.argmax(np.abs(radians))])
+    return {"phase_unit_note": f"{field} says radians, but its values reach {extreme:.3g}, beyond ±2π (a full turn), where no impedance "
+                               f"phase in radians goes; read as radians: {remedy}"}
 
 
 def column_entry(role: str, column: str, unit: str = "", scale: float = 1.0, *, negated: bool = False) -> dict:

@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, SweepGridsDiffer
-from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, read_text, split_header_cell, unit_scale, unquoted
+from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, radians_beyond_turn_note, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
            "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
@@ -566,14 +566,8 @@ def _degrees_note(layout: Layout, phase: np.ndarray) -> dict:
     found = role_of(name) or fallback_role(name)
     if found is None or not np.isclose(found[1], np.degrees(1.0)):  # (the unit's scale to degrees: radians)
         return {}
-    radians = np.deg2rad(phase[np.isfinite(phase)])  # (scaled to degrees when read)
-    if radians.size == 0 or np.abs(radians).max() <= 2 * np.pi:
-        return {}
-    extreme = float(radians[np.argmax(np.abs(radians))])
     base = split_header_cell(name)[0]
-    note = (f"column {name!r} says radians, but its values reach {extreme:.3g}, beyond ±2π (a full turn), where no impedance "
-            f"phase in radians goes; read as radians: if they are degrees, name the column '{base} (deg)'")
-    return {"phase_unit_note": note}
+    return radians_beyond_turn_note(np.deg2rad(phase), f"column {name!r}", f"if they are degrees, name the column '{base} (deg)'")  # (scaled to degrees when read)
 
 
 #: How `spectrum_from_rows` reports a row of delimiters only (``,,`` or ``;;``), skipped as a blank line.

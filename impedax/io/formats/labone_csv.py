@@ -20,10 +20,10 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import CUT_SHORT, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, finish, head_text, number, read_text, stack
+from .._common import CUT_SHORT, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, finish, head_text, number, radians_beyond_turn_note, read_text, stack
 from ..registry import Reader
 
-__all__ = ["read_labone_csv", "READER", "recorded_columns"]
+__all__ = ["read_labone_csv", "READER", "recorded_columns", "phasez_note"]
 
 CONVENTIONS = "frequency (or grid) [Hz]; Z = realz + j·imagz [Ω], or absz·exp(j·phasez [rad])"
 
@@ -138,7 +138,14 @@ def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut
     z = a["realz"] + 1j * a["imagz"] if parts == ("realz", "imagz") else a["absz"] * np.exp(1j * a["phasez"])
     attrs = {"sign_convention": "realz, imagz hold Z', Z'' as stored" if parts[0] == "realz" else "Z = absz·exp(j·phasez), phase in radians",
              "units": f"{fkey} in Hz, Z in ohm", "columns": recorded_columns(fkey, parts)}
+    if parts == ("absz", "phasez"):
+        attrs.update(phasez_note(a["phasez"]))
     return finish(path, a[fkey], z, where, attrs, skipped=skipped)
+
+
+def phasez_note(phasez: np.ndarray) -> dict:
+    """The ``phase_unit_note`` of a LabOne ``phasez`` (radians by the format) beyond ±2π; the HDF5 reader's too."""
+    return radians_beyond_turn_note(phasez, "LabOne's field 'phasez'", "if they are degrees, export realz and imagz instead (or phasez in radians)")
 
 
 def recorded_columns(fkey: str, parts: tuple[str, str]) -> dict[str, dict]:
