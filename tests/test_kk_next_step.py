@@ -49,7 +49,7 @@ def test_a_point_20_percent_off_is_a_band_of_that_one_point(seed):
     lo, hi = result.bad_bands[0]
     assert lo < FREQ[BAD] < hi and lo > FREQ[BAD + 1] and hi < FREQ[BAD - 1]
     band_line = next(line for line in result.report().splitlines() if line.startswith("  bad band:"))
-    assert f"(the point at {format_frequency(FREQ[BAD])})" in band_line  # "316 Hz", not only the edges
+    assert band_line.startswith(f"  bad band: the point at {format_frequency(FREQ[BAD])}:")  # "316 Hz", the measured point, not the halfway edges
     assert result.suggested_options == ["--exclude", "316"]
 
 

@@ -32,7 +32,7 @@ from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
 from .frozen import freeze_fields
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "band_name", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -137,6 +137,16 @@ hides the edge and nothing is said (4 of 4 seeds; tests/test_kk_passing_edge.py)
 
 RULE_NAMES = ("point", "run", "window")
 """The validity rules (`kk_test`), as `KKResult.band_rules` names them."""
+
+
+def band_name(points) -> str:
+    """A bad band in a report, by its flagged measured frequencies [Hz] (ascending): each of them
+    for a band of at most `FEW_BAND_POINTS` (``the point at 5.34 Hz``: ``--exclude`` takes them),
+    else the lowest and highest (``15.9 mHz – 2.02 kHz``; the band's edges, ``bad_bands``, lie
+    halfway to the neighbouring points, where the figure shades)."""
+    if len(points) <= FEW_BAND_POINTS:
+        return f"the point{'s' if len(points) > 1 else ''} at {', '.join(format_frequency(float(f)) for f in points)}"
+    return format_band(float(points[0]), float(points[-1]), " – ")
 
 
 @dataclass(frozen=True, eq=False)
@@ -290,6 +300,9 @@ class KKResult:
         })
         out.update({key: getattr(self, attribute) for key, attribute in _JSON_KEYS_ADDED.items()})
         out["bad_band_frequencies_hz"] = [list(f) for f in self.band_frequencies]
+        # (added 2026-12-06) per band, its lowest and highest flagged measured frequency: the range
+        # the text names (``bad_bands_hz`` keep the edges halfway to the neighbours)
+        out["measured_bands_hz"] = [[lo, hi] for lo, hi in self.measured_bands]
         out["passing_band_hz"] = None if self.passing_band is None else list(self.passing_band)
         # (added 2026-12-05) the passing band's end that still stands off its chain (`passing_edge`)
         edge = self.passing_edge
@@ -494,11 +507,11 @@ class KKResult:
             lines.append(f"next: leave them out and test again: {command if command else ' '.join(words)}")
             lines.append("  impedax fit, diagnose and refine take the same options; impedax refine leaves the KK-flagged points out by itself")
         spans = _band_spans(*self._rule_masks()[::2])
-        inside = [(lo, hi) for (lo, hi), f, (i, j) in zip(self.bad_bands, self.band_frequencies, spans) if len(f) > FEW_BAND_POINTS and i > 0 and j < self.frequency.size]
+        inside = [f for f, (i, j) in zip(self.band_frequencies, spans) if len(f) > FEW_BAND_POINTS and i > 0 and j < self.frequency.size]
         if self.passing_band is not None and not self._excludable_by_bands().size:
             inside = []  # (the trim leaves them out too)
         if inside or not words and not self.marginal_points_only:
-            what = ", ".join(format_band(lo, hi, ' – ') for lo, hi in inside) if inside else "the bands"
+            what = ", ".join(band_name(f) for f in inside) if inside else "the bands"
             lines.append(f"{'  ' if lines else 'next: '}{what}: too many points to leave out one by one: a disturbance during the sweep (drift, movement); measure again, or fit knowing it (docs/kk.md, \"What to do\")")
         return lines
 
@@ -552,16 +565,14 @@ class KKResult:
                 level = {"point": f"{t['point']:.3g} s", "run": f"{t['run']:.3g} s", "window": f"{t['window_mean'] / math.sqrt(t['window']):.3g} s"}
             else:
                 level = {rule: f"{value * 100:.3g} %" for rule, value in levels.items()}
-            for (lo, hi), counts, points in zip(self.bad_bands, band_rule_counts(*self._rule_masks()), self.band_frequencies):
+            for counts, points in zip(band_rule_counts(*self._rule_masks()), self.band_frequencies):
                 said = [
                     f"{points_text(counts['point'])} with |Δ| > {level['point']} (point rule)" if counts["point"] else "",
                     f"{points_text(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {level['run']} (run rule)" if counts["run"] else "",
                     f"{points_text(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {level['window']} (window rule)" if counts["window"] else "",
                 ]
                 said = "; ".join(x for x in said if x)
-                # (the measured points themselves: the edges lie halfway to the neighbours, and --exclude takes points)
-                measured = f" (the point{'s' if len(points) > 1 else ''} at {', '.join(format_frequency(f) for f in points)})" if len(points) <= FEW_BAND_POINTS else ""
-                lines.append(f"  bad band: {format_band(lo, hi, ' – ')}{measured}" + (f": {said}" if said else ""))
+                lines.append(f"  bad band: {band_name(points)}" + (f": {said}" if said else ""))
         if self.non_passive_note:
             lines.append(f"note: {self.non_passive_note}")
         if self.sign_hint:
@@ -607,7 +618,7 @@ class KKResult:
         from ..plotting.html import result_html
 
         rows = [{"quantity": k, "value": v} for k, v in (("RC elements M", self.n_rc), ("µ", self.mu), ("rms_rel [%]", f"{self.rms_rel * 100:.3g}"), ("noise estimate [%]", f"{self.noise_estimate * 100:.3g}"), ("valid", bool(self.valid)))]
-        rows += [{"quantity": "bad band", "value": format_band(lo, hi, ' – ')} for lo, hi in self.bad_bands]
+        rows += [{"quantity": "bad band", "value": band_name(points)} for points in self.band_frequencies]
         return result_html("linear Kramers–Kronig test", rows)
 
     def plot(self, *, title: str | None = None):
@@ -744,7 +755,7 @@ class KKBatchResult(ResultGrid):
         width = column_width(names, "spectrum")
         lines.append(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")
         for name, r in zip(names, batch.results):
-            bands = "; ".join(f"{format_band(lo, hi, ' – ')} [{', '.join(rules)}]" for (lo, hi), rules in zip(r.bad_bands, r.band_rules)) or "none"
+            bands = "; ".join(f"{band_name(points)} [{', '.join(rules)}]" for points, rules in zip(r.band_frequencies, r.band_rules)) or "none"
             lines.append(f"{name:<{width}}  {('valid' if r.valid else 'NOT valid') if r.conclusive else 'too few':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
         if any(r.bad_bands for r in batch.results):
             t = batch.results[0].thresholds
