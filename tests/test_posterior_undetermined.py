@@ -89,3 +89,24 @@ def test_a_parameter_whose_draws_pile_up_at_its_prior_edge_is_marked_as_the_unde
     assert "NOT DETERMINED" not in rows["CPE_EP.Q"] and "NOT DETERMINED" not in rows["sigma_rel"]
     assert "← C_gap: their draws pile up against an edge of their prior or bound" in post.report()
     assert post.summary()["piled_up"]["C_gap"] == "lower"
+    table = {r["name"]: r["undetermined"] for r in post.to_table()}  # (the CSV's column and the notebook view's mark, 2026-12-06)
+    assert table["C_gap"] and not table["CPE_EP.Q"] and not table["sigma_rel"]
+    assert "← C_gap: their draws pile up" in post._repr_html_()
+
+
+def test_the_table_and_the_notebook_view_mark_the_undetermined_rows(pad_posterior, tmp_path):
+    """C_EP and C_gap in parallel are one capacitor to the data (`_pad`): C_EP, u and C_gap (which
+    u replaces) are not determined, R_EP and sigma_rel are. The CSV (`to_table`) had no column for
+    it and the notebook view no mark, where the text report marks the rows (2026-12-06)."""
+    import csv
+
+    post = pad_posterior
+    ix.write_result(post, tmp_path / "post.csv")
+    with open(tmp_path / "post.csv", newline="") as handle:
+        rows = {r["name"]: r for r in csv.DictReader(line for line in handle if not line.startswith("#"))}
+    assert {n: rows[n]["undetermined"] for n in ("C_EP", "u", "C_gap", "R_EP", "sigma_rel")} == {
+        "C_EP": "true", "u": "true", "C_gap": "true", "R_EP": "false", "sigma_rel": "false"}  # (the CSV writes bools as true/false)
+    html_rows = {row.split("</td>")[0].removeprefix("<td>"): row for row in post._repr_html_().split("<tr>")[2:]}
+    assert "NOT DETERMINED" in html_rows["C_EP"] and "NOT DETERMINED" in html_rows["u"]
+    assert "NOT DETERMINED" not in html_rows["R_EP"] and "NOT DETERMINED" not in html_rows["sigma_rel"]
+    assert "← C_EP, u: not determined by the data" in post._repr_html_()

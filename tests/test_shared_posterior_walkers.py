@@ -308,3 +308,12 @@ def test_no_runtime_warning_when_fits_sit_at_bounds():
         post = ix.sample(BOUND_MODEL, spectra([50.0, 70.0, 90.0], alpha=1.03), shared=["R0"], over="trial", steps=60, seed=3, progress=False)
     assert np.all(np.isfinite(post.log_prob))
     assert any(w.startswith("CPE2.alpha[trial=") for w in post.warnings)  # piled up against α = 1, named per spectrum
+
+
+def test_a_joint_posteriors_table_marks_the_rows_its_report_marks(capacitor_and_open):
+    """The CSV table (`to_table`) has the ``undetermined`` column of a single spectrum's posterior
+    (added 2026-12-06): true on the rows the text report marks NOT DETERMINED (read back from it)."""
+    post = capacitor_and_open
+    marked = {line.split()[0] for line in post.report().splitlines() if line.split() and line.split()[0] in post.names and line.endswith("← NOT DETERMINED")}
+    assert "R2[trial=2]" in marked
+    assert {r["name"] for r in post.to_table() if r["undetermined"]} == marked

@@ -409,16 +409,23 @@ class Posterior(PiledUp):
         unit, and (added 2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``
         (None, an empty cell, where unknown) (`impedax.io.write_result` .csv); with a
         reparametrization, the circuit parameters it replaces follow (derived from the draws;
-        no τ or ESS of their own: empty)."""
+        no τ or ESS of their own: empty). Last (added 2026-12-06, the name of `FitResult.to_table`'s
+        column) ``undetermined``: the row the text report marks NOT DETERMINED (`undetermined`, or
+        draws piled up at a prior's edge, `set_by_prior_edge`); a replaced parameter's by the one
+        that replaces it."""
         q = self.quantiles()
+        loose, _ = undetermined_rows(self.undetermined, self.set_by_prior_edge)
         rows = [
-            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n)}
+            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), "undetermined": n in loose}
             for n, u in zip(self.names, self.units)
         ]
-        if self.reparametrization is not None:
+        rp = self.reparametrization
+        if rp is not None:
             cq = self.quantiles(circuit=True)
             specs = self.circuit.parameter_specs(self.registry)
-            rows += [{"name": n, **{k: float(cq[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit, "autocorr": None, "ess": None} for n in self.reparametrization.replaces]
+            replaced_by = dict(zip(rp.replaces, rp.names)) if len(rp.names) == len(rp.replaces) else {}
+            rows += [{"name": n, **{k: float(cq[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit, "autocorr": None, "ess": None,
+                      "undetermined": replaced_by[n] in loose if n in replaced_by else any(m in loose for m in rp.names)} for n in rp.replaces]
         return rows
 
     def _repr_html_(self) -> str:
@@ -428,9 +435,12 @@ class Posterior(PiledUp):
             f"emcee: {self.n_walkers} walkers × {self.n_draws} draws, acceptance {self.mean_acceptance:.3f}; "
             + (f"Laplace ln Z {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "Laplace ln Z undefined")
             + f", WAIC {self.waic:.2f}",
+            *undetermined_rows(self.undetermined, self.set_by_prior_edge)[1],
             *self.warnings,
         ]
-        return result_html(f"{self.model}: posterior", self.to_table(), lines=lines)
+        # (the text report's mark on the rows, not a yes/no cell)
+        rows = [{**row, "undetermined": UNDETERMINED_MARK if row["undetermined"] else ""} for row in self.to_table()]
+        return result_html(f"{self.model}: posterior", rows, lines=lines)
 
     # -- figures (drawn by impedax.plotting.bayes) -----------------------------------------
     def plot(self, *, title: str | None = None, n_lines: int = 40, figsize: tuple[float, float] | None = None):

@@ -406,10 +406,12 @@ class SharedPosterior(PiledUp):
 
     def to_table(self) -> list[dict[str, object]]:
         """One row per sampled parameter: name, the summary quantiles, unit, and (added
-        2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``, None where unknown."""
+        2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``, None where unknown,
+        and (added 2026-12-06) ``undetermined``, as `Posterior.to_table`: the rows the report marks."""
         q = self.quantiles()
+        loose, _ = undetermined_rows(self.undetermined, self.set_by_prior_edge)
         return [
-            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n)}
+            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), "undetermined": n in loose}
             for n, u in zip(self.names, self.units)
         ]
 
