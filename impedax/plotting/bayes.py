@@ -13,7 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..arguments import count, figure_size, real, shown, unknown_parameter
-from ..data import si_prefix, unit_text
+from ..data import format_quantity, si_prefix, unit_text
 from ..errors import ParameterError
 from . import characters_across, font_size, legends_off_data, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
@@ -274,12 +274,16 @@ def interval_text(median: float, low: float, high: float, unit: str = "", *, sig
     title and axis use one prefix), or with a shared power of ten for another unit far from 1
     (``1.000 [0.968, 1.034] ×10⁻⁵ V``), with the decimals that give the interval's
     half-width two significant digits; ``significant``: three significant digits each, for an
-    interval over decades (``1.2 [0.013, 95.1] kΩ``)."""
+    interval over decades (``1.2 [0.013, 95.1] kΩ``), each in its own prefix where the shared one
+    would write a number below 0.01 (``43.1 TΩ [23.7 MΩ, 4.85e+19 Ω]``, not ``43.1 [2.37e-05,
+    4.85e+07] TΩ``; `format_quantity`, plain beyond the prefixes)."""
     if top is None or not np.isfinite(top):
         top = max((abs(v) for v in (median, low, high) if np.isfinite(v)), default=0.0)
     scale, prefix = 1.0, ""
     if top > 0 and prefixable_unit(f"[{unit}]"):
         scale, prefix = si_prefix(top)
+        if significant and any(0 < abs(v) / scale < 0.01 for v in (median, low, high) if np.isfinite(v)):
+            return f"{format_quantity(median, unit)} [{format_quantity(low, unit)}, {format_quantity(high, unit)}]"
     elif top > 0 and not (1e-3 <= top < 1e4):
         exponent = math.floor(math.log10(top))
         scale, prefix = 10.0**exponent, "×10" + str(exponent).translate(_SUPERSCRIPTS) + (" " if unit else "")
