@@ -426,7 +426,10 @@ def _quantity_parts(value: float, unit: str, digits: int) -> tuple[str, float, s
     if not SI_PREFIXES[-1][0] <= abs(shown) < 1e3 * SI_PREFIXES[0][0]:  # (beyond the prefixes: 1.19e+282 Ω, not 1.19e+270 TΩ)
         return f"{value:.{digits}g}", 1.0, label
     scale, prefix = si_prefix(abs(shown))
-    return f"{shown / scale:.{digits}g}", scale, f"{prefix}{label}"
+    number = f"{shown / scale:.{digits}g}"
+    if "e" in number:  # (fewer digits than the number has before its point: 130 GΩ to 2 digits is "130", not "1.3e+02")
+        number = f"{float(number):.0f}"
+    return number, scale, f"{prefix}{label}"
 
 
 def value_span(values, spec: str = ".3g") -> str:

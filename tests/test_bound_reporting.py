@@ -305,9 +305,9 @@ def test_a_value_within_two_standard_errors_of_its_bound_says_its_interval_is_no
     z = spectrum(1e-3, 3)
     single = ix.fit("R0 + R1 || CPE1", ix.make_spectrum(f, z))
     value, error = single.values["R0"], single.stderr["R0"]
-    assert 0 < value < 2 * error  # (off 0, within 2σ of it)
+    assert 0 < value < 2 * error and 1e-4 < error < 1e-3  # (off 0, within 2σ of it; the error's 2 digits are 0.1 and 0.01 mΩ)
     (note,) = [w for w in single.warnings if "not symmetric" in w]
-    assert note.startswith(f"R0 = {value:.3g} ± {error:.2g} Ω lies within 2 standard errors of its lower bound 0") and "impedax sample" in note
+    assert note.startswith(f"R0 = {value * 1e3:.2f} ± {error * 1e3:.2f} mΩ lies within 2 standard errors of its lower bound 0") and "impedax sample" in note
     batch = ix.fit("R0 + R1 || CPE1", ix.make_spectrum(f, np.stack([z, spectrum(50.0, 3)]), dims=("copy",)))
     assert note in batch.warnings["copy=0"] and not any("not symmetric" in w for w in batch.warnings.get("copy=1", ()))
 
@@ -334,7 +334,36 @@ def test_a_value_within_1e4_of_its_upper_bound_is_said_to_be_near_that_bound():
     values = np.array([[10.0, 100.0, 1e-5, 1 - 8.4e-15]])
     stderr = np.array([[0.1, 1.0, 1e-7, 1.5e-15]])
     (note,) = [n for _, n in near_bound_notes(table, values, stderr, np.zeros((1, 4), np.int8))]
-    assert note.startswith("CPE1.alpha = 1 ± 1.5e-15 lies 8.4e-15 from its upper bound 1:"), note
+    assert note.startswith("CPE1.alpha = 0.9999999999999916 ± 0.0000000000000015 lies 8.4e-15 from its upper bound 1:"), note  # (1 − 8.4e-15 to the error's last digit)
     stderr[0, 3] = 1e-14  # (now within 2 standard errors: the words of before)
     (note,) = [n for _, n in near_bound_notes(table, values, stderr, np.zeros((1, 4), np.int8))]
-    assert note.startswith("CPE1.alpha = 1 ± 1e-14 lies within 2 standard errors of its upper bound 1:"), note
+    assert note.startswith("CPE1.alpha = 0.999999999999992 ± 0.000000000000010 lies within 2 standard errors of its upper bound 1:"), note
+
+
+def test_a_near_bound_note_writes_its_value_with_the_reports_si_prefix():
+    """REAL Autolab spectrum (tests/fixtures/real/exampleDataAutolab.txt) fitted with
+    R0 + (R1 + W1) ∥ CPE1: W1.sigma = 0.002751 ± 0.00139 Ω s^-1/2 lies within 2 standard errors
+    of 0. The note wrote "W1.sigma = 0.00275 ± 0.0014 Ω s^-1/2" where the rest of impedax writes
+    mΩ s^-1/2; by hand (GUM: the error to 2 digits, the value to its last digit, in mΩ):
+    1.39 → 1.4, 2.751 → 2.8."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).resolve().parent / "fixtures" / "real" / "exampleDataAutolab.txt")
+    fit = ix.fit("R0 + (R1 + W1) || CPE1", data)
+    assert math.isclose(fit.values["W1.sigma"], 0.002751, rel_tol=0.01) and math.isclose(fit.stderr["W1.sigma"], 0.00139, rel_tol=0.02)
+    (note,) = [w for w in fit.warnings if "not symmetric" in w]
+    assert note.startswith("W1.sigma = 2.8 ± 1.4 mΩ s^-1/2 lies within 2 standard errors of its lower bound 0:"), note
+
+
+@pytest.mark.parametrize("kwargs, expected", [
+    (dict(value=6.77e-4, stderr=1e-3, unit="Ohm s^-1/2", on=True), "W1.sigma = 677 µΩ s^-1/2 runs to its lower bound 0"),
+    (dict(value=6.61e7, stderr=2.3e27, unit="Ohm s^-1/2"), "W1.sigma = 66.1 MΩ s^-1/2 cannot be told from its lower bound 0 (linearised standard error 2.3e+27 Ω s^-1/2, bounds ignored)"),
+    (dict(value=7.96e7, stderr=1.3e11, unit="Ohm"), "R1 = 79.6 MΩ cannot be told from its lower bound 0 (linearised standard error 130 GΩ, bounds ignored)"),
+])
+def test_a_bound_note_writes_value_and_error_with_si_prefixes(kwargs, expected):
+    """`bound_note` writes its numbers as the fit report does (SI prefix on the leading unit;
+    2.3e27 is beyond the prefixes and stays as it is). Prefixes by hand: 6.77e-4 = 677e-6,
+    6.61e7 = 66.1e6, 1.3e11 = 130e9."""
+    from impedax.fitting.least_squares.result import bound_note
+
+    assert bound_note(expected.split(" = ")[0], 0.0, "lower", **kwargs).startswith(expected)

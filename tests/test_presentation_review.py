@@ -421,7 +421,7 @@ def test_bound_notes_write_compound_units_with_omega():
     from impedax.fitting.least_squares.result import bound_note
 
     note = bound_note("W1.sigma", 0.0, "lower", value=6.61e7, stderr=2.3e27, unit="Ohm s^-1/2")
-    assert note == "W1.sigma = 6.61e+07 Ω s^-1/2 cannot be told from its lower bound 0 (linearised standard error 2.3e+27 Ω s^-1/2, bounds ignored)"
+    assert note == "W1.sigma = 66.1 MΩ s^-1/2 cannot be told from its lower bound 0 (linearised standard error 2.3e+27 Ω s^-1/2, bounds ignored)"
 
 
 def test_an_explanation_names_a_band_the_suggestion_lowers_but_does_not_clear():

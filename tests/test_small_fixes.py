@@ -119,7 +119,7 @@ def _r_cpe_case():
 def test_bound_note_off_the_bound_gives_value_and_stderr():
     table, f, z, values, stderr, sides = _r_cpe_case()
     notes = fit_notes(table, values, stderr, np.eye(3), [], 1.0, finite=True, converged=True, message="", sides=sides, freq=f, z=z)
-    assert "R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω, bounds ignored)" in notes
+    assert "R1 = 79.6 MΩ cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω, bounds ignored)" in notes
     assert "CPE1.alpha is at its upper bound 1 (CPE1 with alpha = 1 is a capacitor: the model with C1 in its place may be enough)" in notes  # within 1e-4 of 1: on it
     assert not any(n.startswith("R1 is at") for n in notes)
     # a value at rounding level against |Z| ≥ 30 Ω is on the bound 0, whatever its stderr
@@ -127,14 +127,14 @@ def test_bound_note_off_the_bound_gives_value_and_stderr():
     assert "R1 is at its lower bound 0" in on_zero
     # on it but not negligible to the solver: the single fit's note gives the value the table shows
     near_zero = fit_notes(table, {**values, "R1": 2.5e-3}, stderr, np.eye(3), [], 1.0, finite=True, converged=True, message="", sides=sides, freq=f, z=z)
-    assert any(n.startswith("R1 = 0.0025 Ω runs to its lower bound 0") for n in near_zero)
+    assert any(n.startswith("R1 = 2.5 mΩ runs to its lower bound 0") for n in near_zero)
     # the same rule for a stack of fits, and the JSON's at_bound is the flags, as before
     x = np.array([[values[n] for n in table.names], [1e9, 1e-3, 5e-4, 1 - 1e-12]])
     e = np.array([[stderr[n] for n in table.names]] * 2)
     stacked = stack_notes(table, x, e, np.stack([np.eye(3)] * 2), np.stack([sides, sides]), freq=f, z=np.stack([z, z]))
-    assert "R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω, bounds ignored)" in stacked[0]
+    assert "R1 = 79.6 MΩ cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω, bounds ignored)" in stacked[0]
     # 1e-3 Ω ≤ 1e-4 · 30 Ω: on it, but above 1e-8 · 30 Ω (NUMERICALLY_ON_FRACTION), so the note gives the value
-    assert "R1 = 0.001 Ω runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)" in stacked[1]
+    assert "R1 = 1 mΩ runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)" in stacked[1]
     assert not any("R1 is at its" in n for n in stacked[1])
     assert at_bound_names(table, sides) == ("R1", "CPE1.alpha")
 
@@ -164,8 +164,8 @@ def test_shared_bound_note_has_the_same_wording():
         on, exactly = (on_bound(table, x[:1], flags[:1], np.tile(f, 2), spectra.reshape(1, -1), fraction)[0, list(layout.shared_slots)] for fraction in (ON_BOUND_FRACTION, NUMERICALLY_ON_FRACTION))
         return _sharing_notes(layout, np.array([r1]), np.array([1.3e18]), flags[0, list(layout.shared_slots)], table, math.nan, math.nan, 0.0, True, 10, on=on, exactly=exactly)
 
-    assert notes(7.96e7) == ("shared R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω, bounds ignored)",)
-    assert notes(1e-5) == ("shared R1 = 1e-05 Ω runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)",)
+    assert notes(7.96e7) == ("shared R1 = 79.6 MΩ cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω, bounds ignored)",)
+    assert notes(1e-5) == ("shared R1 = 10 µΩ runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)",)
     assert notes(1e-9) == ("shared R1 is at its lower bound 0",)  # below 1e-8 × 30 Ω: where the solver stopped
 
 

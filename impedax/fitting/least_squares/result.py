@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, report_text, format_frequency, format_quantity, format_relative_error, unit_text, value_span
+from ...data import checked_frequencies, column_width, concise_repr, report_text, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
 from ...errors import DataError
 from ..arcs import BEYOND_BAND_FACTOR, ArcBeyondBand, arc_taus
 from ..frozen import freeze_fields
@@ -623,21 +623,20 @@ def bound_note(name: str, bound: float, side: str, *, value: float | None = None
     """The note of a parameter at its ``side`` ("lower"/"upper") bound: on it (`on_bound`; ``on``
     with its ``value``, or no value), "R0 is at its lower bound 0", or at a lower bound 0 that its
     value (in ``unit``) approaches without reaching it (fitted in log space, `Transform.LOG`),
-    "W1.sigma = 0.000677 Ω s^-1/2 runs to its lower bound 0 (...)": a bare "at its lower bound
+    "W1.sigma = 677 µΩ s^-1/2 runs to its lower bound 0 (...)": a bare "at its lower bound
     0" beside a value that is not 0 read as a contradiction; off it (``value`` and its
     ``stderr`` given: the linearisation's, bounds ignored) but not told from it by the data,
-    "R1 = 7.96e+07 Ω cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω,
-    bounds ignored)": the result gives a parameter at a bound no standard error (JSON null), so
+    "R1 = 79.6 MΩ cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω,
+    bounds ignored)": the numbers as the report writes them (`format_quantity`: SI prefix on the
+    leading unit; until 2026-12-06 "7.96e+07 Ω", "0.000677 Ω s^-1/2"); the result gives a parameter at a bound no standard error (JSON null), so
     the note names the number as the JSON's ``linearised_stderr`` (until 2026-12-06 it read
     "(standard error 1.3e+18 Ω)" beside the JSON's null)."""
     at = "∞" if bound == math.inf else f"{bound:g}"
-    u = unit_text(unit)
-    u = f" {u}" if u else ""
     if value is not None and on and bound == 0 and side == "lower" and value != 0:
-        return f"{name} = {value:.3g}{u} runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)"
+        return f"{name} = {format_quantity(value, unit)} runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)"
     if value is None or on:
         return f"{name} is at its {side} bound {at}"
-    return f"{name} = {value:.3g}{u} cannot be told from its {side} bound {at} (linearised standard error {stderr:.2g}{u}, bounds ignored)"
+    return f"{name} = {format_quantity(value, unit)} cannot be told from its {side} bound {at} (linearised standard error {format_quantity(stderr, unit, 2)}, bounds ignored)"
 
 
 def on_bound(table: ParameterTable, values: np.ndarray, sides: np.ndarray, freq=None, z=None, fraction: float = ON_BOUND_FRACTION) -> np.ndarray:
@@ -1635,7 +1634,9 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
     standard errors of a finite bound (`bound_sides`: R0 = 0.00125 ± 0.00109 Ω beside 0, α =
     0.99995 ± 0.0006 beside 1): its ± interval crosses the bound, where no value lies, so it is
     not the symmetric interval it reads as; a statistician's audit found 103 of 122 such R0
-    values (true 1 mΩ) reported without a word. The note names the posterior as the honest one."""
+    values (true 1 mΩ) reported without a word. The note names the posterior as the honest one.
+    Value and error read as in the report (`format_uncertain`: "W1.sigma = 2.8 ± 1.4 mΩ s^-1/2"
+    of a REAL Autolab fit; "0.00275 ± 0.0014 Ω s^-1/2" until 2026-12-06)."""
     values, stderr = np.atleast_2d(values), np.atleast_2d(stderr)
     candidates = bound_sides(table, values, stderr)
     near = (candidates != 0) & (np.asarray(sides) == 0) & ~undetermined_mask(table, values, stderr, sides)
@@ -1646,12 +1647,10 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
         # the side `bound_sides` found: α = 1 − 8e-15 ± 1.5e-15 is within 1e-4 of its upper bound 1,
         # not 2 standard errors of it, and was said to be near its lower bound 0 (REAL data.ods, 2026-12-03)
         side, bound = ("upper", float(table.upper[i])) if candidates[b, j] > 0 else ("lower", float(table.lower[i]))
-        u = unit_text(table.units[i])
-        u = f" {u}" if u else ""
         within = (f"within {BOUND_STDERR_FRACTION:g} standard errors of" if abs(bound - value) <= BOUND_STDERR_FRACTION * error else
-                  f"{abs(bound - value):.2g} from")  # (within 1e-4 of it, more standard errors away: `bound_sides`)
+                  f"{format_quantity(abs(bound - value), table.units[i], 2)} from")  # (within 1e-4 of it, more standard errors away: `bound_sides`)
         out.append((b, (
-            f"{table.names[i]} = {value:.3g} ± {error:.2g}{u} lies {within} its {side} bound {bound:g}: "
+            f"{table.names[i]} = {format_uncertain(value, error, table.units[i])} lies {within} its {side} bound {bound:g}: "
             "the ± is not symmetric there (no value lies beyond the bound)" + SAMPLE_ADVICE
         )))
     return out
