@@ -55,6 +55,8 @@ __all__ = [
     "RELATIVE_PERMITTIVITY_MIN",
     "shown",
     "number_text",
+    "reversed_band_message",
+    "format_frequency",
     "MAX_MESSAGE",
     "MAX_SEED",
     "MAX_STARTS",
@@ -109,6 +111,27 @@ def number_text(value: float) -> str:
     ``:g`` (6 digits) would print 1.0000001 as 1 and contradict "outside (0, 1]"."""
     text = repr(float(value))
     return text[:-2] if text.endswith(".0") else text
+
+
+def format_frequency(f: float) -> str:
+    """A frequency [Hz] for text: ``1.5 kHz``, ``20 mHz``, ``3 MHz`` (three significant digits). Also
+    `impedax.data.format_frequency`; defined here for the messages of the argument checks
+    (`reversed_band_message`), which `impedax.data` imports."""
+    for unit, scale in (("MHz", 1e6), ("kHz", 1e3), ("Hz", 1.0), ("mHz", 1e-3)):
+        if f >= scale or unit == "mHz":
+            return f"{f / scale:.3g} {unit}"
+    return f"{f:.3g} Hz"  # (not reached: mHz takes every smaller value)
+
+
+def reversed_band_message(fmin: float, fmax: float, names: tuple[str, str] = ("fmin", "fmax")) -> str:
+    """"fmax (10 Hz) is below fmin (10 kHz)" (``names``: the two ends' words, the CLI's
+    ``("--fmin", "--fmax")``): the ends [Hz] as impedax writes frequencies
+    (`format_frequency`), exactly (`number_text`) where the two read the same
+    ("fmax (100 Hz) is below fmin (100.0001 Hz)"). Until 2026-12-06 always exactly: "(10000 Hz)"."""
+    low, high = format_frequency(fmin), format_frequency(fmax)
+    if low == high:
+        low, high = f"{number_text(fmin)} Hz", f"{number_text(fmax)} Hz"
+    return f"{names[1]} ({high}) is below {names[0]} ({low})"
 
 
 def _is_integer(value: object) -> bool:
@@ -613,7 +636,7 @@ def checked_arguments(*relations: Callable[[Mapping[str, object]], None], circui
                     arguments[name] = rule(arguments[name], name)
             low, high = arguments.get("fmin"), arguments.get("fmax")
             if _is_real(low) and _is_real(high) and low > high:
-                raise ParameterError(f"fmax ({number_text(high)} Hz) is below fmin ({number_text(low)} Hz)")
+                raise ParameterError(reversed_band_message(low, high))
             for relation in relations:
                 relation(arguments)
             return fn(*bound.args, **bound.kwargs)

@@ -18,7 +18,7 @@ from typing import Mapping, Sequence
 import numpy as np
 import xarray as xr
 
-from .arguments import MAX_POINTS, checked_arguments, count, real, shown
+from .arguments import MAX_POINTS, checked_arguments, count, format_frequency, real, reversed_band_message, shown  # (format_frequency: written there for the argument checks' messages, impedax.data.format_frequency to its callers)
 from .errors import IN_MEMORY, DataError, ParameterError
 
 __all__ = ["make_spectrum", "validate_spectrum", "log_frequencies", "checked_frequencies", "label_value", "coordinate_labels"]
@@ -30,7 +30,7 @@ def log_frequencies(fmin: float, fmax: float, points: int) -> np.ndarray:
     if not (np.isfinite(fmin) and np.isfinite(fmax)) or fmin <= 0 or fmax <= 0:
         raise DataError(f"frequencies must be positive and finite, got fmin={fmin}, fmax={fmax}")
     if fmax < fmin:
-        raise DataError(f"fmax ({fmax}) is below fmin ({fmin})")
+        raise DataError(reversed_band_message(fmin, fmax))
     if points < 1 or (points == 1 and fmin != fmax):
         raise DataError(f"need at least 2 points for a range (got {points}); use fmin == fmax for one point")
     return np.geomspace(fmin, fmax, points) if points > 1 else np.array([float(fmin)])
@@ -366,14 +366,6 @@ def point_text(ds: xr.Dataset, dims, idx) -> str:
         else:
             parts.append(f"{dim} #{i}")
     return ", ".join(parts)
-
-
-def format_frequency(f: float) -> str:
-    """A frequency [Hz] for text: ``1.5 kHz``, ``20 mHz``, ``3 MHz`` (three significant digits)."""
-    for unit, scale in (("MHz", 1e6), ("kHz", 1e3), ("Hz", 1.0), ("mHz", 1e-3)):
-        if f >= scale or unit == "mHz":
-            return f"{f / scale:.3g} {unit}"
-    return f"{f:.3g} Hz"  # (not reached: mHz takes every smaller value)
 
 
 def format_band(lo: float, hi: float, dash: str = "–") -> str:

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, Mapping, Sequence
 
-from ..arguments import EXCLUDE_RTOL, number_text
+from ..arguments import EXCLUDE_RTOL, number_text, reversed_band_message
 from ..errors import DataError, ParameterError
 from ..progress import PROGRESS_AFTER_S as PROGRESS_AFTER_S_DEFAULT, progress_printer as core_progress_printer
 from ..warning_groups import labels_text
@@ -190,7 +190,7 @@ def check_band_options(fmin: float | None, fmax: float | None) -> None:
         if value is not None and not value > 0:
             raise ParameterError(f"{flag} must be positive, got {value:g}")
     if fmin is not None and fmax is not None and fmax < fmin:
-        raise ParameterError(f"--fmax ({number_text(fmax)} Hz) is below --fmin ({number_text(fmin)} Hz)")
+        raise ParameterError(reversed_band_message(fmin, fmax, ("--fmin", "--fmax")))
 
 
 def relative_noise(text: str | None) -> float | None:
