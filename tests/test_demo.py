@@ -244,6 +244,26 @@ def test_demo_says_the_alarms_its_figure_shows(demo_run):
         assert "no alarm" in step4
 
 
+def test_demo_peak_force_is_the_gaps_own_maximum_with_its_frequency_as_impedax_writes_it(demo_run):
+    """The report's "peak force with EP" wrote its frequency "1e+03 Hz" (`:.3g`) for a 1 kHz
+    grid maximum (2026-12-06); it now gives the force maximum as `impedax gap`'s report does
+    (oracle: that report's "force (peak …) with EP: …" text, and the grid's largest median of
+    force_bands.nc read back), the frequency with its prefix and no exponent."""
+    import html
+
+    _, _, out, analysis = demo_run
+    row = re.search(r"<th[^>]*>peak force with EP</th><td>([^<]*)</td>", (out / "report.html").read_text())
+    fact = html.unescape(row.group(1))
+    gap_line = next(line for line in analysis.report().splitlines() if line.startswith("force (peak"))
+    with_ep = gap_line.split(" with EP: ")[1].split("; without EP: ")[0]
+    assert fact.startswith(with_ep) and "e+" not in fact and "e-" not in fact, (fact, with_ep)
+    bands = ix.io.read_netcdf(out / "force_bands.nc")
+    median = bands["median"].sel(branch="with_ep").values
+    newtons = float(median.max())
+    assert re.search(r"([\d.]+) mN", fact) and float(re.search(r"([\d.]+) mN", fact).group(1)) == pytest.approx(newtons * 1e3, rel=5e-3)
+    assert re.search(r" at [\d.]+ (k|M|m)?Hz", fact)
+
+
 # --- the demo's hierarchical analysis, rendered as `impedax gap` renders it (JSON, CSV, report) --
 
 

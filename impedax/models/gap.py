@@ -55,7 +55,7 @@ from .gap_inputs import DriveVoltage, check_gap_inputs, check_not_a_remainder, c
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area"]
+__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area", "force_maximum_text", "force_maximum_shape"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -566,7 +566,7 @@ class GapAnalysis:
             f"paper method    u = {_gap_length(p.gap)}{f' ({NO_AIR_GAP})' if self.paper_gap_implausible is not None else ''}  {bounds}",
             f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)}",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}{_edl_chi2_text(self.edl_fit, self.remaining)}",
-            f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: {_force_maximum_text(peak)}; without EP: {_force_maximum_text(bare)}",
+            f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: {force_maximum_text(peak)}; without EP: {force_maximum_text(bare)}",
             f"force bands     {self.force_conditions} (A = {self.area:g} m², i.e. {self.area * 1e6:g} mm²)",
         ]
         if self.single_contact:
@@ -815,7 +815,7 @@ def _volts_with_interval(q: Mapping[str, float]) -> str:
 
 FLAT_FORCE_REL = 1e-3
 """A force whose median varies over the band by less than this fraction of its maximum is flat
-(`_force_maximum_text`): a single contact's force without EP is ½ ε0 ε_gap A V0²/u² at every
+(`force_maximum_text`): a single contact's force without EP is ½ ε0 ε_gap A V0²/u² at every
 frequency, to rounding."""
 
 
@@ -859,13 +859,16 @@ def force_maximum_shape(median: xr.DataArray) -> dict:
     return {"index": i, "band_edge": edge, "plateau_hz": plateau}
 
 
-def _force_maximum_text(median: xr.DataArray) -> str:
+def force_maximum_text(median: xr.DataArray) -> str:
     """``max 408 mN at 31.6 Hz`` of a median force over frequency; a flat one (`FLAT_FORCE_REL`)
     ``2.835 N at every frequency (1 Hz–100 kHz)``: its maximum's frequency is rounding's choice
     (a single contact's force without EP read "max 2.835 N at 1 Hz", 2026-12-03); one on a
     plateau (`force_maximum_shape`) ``412 mN on a plateau over 1 Hz–22.4 Hz (within 1%;
     largest at 1 Hz, the band's lower end)``; one at an end of the band ``max 1.2 N at 1 Hz, the
-    band's lower end (it may rise past it)``."""
+    band's lower end (it may rise past it)``. The maximum of the grid's medians, not refined
+    between grid points as `impedax force` refines a model's force (`impedax.models.force_maximum`):
+    a median over posterior draws has no value between them. `impedax gap`'s report and
+    `impedax demo`'s "peak force with EP" write it so."""
     values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
     shape = force_maximum_shape(median)
     i = shape["index"]
