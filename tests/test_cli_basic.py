@@ -35,11 +35,11 @@ def test_simulate_to_file_and_plot(tmp_path):
     assert ds.sizes["frequency"] == 61 and png.stat().st_size > 1000
 
 
-@pytest.mark.parametrize("model", ["R0 + R1 || C1", "R0 + R1 || C1 + R2 || C2 + R_ab || CPE_3", "R0 + L1 + R1 || (C1 + R2 || CPE2) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7"])
-def test_simulate_plot_legends_stay_inside_their_panels(tmp_path, monkeypatch, model):
-    """Every legend of `impedax simulate --plot` lies inside its panel and clear of the axis
-    labels (read back from matplotlib's geometry): a circuit of 72 characters, written whole in
-    the |Z| panel's legend, ran 130 px past the panel's left side, over the '|Z| [Ω]' label."""
+LONG_CIRCUIT = "R0 + L1 + R1 || (C1 + R2 || CPE2) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7"  # (89 characters)
+
+
+def _saved_simulate_figure(tmp_path, monkeypatch, *options, model=LONG_CIRCUIT):
+    """The figure `impedax simulate MODEL --plot` saves with ``options``, drawn (Agg)."""
     import matplotlib.figure
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
@@ -51,10 +51,19 @@ def test_simulate_plot_legends_stay_inside_their_panels(tmp_path, monkeypatch, m
         return original(self, *args, **kwargs)
 
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
-    assert main(["simulate", model, "--plot", str(tmp_path / "s.png"), "--out", str(tmp_path / "s.csv"), "-q"]) == 0
+    assert main(["simulate", model, "--plot", str(tmp_path / "s.png"), "--out", str(tmp_path / "s.csv"), "-q", *options]) == 0
     (figure,) = saved
     renderer = FigureCanvasAgg(figure).get_renderer()
     figure.draw(renderer)
+    return figure, renderer
+
+
+@pytest.mark.parametrize("model", ["R0 + R1 || C1", "R0 + R1 || C1 + R2 || C2 + R_ab || CPE_3", "R0 + L1 + R1 || (C1 + R2 || CPE2) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7"])
+def test_simulate_plot_legends_stay_inside_their_panels(tmp_path, monkeypatch, model):
+    """Every legend of `impedax simulate --plot` lies inside its panel and clear of the axis
+    labels (read back from matplotlib's geometry): a circuit of 72 characters, written whole in
+    the |Z| panel's legend, ran 130 px past the panel's left side, over the '|Z| [Ω]' label."""
+    figure, renderer = _saved_simulate_figure(tmp_path, monkeypatch, model=model)
     legends = [ax for ax in figure.axes if ax.get_legend() is not None]
     assert legends
     for ax in legends:
@@ -237,29 +246,6 @@ def test_commands_with_a_positional_model_take_the_model_option_too(capsys, tmp_
     with pytest.raises(SystemExit) as info:
         main(["force", "--model", "nope"])
     assert info.value.code == 2 and "invalid choice: 'nope'" in capsys.readouterr().err
-
-
-LONG_CIRCUIT = "R0 + L1 + R1 || (C1 + R2 || CPE2) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7"  # (89 characters)
-
-
-def _saved_simulate_figure(tmp_path, monkeypatch, *options):
-    """The figure `impedax simulate LONG_CIRCUIT --plot` saves with ``options``, drawn (Agg)."""
-    import matplotlib.figure
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    saved = []
-    original = matplotlib.figure.Figure.savefig
-
-    def keep(self, *args, **kwargs):
-        saved.append(self)
-        return original(self, *args, **kwargs)
-
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
-    assert main(["simulate", LONG_CIRCUIT, "--plot", str(tmp_path / "s.png"), "--out", str(tmp_path / "s.csv"), "-q", *options]) == 0
-    (figure,) = saved
-    renderer = FigureCanvasAgg(figure).get_renderer()
-    figure.draw(renderer)
-    return figure, renderer
 
 
 @pytest.mark.parametrize("title", ["My title", ("A much longer title of the user's own, " * 2).strip()])
