@@ -57,6 +57,7 @@ __all__ = [
     "number_text",
     "reversed_band_message",
     "format_frequency",
+    "format_given_frequency",
     "MAX_MESSAGE",
     "MAX_SEED",
     "MAX_STARTS",
@@ -121,6 +122,19 @@ def format_frequency(f: float) -> str:
         if f >= scale or unit == "mHz":
             return f"{f / scale:.3g} {unit}"
     return f"{f:.3g} Hz"  # (not reached: mHz takes every smaller value)
+
+
+_FREQUENCY_SCALES = {"MHz": 1e6, "kHz": 1e3, "Hz": 1.0, "mHz": 1e-3}
+
+
+def format_given_frequency(f: float) -> str:
+    """A frequency [Hz] the user gave (``--fmin``): as `format_frequency` writes it where that
+    text is the same number (``1 MHz``, ``50 kHz``), else exactly (``99999 Hz``, `number_text`):
+    a bound written "100 kHz" for the 99999 Hz typed would name a band the points at 99999.5 Hz
+    are not left out of."""
+    text = format_frequency(f)
+    number, unit = text.split(" ")
+    return text if math.isclose(float(number) * _FREQUENCY_SCALES[unit], f, rel_tol=1e-12, abs_tol=0.0) else f"{number_text(f)} Hz"
 
 
 def reversed_band_message(fmin: float, fmax: float, names: tuple[str, str] = ("fmin", "fmax")) -> str:

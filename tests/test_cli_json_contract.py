@@ -199,7 +199,7 @@ def test_too_few_points_names_the_band(good, capsys):
     assert code == 2
     assert f"{good}: 3 free parameters but only 2 real data values (1 frequency at or above --fmin = 99999 Hz); fix parameters or use more data (a wider band)" in err
     code, _, err = run(capsys, "fit", good, "--model", "R0 + R1 || C1", "--fmin", "5e4", "--fmax", "99999")
-    assert code == 2 and "(1 frequency from --fmin = 50000 Hz to --fmax = 99999 Hz)" in err
+    assert code == 2 and "(1 frequency from --fmin = 50 kHz to --fmax = 99999 Hz)" in err
 
 
 def test_too_few_points_for_refine_names_refine_and_counts_in_the_singular(tmp_path, capsys):

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from ..arguments import shown
+from ..arguments import format_given_frequency, shown
 from ..circuits import DEFAULT_REGISTRY, Circuit, from_impedance_py, parse
 from ..circuits.parser import ARGUMENT_ORDERS
 from ..data import format_band, format_frequency, make_spectrum, validate_spectrum
@@ -64,13 +64,13 @@ def select_band(ds: xr.Dataset, fmin: float | None, fmax: float | None, source: 
 def band_text(fmin: float | None, fmax: float | None) -> str:
     """The band ``fmin``..``fmax`` [Hz] in the words of messages: ``at or above fmin = 1 MHz``,
     ``at or below fmax = …``, ``from fmin = … to fmax = …``, each frequency as
-    `impedax.data.format_frequency` writes it (the command line names its --fmin and --fmax
+    `format_given_frequency` writes it (``1 MHz``; ``99999 Hz`` as given) (the command line names its --fmin and --fmax
     there: `impedax.cli.common.option_words`)."""
     if fmax is None:
-        return f"at or above fmin = {format_frequency(fmin)}"
+        return f"at or above fmin = {format_given_frequency(fmin)}"
     if fmin is None:
-        return f"at or below fmax = {format_frequency(fmax)}"
-    return f"from fmin = {format_frequency(fmin)} to fmax = {format_frequency(fmax)}"
+        return f"at or below fmax = {format_given_frequency(fmax)}"
+    return f"from fmin = {format_given_frequency(fmin)} to fmax = {format_given_frequency(fmax)}"
 
 
 def open_spectrum(data: xr.Dataset | str | os.PathLike, *, fmin: float | None = None, fmax: float | None = None, single: str | None = None) -> Spectrum:
