@@ -114,17 +114,17 @@ def number_text(value: float) -> str:
     return text[:-2] if text.endswith(".0") else text
 
 
+_FREQUENCY_SCALES = {"MHz": 1e6, "kHz": 1e3, "Hz": 1.0, "mHz": 1e-3}  # (unit → Hz, largest first: `format_frequency`)
+
+
 def format_frequency(f: float) -> str:
     """A frequency [Hz] for text: ``1.5 kHz``, ``20 mHz``, ``3 MHz`` (three significant digits). Also
     `impedax.data.format_frequency`; defined here for the messages of the argument checks
     (`reversed_band_message`), which `impedax.data` imports."""
-    for unit, scale in (("MHz", 1e6), ("kHz", 1e3), ("Hz", 1.0), ("mHz", 1e-3)):
+    for unit, scale in _FREQUENCY_SCALES.items():
         if f >= scale or unit == "mHz":
             return f"{f / scale:.3g} {unit}"
     return f"{f:.3g} Hz"  # (not reached: mHz takes every smaller value)
-
-
-_FREQUENCY_SCALES = {"MHz": 1e6, "kHz": 1e3, "Hz": 1.0, "mHz": 1e-3}
 
 
 def format_given_frequency(f: float) -> str:
