@@ -40,7 +40,7 @@ import xarray as xr
 
 from ..progress import quiet_beneath
 from ..circuits import parse
-from ..data import coordinate_labels, report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
+from ..data import point_text, report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
@@ -1476,8 +1476,7 @@ def _check_trials_hold_a_gap(batch, total: xr.Dataset) -> None:
     at_zero = [index for index in np.ndindex(*c_gap.shape) if not c_gap.values[index] > 0]
     if 2 * len(at_zero) < c_gap.size:
         return
-    by_dim = {d: coordinate_labels(c_gap, d) for d in c_gap.dims}
-    labels = [", ".join(f"{d}={by_dim[d][i]}" for d, i in zip(c_gap.dims, index)) for index in at_zero]
+    labels = [point_text(c_gap, c_gap.dims, index) for index in at_zero]
     shown = "; ".join(labels if len(labels) <= 8 else labels[:3] + ["…"] + labels[-2:])
     raise DataError(
         f"the EDL fits of {len(at_zero)} of the {c_gap.size} total trials ({shown}) put C_gap at its lower bound 0 (u = ∞: no air gap), so the trials' median, "
