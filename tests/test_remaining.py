@@ -210,3 +210,24 @@ def _without_paths(data):
     out = data.copy()
     out.attrs = {k: v for k, v in data.attrs.items() if k not in ("total", "skin", "touchscreen")}
     return out
+
+
+def test_remaining_of_one_real_sweep_says_one_spectrum_and_no_mean(capsys):
+    """REAL data.dfr holds one sweep: its line said "from 1 total spectra (their trial mean, …)"
+    until 2026-12-06; the remainder's own ``quantity`` attribute says "one spectrum"."""
+    from pathlib import Path
+
+    path = Path(__file__).parent / "fixtures" / "real" / "data.dfr"
+    assert main(["remaining", str(path)]) == 0
+    err = capsys.readouterr().err
+    assert "from 1 total spectrum (one spectrum, nothing averaged, no sigma)" in err, err
+    assert "spectra" not in err and "mean" not in err
+
+
+def test_remaining_of_three_sweeps_each_says_one_spectrum_each(tmp_path, capsys, synthetic_parts):
+    """Total, skin and screen of one sweep each: nothing is averaged, so no "trial means"."""
+    one_each = {name: ds.isel(trial=0) for name, ds in zip(("total", "skin", "touchscreen"), _datasets(synthetic_parts))}
+    paths = saved_gap_files(tmp_path, tuple(one_each.values()))
+    assert main(["remaining", *paths]) == 0
+    err = capsys.readouterr().err
+    assert "from 1 total, 1 skin, 1 touchscreen spectrum (one spectrum each, no sigma)" in err, err

@@ -70,12 +70,14 @@ def run(args) -> int:
                    "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}, "single_contact": len(paths) == 1, **spectrum_summary(remaining),
                    "warnings": [str(n) for n in notes], "source": paths, "provenance": record})
         return 0
-    counts = ", ".join(f"{remaining.attrs[f'n_trials_{k}']} {k}" for k in paths)
+    n_trials = {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}
+    averaged = any(n > 1 for n in n_trials.values())  # (one sweep each: "from 1 total spectra (their trial mean…)" until 2026-12-06)
+    counts = ", ".join(f"{n} {k}" for k, n in n_trials.items()) + (" spectra" if averaged else " spectrum")
     sigma = ", sigma from their standard errors: fit with --weighting sigma to use it" if "sigma" in remaining else ", no sigma (an input has one spectrum or no scatter)"
     if len(paths) == 1:
-        what = "the total's trials, nothing subtracted" if args.trials else "their trial mean" + sigma
-        print(f"impedax remaining: a single contact, Z_total at {remaining.sizes['frequency']} frequencies from {counts} spectra ({what})", file=sys.stderr)
+        what = "the total's trials, nothing subtracted" if args.trials else "their trial mean" + sigma if averaged else "one spectrum, nothing averaged, no sigma"
+        print(f"impedax remaining: a single contact, Z_total at {remaining.sizes['frequency']} frequencies from {counts} ({what})", file=sys.stderr)
         return 0
-    what = "every total trial minus the skin and screen means" if args.trials else "trial means" + sigma
-    print(f"impedax remaining: Z_total − Z_skin − Z_TS at {remaining.sizes['frequency']} frequencies from {counts} spectra ({what})", file=sys.stderr)
+    what = "every total trial minus the skin and screen means" if args.trials else "trial means" + sigma if averaged else "one spectrum each, no sigma"
+    print(f"impedax remaining: Z_total − Z_skin − Z_TS at {remaining.sizes['frequency']} frequencies from {counts} ({what})", file=sys.stderr)
     return 0
