@@ -43,3 +43,11 @@ def test_labone_phasez_in_radians_gets_none(tmp_path, write, name):
     ds = ix.load(write(tmp_path / name, np.angle(Z)))
     np.testing.assert_allclose(ds["Z"].values, Z, rtol=1e-12)
     assert "phase_unit_note" not in ds.attrs
+
+
+@pytest.mark.parametrize("write, name", [(_csv, "sweep.csv"), (_h5, "sweep.h5")])
+def test_labone_sign_convention_names_the_fields_read(tmp_path, write, name):
+    """A sweep of absz and phasez says so in ``sign_convention`` (what `impedax inspect` prints);
+    the HDF5 reader said "realz, imagz hold Z', Z'' as stored" until 2026-12-06."""
+    ds = ix.load(write(tmp_path / name, np.angle(Z)))
+    assert ds.attrs["sign_convention"] == "Z = absz·exp(j·phasez), phase in radians"

@@ -136,7 +136,7 @@ def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut
         where.append(line_of_point)
     a = {k: np.array(v) for k, v in values.items()}
     z = a["realz"] + 1j * a["imagz"] if parts == ("realz", "imagz") else a["absz"] * np.exp(1j * a["phasez"])
-    attrs = {"sign_convention": "realz, imagz hold Z', Z'' as stored" if parts[0] == "realz" else "Z = absz·exp(j·phasez), phase in radians",
+    attrs = {"sign_convention": sign_convention(parts),
              "units": f"{fkey} in Hz, Z in ohm", "columns": recorded_columns(fkey, parts)}
     if parts == ("absz", "phasez"):
         attrs.update(phasez_note(a["phasez"]))
@@ -146,6 +146,11 @@ def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut
 def phasez_note(phasez: np.ndarray) -> dict:
     """The ``phase_unit_note`` of a LabOne ``phasez`` (radians by the format) beyond ±2π; the HDF5 reader's too."""
     return radians_beyond_turn_note(phasez, "LabOne's field 'phasez'", "if they are degrees, export realz and imagz instead (or phasez in radians)")
+
+
+def sign_convention(parts: tuple[str, str]) -> str:
+    """``attrs["sign_convention"]`` of a sweep read from the fields ``parts``; the HDF5 reader's too."""
+    return "realz, imagz hold Z', Z'' as stored" if parts == ("realz", "imagz") else "Z = absz·exp(j·phasez), phase in radians"
 
 
 def recorded_columns(fkey: str, parts: tuple[str, str]) -> dict[str, dict]:

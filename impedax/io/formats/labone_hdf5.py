@@ -18,7 +18,7 @@ import xarray as xr
 from ...errors import DataError
 from .._common import finish, max_file_bytes, optional_module, stack
 from ..registry import Reader
-from .labone_csv import phasez_note, recorded_columns
+from .labone_csv import phasez_note, recorded_columns, sign_convention
 
 __all__ = ["read_labone_hdf5", "READER", "HDF5_MAGIC"]
 
@@ -65,7 +65,7 @@ def read_labone_hdf5(path: str | Path) -> xr.Dataset:
                     z, parts = mod * np.exp(1j * ph), ("absz", "phasez")
                 else:
                     return
-                found.append((name, load(obj[fkey]), z, recorded_columns(fkey, parts), phasez_note(ph) if parts == ("absz", "phasez") else {}))
+                found.append((name, load(obj[fkey]), z, parts, recorded_columns(fkey, parts), phasez_note(ph) if parts == ("absz", "phasez") else {}))
 
             fh.visititems(visit)
     except (OSError, ValueError, TypeError, KeyError) as exc:
@@ -75,14 +75,14 @@ def read_labone_hdf5(path: str | Path) -> xr.Dataset:
     if not found:
         raise DataError("HDF5 file holds no group with frequency/grid and realz/imagz datasets (LabOne impedance sweep)", path=path)
     spectra = []
-    for name, freq, z, columns, note in found:
+    for name, freq, z, parts, columns, note in found:
         if freq.shape != z.shape:
             raise DataError(f"{name}: {freq.size} frequencies but {z.size} impedance values", path=path)
         bad = np.flatnonzero(~np.isfinite(freq) | ~np.isfinite(z))
         if bad.size:
             raise DataError(f"{name}: point {bad[0]} is not finite (unfinished sweep?)", path=path)
         attrs = {"format": "Zurich Instruments LabOne HDF5", "instrument": "Zurich Instruments", "hdf5_group": name,
-                 "sign_convention": "realz, imagz hold Z', Z'' as stored", "units": "Hz, ohm", "columns": columns, **note}
+                 "sign_convention": sign_convention(parts), "units": "Hz, ohm", "columns": columns, **note}
         spectra.append((name, finish(path, freq, z, list(range(freq.size)), attrs)))
     return stack(path, spectra, "sweep")
 
