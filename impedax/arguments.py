@@ -139,13 +139,9 @@ def format_given_frequency(f: float) -> str:
 
 def reversed_band_message(fmin: float, fmax: float, names: tuple[str, str] = ("fmin", "fmax")) -> str:
     """"fmax (10 Hz) is below fmin (10 kHz)" (``names``: the two ends' words, the CLI's
-    ``("--fmin", "--fmax")``): the ends [Hz] as impedax writes frequencies
-    (`format_frequency`), exactly (`number_text`) where the two read the same
-    ("fmax (100 Hz) is below fmin (100.0001 Hz)"). Until 2026-12-06 always exactly: "(10000 Hz)"."""
-    low, high = format_frequency(fmin), format_frequency(fmax)
-    if low == high:
-        low, high = f"{number_text(fmin)} Hz", f"{number_text(fmax)} Hz"
-    return f"{names[1]} ({high}) is below {names[0]} ({low})"
+    ``("--fmin", "--fmax")``): the ends [Hz] as the user gave them (`format_given_frequency`:
+    "fmax (100 Hz) is below fmin (9999 Hz)", not "(10 kHz)", 2026-12-06)."""
+    return f"{names[1]} ({format_given_frequency(fmax)}) is below {names[0]} ({format_given_frequency(fmin)})"
 
 
 def _is_integer(value: object) -> bool:

@@ -198,6 +198,8 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("simulate-fmin-zero", ["simulate", "R1", "--fmin", "0"], "--fmin must be positive"),
     ("simulate-fmin-above-fmax", ["simulate", "R1", "--fmin", "100", "--fmax", "1"], "--fmax (1 Hz) is below --fmin (100 Hz)"),
     ("simulate-fmin-above-fmax-kilohertz", ["simulate", "R1", "--fmin", "2e4", "--fmax", "1"], "--fmax (1 Hz) is below --fmin (20 kHz)"),
+    # (a bound typed as 9999 was written "10 kHz" until 2026-12-06: as typed where the short form is another number)
+    ("fit-fmin-above-fmax-as-typed", ["fit", "{good}", "--model", "R1", "--fmin", "9999", "--fmax", "100"], "--fmax (100 Hz) is below --fmin (9999 Hz)"),
     ("simulate-fmin-infinite", ["simulate", "R1", "--fmin", "inf"], "fmin must be finite"),
     ("simulate-fmax-nan", ["simulate", "R1", "--fmax", "nan"], "fmax must be finite"),
     ("info-unknown-flag", ["info", "R1", "--bogus"], "unrecognized arguments: --bogus"),
