@@ -438,6 +438,21 @@ def format_quantity(value: float, unit: str, digits: int = 3) -> str:
     return f"{number} {label}" if label else number
 
 
+def format_bound(value: float, unit: str) -> str:
+    """A parameter's bound (the element's, or one the user gave: ``--bound R1=1m:10m``) for text:
+    as `format_quantity` writes it where that text is the same number (``10 kΩ``, ``10 mΩ``,
+    ``10 µF s^(α-1)``, ``0.9``), else with up to 6 significant digits, as many as keep it that
+    number (``99.999 kΩ``, not ``100 kΩ``; 6 as ``:g`` wrote bounds until 2026-12-06, without
+    their unit: "its upper bound 10000"); 0 as ``0`` and an infinite bound as ``∞``, in any unit."""
+    if value == 0 or not math.isfinite(value):
+        return "0" if value == 0 else "∞" if value > 0 else "-∞" if value < 0 else str(value)
+    for digits in range(3, 7):
+        number, scale, label = _quantity_parts(value, unit, digits)
+        if math.isclose(float(number) * scale, value, rel_tol=1e-12, abs_tol=0.0):
+            break
+    return f"{number} {label}" if label else number
+
+
 def format_uncertain(value: float, stderr: float, unit: str) -> str:
     """``730 ± 120 Ω``, ``3.94 ± 0.19 kΩ``, ``1.1500 ± 0.0056 Ω``: `format_value_error`'s rule
     (the error to two significant digits, the value to the error's last digit, GUM JCGM

@@ -353,13 +353,13 @@ def test_a_bounded_fit_is_labelled_by_its_bounds(free_fit, alpha_held_at_1, boun
     bounded = bounded_fit({"R0": (60.0, 63.0)})
     c = ix.compare([free_fit, bounded, alpha_held_at_1])
     assert [r["label"] for r in c.rows] == [MODEL, f"{MODEL} [R0 within 60..63]", f"{MODEL} [CPE1.alpha=1]"]
-    assert f"bounded in {MODEL} [R0 within 60..63]: R0 within 60..63" in c.report().splitlines()
+    assert f"bounded in {MODEL} [R0 within 60..63]: R0 within 60 Ω..63 Ω" in c.report().splitlines()
     ix.write_result(c, tmp_path / "c.csv")
     rows = list(csv.DictReader(open(tmp_path / "c.csv")))
     assert [r["bounds"] for r in rows] == ["", "R0 within 60..63", ""] and rows[1]["label"] == f"{MODEL} [R0 within 60..63]"
     # the dataset and the notebook display say it too (they did not)
     assert list(c.to_xarray()["bounds"].values) == ["", "R0 within 60..63", ""]
-    assert f"bounded in {MODEL} [R0 within 60..63]: R0 within 60..63" in c._repr_html_()
+    assert f"bounded in {MODEL} [R0 within 60..63]: R0 within 60 Ω..63 Ω" in c._repr_html_()
 
 
 def test_fits_without_fixed_values_keep_their_labels(biologic, free_fit):

@@ -683,7 +683,7 @@ def test_draws_piled_up_against_a_prior_end_or_a_bound_are_flagged(rcpe):
     capped = ix.sample(text, data, priors={"R1": f"uniform:{0.5 * truth['R1']:g},{0.9 * truth['R1']:g}"}, steps=400, seed=0, progress=False)
     assert np.median(capped.samples["R1"]) > 0.85 * truth["R1"]
     assert any(w.startswith("R1 piles up against the upper end of its prior uniform:1000,1800") and "the prior, not the data, sets the upper end" in w for w in capped.warnings), capped.warnings
-    assert any(w.startswith("R1 piles up") and " Ω)" in w and "Ohm" not in w for w in capped.warnings), capped.warnings  # (q95 = … Ohm before)
+    assert any(w.startswith("R1 piles up") and " kΩ)" in w and "Ohm" not in w for w in capped.warnings), capped.warnings  # (q95 = … Ohm before; … Ω, unprefixed, until 2026-12-06)
     text, cpe_truth, _ = _spectrum("r_cpe", 2)
     capacitor = dict(cpe_truth, **{"CPE1.alpha": 1.0})
     _, _, data = _spectrum("r_cpe", 2, params=capacitor)
@@ -922,7 +922,7 @@ def test_a_bound_where_the_element_is_a_simpler_one_says_so():
     assert alpha.startswith("CPE_sc.alpha piles up against its upper bound 1 ")
     assert "CPE_sc with alpha = 1 is a capacitor: the model with C_sc in its place may be enough" in alpha
     assert "the data are consistent with CPE_sc.alpha = 1" in alpha and "larger values" not in alpha and "missing" not in alpha
-    assert r.startswith("R_sc piles up against its lower bound 0 Ω ") and "the data would take smaller values (is the model missing something?)" in r
+    assert r.startswith("R_sc piles up against its lower bound 0 ") and "the data would take smaller values (is the model missing something?)" in r
     # without the reductions (as before), α's warning is the generic one
     assert "is the model missing something?" in prior_edges(names, ("", "Ohm"), draws, priors, (0.0, 0.0), (1.0, np.inf)).warnings[0]
 
@@ -1121,3 +1121,22 @@ def test_progress_time_left_leaves_out_the_costly_first_warmup_steps(monkeypatch
     without = progress.ProgressLine(800, True, label="run", interactive=False)
     without.first, without.done = (times[0], 1), late
     assert without.text(late, times[late - 1]).endswith(f", ~{(800 - late) * (times[late - 1] - times[0]) / (late - 1):.0f} s left")  # (no settle: as before)
+
+
+def test_a_pile_up_writes_its_bound_and_quantile_in_the_units_the_report_uses():
+    """Synthetic draws of R1 piled against the user's upper bound 10 kΩ (``--bound R1=1k:10k``):
+    the warning wrote "its upper bound 10000 Ω" and "q95 = 9.99e+03 Ω" (``:g``, no SI prefix)
+    where the rest of impedax writes 10 kΩ; by hand, the bound as typed and q95 of the draws in
+    kΩ to 3 digits."""
+    from impedax.circuits import DEFAULT_REGISTRY
+    from impedax.fitting.bayes.diagnostics import prior_edges, user_bound_sides
+    from impedax.fitting.bayes.priors import Prior
+
+    circuit = ix.parse("R0 + R1 || C1")
+    rng = np.random.default_rng(0)
+    draws = (1e4 * np.exp(-rng.exponential(0.01, 4000).clip(max=2.0)))[:, None]  # piled against 10 kΩ in log
+    sides = user_bound_sides({"R1": (1e3, 1e4)}, circuit, DEFAULT_REGISTRY)
+    (warning,) = prior_edges(("R1",), ("Ohm",), draws, {"R1": Prior("loguniform", 1e3, 1e4)}, (1e3,), (1e4,), None, None, sides).warnings
+    q95 = np.quantile(draws[:, 0], 0.95) / 1e3
+    assert warning.startswith("R1 piles up against its upper bound 10 kΩ, the bound you set (bounds=, --bound) "), warning
+    assert f"(q95 = {q95:.3g} kΩ)" in warning, warning

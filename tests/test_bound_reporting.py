@@ -367,3 +367,38 @@ def test_a_bound_note_writes_value_and_error_with_si_prefixes(kwargs, expected):
     from impedax.fitting.least_squares.result import bound_note
 
     assert bound_note(expected.split(" = ")[0], 0.0, "lower", **kwargs).startswith(expected)
+
+
+def test_a_bound_note_writes_the_bound_as_the_quantity_the_user_typed():
+    """REAL Autolab spectrum (tests/fixtures/real/exampleDataAutolab.txt) fitted with R0 + R1 ∥ C1
+    and ``--bound R1=1m:10m``: R1 runs to the 10 mΩ the user typed, and the note said "R1 is at its
+    upper bound 0.01" (``:g``, no unit) where the value beside it is written in mΩ. Oracle: the
+    text the user typed, 10m, in Ω with its prefix."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).resolve().parent / "fixtures" / "real" / "exampleDataAutolab.txt")
+    fit = ix.fit("R0 + R1 || C1", data, bounds={"R1": (1e-3, 1e-2)})
+    assert fit.values["R1"] == pytest.approx(1e-2, rel=1e-6) and fit.at_bound == ("R1",)
+    assert "R1 is at its upper bound 10 mΩ" in fit.warnings, fit.warnings
+
+
+def test_every_bound_note_writes_its_bound_with_unit_and_si_prefix():
+    """The least-squares notes on a bound (on it, off it, chi² falling inward, a user's
+    constraint), by hand: a bound 1e-5 F s^(α-1) is 10 µF s^(α-1), 99999 Ω stays 99.999 kΩ (not
+    the 100 kΩ of three digits, a bound the user did not give), 0 and 1 of a CPE's α as they are."""
+    from impedax.data import format_bound
+    from impedax.fitting.least_squares.constraints import constraint_words
+    from impedax.fitting.least_squares.result import bound_note, inward_message, near_bound_notes
+    from impedax.fitting.parameters import ParameterTable
+
+    assert [format_bound(v, u) for v, u in ((1e4, "Ohm"), (99999.0, "Ohm"), (1e-5, "F s^(alpha-1)"), (0.0, "Ohm"), (1.0, "1"), (math.inf, "Ohm"))] == ["10 kΩ", "99.999 kΩ", "10 µF s^(α-1)", "0", "1", "∞"]
+    assert bound_note("CPE1.Q", 1e-5, "upper", unit="F s^(alpha-1)") == "CPE1.Q is at its upper bound 10 µF s^(α-1)"
+    assert bound_note("R1", 1e4, "upper", value=9.9e3, stderr=50.0, unit="Ohm").startswith("R1 = 9.9 kΩ cannot be told from its upper bound 10 kΩ ")
+    table = ParameterTable.build(ix.parse("R0 + R1 || CPE1"), bounds={"R1": (10.0, 99999.0)})
+    assert inward_message(table, np.array([0, 1, 0, 0])).startswith("stopped with R1 at its upper bound 99.999 kΩ while")
+    values = np.array([[10.0, 99998.0, 1e-5, 0.8]])
+    stderr = np.array([[0.1, 1000.0, 1e-7, 0.01]])
+    (note,) = [n for _, n in near_bound_notes(table, values, stderr, np.zeros((1, 4), np.int8))]
+    assert note.startswith("R1 = 100.0 ± 1.0 kΩ lies within 2 standard errors of its upper bound 99.999 kΩ:"), note
+    assert constraint_words([("R0", "fixed", 0.04), ("R1", "upper", 1e4)], {"R0": "Ohm", "R1": "Ohm"}) == "R0 fixed at 40 mΩ (your fixed=, --fix) and R1 on your upper bound 10 kΩ (bounds=)"
+

@@ -48,7 +48,7 @@ def test_a_wrong_fixed_value_is_named_not_the_model(wrong_fixed):
     # the oracle: the formula itself is 0.3 % from the data; the fit held at R0 = 0.04 is far off
     assert rms_rel(truth(F), z) < 0.006 and fit.rms_rel > 0.05
     (note,) = [w for w in fit.warnings if CONSTRAINT_NOTE in w]
-    assert "R0 fixed at 0.04 (your fixed=, --fix)" in note and "fit with R0 free" in note
+    assert "R0 fixed at 40 mΩ (your fixed=, --fix)" in note and "fit with R0 free" in note
     assert not any("misses structure" in w or "which effect is missing" in w for w in fit.warnings)
 
 
@@ -61,7 +61,7 @@ def test_a_bound_the_fit_sits_on_single_and_batch_give_the_same_note():
         assert single.at_bound == ("R0",) and single.bounds == {"R0": (0.01, 0.048)}
         assert single.warnings == batch.warnings.get(f"trial={i}", ()), i
         (note,) = [w for w in single.warnings if CONSTRAINT_NOTE in w]
-        assert "R0 on your upper bound 0.048 (bounds=)" in note
+        assert "R0 on your upper bound 48 mΩ (bounds=)" in note
 
 
 def test_a_right_fixed_value_gets_no_note():
@@ -99,7 +99,7 @@ def test_the_diagnosis_names_the_constraint_and_keeps_fix(wrong_fixed):
     z, fit = wrong_fixed
     verdict, reason = _constraint_verdict(fit, ix.make_spectrum(F, z), ix.kk_test(ix.make_spectrum(F, z)), 40.0)
     assert verdict == Verdict.CONSTRAINT == "constraint"
-    assert "R0 fixed at 0.04" in reason and "not a missing effect" in reason
+    assert "R0 fixed at 40 mΩ" in reason and "not a missing effect" in reason
     assert _fixed_words(fit) == " --fix R0=0.04"
     right = ix.fit(MODEL, ix.make_spectrum(F, z), fixed={"R0": R0}, n_starts=1)
     assert _constraint_verdict(right, ix.make_spectrum(F, z), None, 1.0) is None
@@ -111,9 +111,9 @@ def test_only_the_constraint_that_holds_the_fit_is_named():
     z = noisy(0)
     fit = ix.fit(MODEL, ix.make_spectrum(F, z), fixed={"R0": 0.04, "CPE1.alpha": 0.85}, n_starts=1)
     (note,) = [w for w in fit.warnings if CONSTRAINT_NOTE in w]
-    assert "R0 fixed at 0.04" in note and "fit with R0 free" in note and "alpha" not in note, note
+    assert "R0 fixed at 40 mΩ" in note and "fit with R0 free" in note and "alpha" not in note, note
     verdict, reason = _constraint_verdict(fit, ix.make_spectrum(F, z), ix.kk_test(ix.make_spectrum(F, z)), 40.0)
-    assert verdict == Verdict.CONSTRAINT and "R0 fixed at 0.04" in reason and "alpha" not in reason, reason
+    assert verdict == Verdict.CONSTRAINT and "R0 fixed at 40 mΩ" in reason and "alpha" not in reason, reason
 
 
 def test_a_constraint_within_twice_the_free_fit_is_still_named():
@@ -127,7 +127,7 @@ def test_a_constraint_within_twice_the_free_fit_is_still_named():
     held = ix.fit(MODEL, data, fixed={"R0": 0.048}, n_starts=1)
     free = ix.fit(MODEL, data)
     assert free.rms_rel < held.rms_rel < 2 * free.rms_rel and (held.rms_rel / free.rms_rel) ** 2 > 2.5
-    assert any(CONSTRAINT_NOTE in w and "R0 fixed at 0.048" in w for w in held.warnings), held.warnings
+    assert any(CONSTRAINT_NOTE in w and "R0 fixed at 48 mΩ" in w for w in held.warnings), held.warnings
     close = ix.fit(MODEL, data, fixed={"R0": 0.0495}, n_starts=1)
     assert close.rms_rel > 0.02 and not any(CONSTRAINT_NOTE in w for w in close.warnings)
     assert any("limit the fit" in w for w in close.warnings), close.warnings
@@ -156,9 +156,9 @@ def test_a_wrong_fixed_value_that_drives_the_others_far_off_is_still_named():
         warnings.simplefilter("error", RuntimeWarning)  # (numpy's overflow in the covariance had leaked to stderr)
         held = ix.fit(model, data, fixed={"C_i": 1.7e-9})
     assert held.rms_rel > 10.0  # (over 1,000 %: the fixed C_i's impedance swamps the data)
-    assert any(w.startswith(CONSTRAINT_NOTE) and "C_i fixed at 1.7e-09" in w for w in held.warnings), held.warnings
+    assert any(w.startswith(CONSTRAINT_NOTE) and "C_i fixed at 1.7 nF" in w for w in held.warnings), held.warnings
     free = ix.fit(model, data, n_starts=1)  # (what freeing C_i from the guess reaches: the note's claim)
     series_c = 1 / (1 / free.values["C_s"] + 1 / free.values["C_i"])  # (C_s and C_i in series: only this is determined)
     assert free.rms_rel < 0.03 and series_c == pytest.approx(1e3 / (1 / 140e-12 + 1 / 1.7e-9), rel=0.2)
     verdict, reason = _constraint_verdict(held, data, ix.kk_test(data), 1e3)  # (what ix.diagnose(held) decides first)
-    assert verdict == Verdict.CONSTRAINT and "C_i fixed at 1.7e-09" in reason, reason
+    assert verdict == Verdict.CONSTRAINT and "C_i fixed at 1.7 nF" in reason, reason

@@ -311,7 +311,7 @@ def test_a_bounded_fit_is_diagnosed_within_its_bounds():
     assert best.fit.values["R1"] == pytest.approx(2800.0, rel=1e-9) and best.fit.at_bound == ("R1",) and best.fit.bounds == bounds
     with_r1 = [s.fit for s in d.candidates if "R1" in s.fit.values]
     assert len(with_r1) > 3 and all(f.bounds == bounds and 2000.0 * (1 - 1e-12) <= f.values["R1"] <= 2800.0 * (1 + 1e-12) for f in with_r1)  # (on a bound within rounding, as impedax.fit's)
-    assert any("your bounds (R1 within 2000..2800) are kept" in n for n in d.notes)
+    assert any("your bounds (R1 within 2 kΩ..2.8 kΩ) are kept" in n for n in d.notes)
     (line,) = [line for line in d.report().splitlines() if "to apply 1." in line]
     assert line.endswith(" --bound R1=2000:2800")
     words = line.split("minimum): ", 1)[1].split()

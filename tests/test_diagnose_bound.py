@@ -65,8 +65,8 @@ def test_a_bound_below_the_optimum_is_the_constraint(arc):
     assert d.baseline.bounds == {"R1": (10.0, 80.0)} and "R1" in d.baseline.at_bound
     assert d.baseline.values["R1"] == pytest.approx(80.0, rel=1e-6)
     assert d.baseline.rms_rel > 10 * NOISE
-    assert "R1 on your upper bound 80" in d.reason and "not a missing effect" in d.reason
-    assert any("your bounds (R1 within 10..80)" in n for n in d.notes)
+    assert "R1 on your upper bound 80 Ω" in d.reason and "not a missing effect" in d.reason
+    assert any("your bounds (R1 within 10 Ω..80 Ω)" in n for n in d.notes)
     # every candidate that still has R1 kept the bound
     kept = [s.fit for s in d.candidates if "R1" in s.fit.values]
     assert kept and all(fit.bounds.get("R1") == (10.0, 80.0) and fit.values["R1"] <= 80.0 for fit in kept)

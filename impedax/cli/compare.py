@@ -40,6 +40,7 @@ def run(args) -> int:
     from .. import compare, fit, parse
     from ..data import counted
     from ..errors import ParameterError
+    from ..fitting.least_squares.result import user_bounds_text
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
     from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
@@ -123,7 +124,7 @@ def run(args) -> int:
             if held:
                 print(f"held fixed in {fit_result.model}: " + ", ".join(f"{n} = {v:g}" for n, v in held.items()))
             if fit_result.bounds:  # (--bound: the table's rows do not show them either)
-                print(f"bounded in {fit_result.model}: " + ", ".join(f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in fit_result.bounds.items()))
+                print(f"bounded in {fit_result.model}: " + user_bounds_text(fit_result))
         print("\n".join(warning_lines(comparison)))
         if comparison.best_misfit_hint() is not None:  # (the table's line says it; the command that shows what is missing: added 2026-12-03)
             import shlex

@@ -20,7 +20,7 @@ from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
-from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint
+from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
 from .frozen import freeze_fields
 from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
 
@@ -39,8 +39,9 @@ def fit_label(fit: FitResult) -> str:
 
 
 def bounds_text(fit: FitResult) -> list[str]:
-    """``fit``'s user bounds (`FitResult.bounds`) as ``NAME within LO..HI``, as ``impedax
-    compare`` prints them ("bounded in MODEL: R1 within 10..50")."""
+    """``fit``'s user bounds (`FitResult.bounds`) as ``NAME within LO..HI`` in plain numbers, as
+    a model's label and the table's ``bounds`` column hold them (the report's "bounded in" line
+    writes them with units: `user_bounds_text`)."""
     return [f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in fit.bounds.items()]
 
 
@@ -424,7 +425,7 @@ class Comparison:
         return mark
 
     def report(self) -> str:
-        """The table, the bounds each fit had (``bounded in LABEL: R1 within 10..50``, as
+        """The table, the bounds each fit had (``bounded in LABEL: R1 within 10 Ω..50 Ω``, as
         ``impedax compare`` prints them), then the warnings every model has (once) and each
         model's others."""
         lines = [self.table(warnings_below=True)] + self._bounded_lines()
@@ -526,8 +527,9 @@ class Comparison:
         return lines
 
     def _bounded_lines(self) -> list[str]:
-        """``bounded in LABEL: R1 within 10..50`` for each fit with bounds of the user's."""
-        return [f"bounded in {row['label']}: {', '.join(bounds_text(fit))}" for row, fit in zip(self.rows, self.fits) if fit.bounds]
+        """``bounded in LABEL: R1 within 10 Ω..50 Ω`` for each fit with bounds of the user's (in
+        their units, `user_bounds_text`; the label keeps its plain numbers)."""
+        return [f"bounded in {row['label']}: {user_bounds_text(fit)}" for row, fit in zip(self.rows, self.fits) if fit.bounds]
 
     def to_xarray(self) -> xr.Dataset:
         # the coordinate "model" holds the labels (`fit_label`: a fit with fixed values named by

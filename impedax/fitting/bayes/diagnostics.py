@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, Registry
-from ...data import unit_text, value_span
+from ...data import format_bound, format_quantity, value_span
 from ..derived import QUANTILES, mean_and_sd
 from ..reductions import reducing_bounds
 
@@ -433,22 +433,22 @@ def prior_edges(
                 continue
             piled_up[n] = "both" if n in piled_up else side
             where = f"{100 * share:.0f} % of the draws lie in the {'lowest' if side == 'lower' else 'highest'} {100 * band:.2g} % of its prior's range" + (" (log scale)" if prior.kind == "loguniform" else "" if prior.bounded else " (by prior mass)")
-            unit = f" {unit_text(units[i])}".rstrip()
-            interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {q:.3g}{unit})"
+            at = format_bound(end, units[i])  # (the bound and q as the report writes quantities: 10 kΩ, not 10000 Ω; until 2026-12-06 :g)
+            interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {format_quantity(q, units[i])})"
             if not prior.bounded:
                 out.append(f"{n} follows its prior {prior} into the {side} tail ({where}): the data do not cut that tail off, so the prior, not the data, sets {interval}")
             elif end == bound and side in user_sides.get(n, ()):
                 out.append(
-                    f"{n} piles up against its {side} bound {end:g}{unit}, the bound you set (bounds=, --bound) ({where}): your bound, not the data, sets {interval}; "
+                    f"{n} piles up against its {side} bound {at}, the bound you set (bounds=, --bound) ({where}): your bound, not the data, sets {interval}; "
                     f"the data want {beyond} values — widen {n}'s bound if they are plausible"
                 )
             elif end == bound and reductions.get(n, ("",))[0] == side:
                 at_reduction.add(n)
-                out.append(f"{n} piles up against its {side} bound {end:g}{unit} ({where}): the bound, not the data, sets {interval}; the data are consistent with {n} = {end:g}{unit}, and {reductions[n][1]}")
+                out.append(f"{n} piles up against its {side} bound {at} ({where}): the bound, not the data, sets {interval}; the data are consistent with {n} = {at}, and {reductions[n][1]}")
             elif end == bound and n in bound_causes:
-                out.append(f"{n} piles up against its {side} bound {end:g}{unit} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values. {bound_causes[n]}")
+                out.append(f"{n} piles up against its {side} bound {at} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values. {bound_causes[n]}")
             elif end == bound:
-                out.append(f"{n} piles up against its {side} bound {end:g}{unit} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values (is the model missing something?)")
+                out.append(f"{n} piles up against its {side} bound {at} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values (is the model missing something?)")
             else:
                 out.append(
                     f"{n} piles up against the {side} end of its prior {prior} ({where}): the prior, not the data, sets {interval}; "

@@ -69,7 +69,7 @@ from ..least_squares.branches import is_idle_note, parallel_branches
 from ..least_squares.order import exchangeable_blocks
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
 from ..least_squares.constraints import binding_constraints, constraint_words, explaining_constraints
-from ..least_squares.result import bounds_attr, embedded_fit, fit_from_embedded
+from ..least_squares.result import bounds_attr, embedded_fit, fit_from_embedded, user_bounds_text
 from ..least_squares.starts import climb_target
 from ..parameters import ParameterTable
 from ..problem import WEIGHTING_SCALES, WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
@@ -2306,8 +2306,9 @@ def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult 
         return None
     constraints, released = found
     names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))
+    units = {n: spec.unit for n, spec in user_fit.circuit.parameter_specs(user_fit.registry).items()}
     return Verdict.CONSTRAINT, (
-        f"the residuals are {ratio:.3g}× the noise, but the misfit is a constraint you set, not a missing effect: with {constraint_words(constraints)} "
+        f"the residuals are {ratio:.3g}× the noise, but the misfit is a constraint you set, not a missing effect: with {constraint_words(constraints, units)} "
         f"the fit reaches rms_rel {user_fit.rms_rel * 100:.3g} %, and one local fit with {names} free reaches {released.rms_rel * 100:.3g} %; "
         f"fit with {names} free, or check the value you set."
     )
@@ -2560,7 +2561,7 @@ def diagnose(
     say(f"fitting {len(proposals)} candidate circuits of {len({e.id for e, _ in proposals})} effects")
     if base.bounds:
         notes.append(
-            BOUNDS_KEPT_LEAD + ", ".join(f"{n} within {lo:g}..{hi:g}" for n, (lo, hi) in base.bounds.items()) + ") are kept in every candidate fit that has the parameter, "
+            BOUNDS_KEPT_LEAD + user_bounds_text(base) + ") are kept in every candidate fit that has the parameter, "
             "the baseline's refit included, and in the commands printed (--bound); a candidate that replaces the element drops its bound"
         )
     proposals, fits, shape = _fit_proposals(base, spectrum, ctx, proposals, shape, n_starts=n_starts, max_steps=max_steps, seed=seed, say=say)

@@ -13,6 +13,7 @@ from typing import Callable, Mapping
 import numpy as np
 
 from ...circuits import Circuit, Registry
+from ...data import format_bound
 from ...errors import ImpedaxError
 from ...progress import silenced
 from ..parameters import ParameterTable
@@ -41,9 +42,15 @@ def binding_constraints(values: Mapping[str, float], fixed: Mapping[str, bool], 
     return out
 
 
-def constraint_words(constraints) -> str:
-    """``R0 fixed at 0.04 (your fixed=, --fix)`` / ``R0 on your upper bound 0.048 (bounds=)``, joined."""
-    parts = [f"{n} fixed at {v:.6g} (your fixed=, --fix)" if kind == "fixed" else f"{n} on your {kind} bound {v:.6g} (bounds=)" for n, kind, v in constraints]
+def constraint_words(constraints, units: Mapping[str, str] | None = None) -> str:
+    """``R0 fixed at 40 mΩ (your fixed=, --fix)`` / ``R0 on your upper bound 48 mΩ (bounds=)``,
+    joined: each value in its parameter's unit of ``units`` ({name: unit}; none for a name not
+    in it), as bounds are written (`data.format_bound`)."""
+    units = units or {}
+    parts = [
+        f"{n} fixed at {format_bound(v, units.get(n, ''))} (your fixed=, --fix)" if kind == "fixed" else f"{n} on your {kind} bound {format_bound(v, units.get(n, ''))} (bounds=)"
+        for n, kind, v in constraints
+    ]
     return " and ".join(parts)
 
 
@@ -121,13 +128,13 @@ def explaining_constraints(circuit: Circuit, data, values: Mapping[str, float], 
     return [c for c, _ in alone], released
 
 
-def constraint_note(constraints, kk: float) -> str:
+def constraint_note(constraints, kk: float, units: Mapping[str, str] | None = None) -> str:
     """The misfit note of a fit whose misfit its user's ``constraints`` explain; it holds the
     constraints and the data's figure ``kk``, not the fits' (single and batch fits in other
-    local minima give the same text, as `result.misfit_notes`)."""
+    local minima give the same text, as `result.misfit_notes`); ``units``: `constraint_words`'."""
     names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))
     return (
-        f"the misfit is a constraint you set, not the model's: with {constraint_words(constraints)} the fit misses the data, and one local fit "
+        f"the misfit is a constraint you set, not the model's: with {constraint_words(constraints, units)} the fit misses the data, and one local fit "
         f"with {names} free reaches what the data allow (a Kramers–Kronig-consistent model reaches {kk * 100:.2g}% rms_rel) and at least halves the misfit; "
         f"fit with {names} free, or check the value you set (no effect is missing for this misfit)"
     )
@@ -157,7 +164,7 @@ def constraint_misfit_notes(circuit: Circuit, table: ParameterTable, registry: R
         found = explaining_constraints(circuit, data, values, fixed, bounds, constraints, rms_constrained, kk, weighting=weighting, registry=registry, fit=fit)
     if found is None:
         return misfit
-    return (constraint_note(found[0], kk),)
+    return (constraint_note(found[0], kk, dict(zip(table.names, table.units))),)
 
 
 def with_constraint_notes(notes: tuple[str, ...], misfit: tuple[str, ...], checked: tuple[str, ...]) -> tuple[str, ...]:

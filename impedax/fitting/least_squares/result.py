@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, report_text, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
+from ...data import checked_frequencies, column_width, concise_repr, report_text, format_bound, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
 from ...errors import DataError
 from ..arcs import BEYOND_BAND_FACTOR, ArcBeyondBand, arc_taus
 from ..frozen import freeze_fields
@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
     "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
 
@@ -631,7 +631,7 @@ def bound_note(name: str, bound: float, side: str, *, value: float | None = None
     leading unit; until 2026-12-06 "7.96e+07 Ω", "0.000677 Ω s^-1/2"); the result gives a parameter at a bound no standard error (JSON null), so
     the note names the number as the JSON's ``linearised_stderr`` (until 2026-12-06 it read
     "(standard error 1.3e+18 Ω)" beside the JSON's null)."""
-    at = "∞" if bound == math.inf else f"{bound:g}"
+    at = format_bound(bound, unit)
     if value is not None and on and bound == 0 and side == "lower" and value != 0:
         return f"{name} = {format_quantity(value, unit)} runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)"
     if value is None or on:
@@ -674,7 +674,7 @@ def _bound_note_of(table: ParameterTable, b: int, j: int, values: np.ndarray, st
     side = "upper" if sides[b, j] > 0 else "lower"
     bound = float(table.upper[i] if sides[b, j] > 0 else table.lower[i])
     if exactly[b, j]:
-        note = bound_note(table.names[i], bound, side)
+        note = bound_note(table.names[i], bound, side, unit=table.units[i])
     else:
         note = bound_note(table.names[i], bound, side, value=float(values[b, i]), stderr=float(stderr[b, i]), unit=table.units[i], on=bool(on[b, j]))
     reduced_side, simpler = table.reductions.get(table.names[i], (None, ""))
@@ -819,7 +819,7 @@ def inward_message(table: ParameterTable, sides) -> str:
         i = free[j]
         side = "upper" if sides[j] > 0 else "lower"
         bound = float(table.upper[i] if sides[j] > 0 else table.lower[i])
-        parts.append(f"{table.names[i]} at its {side} bound {bound:g}")
+        parts.append(f"{table.names[i]} at its {side} bound {format_bound(bound, table.units[i])}")
     return (
         f"stopped with {' and '.join(parts)} while chi² falls away from the bound (moving inward lowers it): "
         "not the optimum within the bounds; restarts from inside did not leave it — check the bounds or give init inside them"
@@ -1650,7 +1650,7 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
         within = (f"within {BOUND_STDERR_FRACTION:g} standard errors of" if abs(bound - value) <= BOUND_STDERR_FRACTION * error else
                   f"{format_quantity(abs(bound - value), table.units[i], 2)} from")  # (within 1e-4 of it, more standard errors away: `bound_sides`)
         out.append((b, (
-            f"{table.names[i]} = {format_uncertain(value, error, table.units[i])} lies {within} its {side} bound {bound:g}: "
+            f"{table.names[i]} = {format_uncertain(value, error, table.units[i])} lies {within} its {side} bound {format_bound(bound, table.units[i])}: "
             "the ± is not symmetric there (no value lies beyond the bound)" + SAMPLE_ADVICE
         )))
     return out
@@ -1809,6 +1809,16 @@ def stack_notes(
     for b, note in arc_beyond_band_notes(table, values, freq, _settled(table, values, stderr, sides)):
         notes[b].append(note)
     return {b: tuple(n) for b, n in notes.items()}
+
+
+def user_bounds_text(fit: "FitResult") -> str:
+    """``fit``'s user bounds (`FitResult.bounds`) in words, each end in its parameter's unit
+    (`data.format_bound`): "R1 within 1 mΩ..10 mΩ, CPE1.alpha within 0.5..0.9" (the "bounded
+    in" line of ``impedax compare`` and `Comparison.report`, a diagnosis' note; until
+    2026-12-06 "R1 within 0.001..0.01"). A model's label keeps the plain numbers
+    (`comparison.bounds_text`: it names the model)."""
+    specs = fit.circuit.parameter_specs(fit.registry)
+    return ", ".join(f"{n} within {format_bound(lo, specs[n].unit)}..{format_bound(hi, specs[n].unit)}" for n, (lo, hi) in fit.bounds.items())
 
 
 def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> dict[str, tuple[float, float]]:

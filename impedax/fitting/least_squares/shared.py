@@ -834,7 +834,7 @@ def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterT
         if side:
             i = table.names.index(n)
             bound, where = float((table.upper if side > 0 else table.lower)[i]), "upper" if side > 0 else "lower"
-            notes.append("shared " + (bound_note(n, bound, where) if at_exactly else bound_note(n, bound, where, value=v, stderr=e, unit=table.units[i], on=bool(at))))
+            notes.append("shared " + (bound_note(n, bound, where, unit=table.units[i]) if at_exactly else bound_note(n, bound, where, value=v, stderr=e, unit=table.units[i], on=bool(at))))
         elif undetermined(v, e) and not in_group:
             relative = abs(e / v) if math.isfinite(e) else math.inf
             notes.append(f"shared {n} has " + (f"a relative standard error of {format_relative_error(relative)}" if math.isfinite(relative) else "no finite standard error") + ": the data do not determine it")
