@@ -334,7 +334,10 @@ def test_a_value_within_1e4_of_its_upper_bound_is_said_to_be_near_that_bound():
     values = np.array([[10.0, 100.0, 1e-5, 1 - 8.4e-15]])
     stderr = np.array([[0.1, 1.0, 1e-7, 1.5e-15]])
     (note,) = [n for _, n in near_bound_notes(table, values, stderr, np.zeros((1, 4), np.int8))]
-    assert note.startswith("CPE1.alpha = 0.9999999999999916 ± 0.0000000000000015 lies 8.4e-15 from its upper bound 1:"), note  # (1 − 8.4e-15 to the error's last digit)
+    # (said as its distance from the bound, rounded to its error: until 2026-12-06 "CPE1.alpha =
+    # 0.9999999999999916 ± 0.0000000000000015 lies 8.4e-15 from its upper bound 1: the ± is not
+    # symmetric there", digits no one reads and an asymmetry the ± never reaches)
+    assert note == "CPE1.alpha lies (8.4 ± 1.5)e-15 below its upper bound 1, on it to 1 part in 10⁴ or better (CPE1 with alpha = 1 is a capacitor: the model with C1 in its place may be enough)", note
     stderr[0, 3] = 1e-14  # (now within 2 standard errors: the words of before)
     (note,) = [n for _, n in near_bound_notes(table, values, stderr, np.zeros((1, 4), np.int8))]
     assert note.startswith("CPE1.alpha = 0.999999999999992 ± 0.000000000000010 lies within 2 standard errors of its upper bound 1:"), note
@@ -402,3 +405,19 @@ def test_every_bound_note_writes_its_bound_with_unit_and_si_prefix():
     assert note.startswith("R1 = 100.0 ± 1.0 kΩ lies within 2 standard errors of its upper bound 99.999 kΩ:"), note
     assert constraint_words([("R0", "fixed", 0.04), ("R1", "upper", 1e4)], {"R0": "Ohm", "R1": "Ohm"}) == "R0 fixed at 40 mΩ (your fixed=, --fix) and R1 on your upper bound 10 kΩ (bounds=)"
 
+
+def test_an_exponent_a_rounding_below_1_reads_as_at_its_bound():
+    """REAL file tests/fixtures/real/data.ods (sheet 1: an exact spectrum of R0 = 100 Ω, R1 ∥
+    CPE1 with α = 1, R2 ∥ CPE2; impedance.py's test data) fitted with R0 + R1 ∥ CPE1 + R2 ∥ CPE2
+    + W1 ends at rms_rel 1e-13 % with CPE1.alpha = 1 − 8.4e-15 ± 1.6e-15. The note wrote
+    "0.9999999999999916 ± 0.0000000000000016 lies 8.4e-15 from its upper bound 1: the ± is not
+    symmetric there": it is the bound to 1 part in 10¹⁴, which the file's own α = 1 says. Oracle:
+    the distance 1 − α of the fit's own numbers, rounded by hand to its error's two digits."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).resolve().parent / "fixtures" / "real" / "data.ods").isel(sheet=0)
+    fit = ix.fit("R0 + R1 || CPE1 + R2 || CPE2 + W1", data)
+    distance, error = 1 - fit.values["CPE1.alpha"], fit.stderr["CPE1.alpha"]
+    assert 0 < distance < 1e-13 and 0 < error < distance / 2
+    (note,) = [w for w in fit.warnings if w.startswith("CPE1.alpha")]
+    assert note.startswith(f"CPE1.alpha lies ({distance * 1e15:.1f} ± {error * 1e15:.1f})e-15 below its upper bound 1, on it to 1 part in 10⁴ or better (CPE1 with alpha = 1 is a capacitor"), note

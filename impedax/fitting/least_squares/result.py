@@ -1636,7 +1636,11 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
     not the symmetric interval it reads as; a statistician's audit found 103 of 122 such R0
     values (true 1 mΩ) reported without a word. The note names the posterior as the honest one.
     Value and error read as in the report (`format_uncertain`: "W1.sigma = 2.8 ± 1.4 mΩ s^-1/2"
-    of a REAL Autolab fit; "0.00275 ± 0.0014 Ω s^-1/2" until 2026-12-06)."""
+    of a REAL Autolab fit; "0.00275 ± 0.0014 Ω s^-1/2" until 2026-12-06). A value within 1e-4 of
+    its bound yet more standard errors from it is said by its distance, rounded to its error, and
+    named the simpler model where the bound reduces its element: "CPE1.alpha lies (8.4 ± 1.6)e-15
+    below its upper bound 1, on it to 1 part in 10⁴ or better (CPE1 with alpha = 1 is a
+    capacitor: …)" (REAL data.ods, an exact spectrum)."""
     values, stderr = np.atleast_2d(values), np.atleast_2d(stderr)
     candidates = bound_sides(table, values, stderr)
     near = (candidates != 0) & (np.asarray(sides) == 0) & ~undetermined_mask(table, values, stderr, sides)
@@ -1647,10 +1651,18 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
         # the side `bound_sides` found: α = 1 − 8e-15 ± 1.5e-15 is within 1e-4 of its upper bound 1,
         # not 2 standard errors of it, and was said to be near its lower bound 0 (REAL data.ods, 2026-12-03)
         side, bound = ("upper", float(table.upper[i])) if candidates[b, j] > 0 else ("lower", float(table.lower[i]))
-        within = (f"within {BOUND_STDERR_FRACTION:g} standard errors of" if abs(bound - value) <= BOUND_STDERR_FRACTION * error else
-                  f"{format_quantity(abs(bound - value), table.units[i], 2)} from")  # (within 1e-4 of it, more standard errors away: `bound_sides`)
+        at = format_bound(bound, table.units[i])
+        if abs(bound - value) > BOUND_STDERR_FRACTION * error:  # (within 1e-4 of it, more standard errors away: `bound_sides`)
+            # its distance from the bound, not the value's 16 digits: "CPE1.alpha = 0.9999999999999916 ±
+            # 0.0000000000000015 lies 8.4e-15 from its upper bound 1" until 2026-12-06 (REAL data.ods)
+            reduced_side, simpler = table.reductions.get(table.names[i], (None, ""))
+            out.append((b, (
+                f"{table.names[i]} lies {format_uncertain(abs(bound - value), error, table.units[i])} {'below' if side == 'upper' else 'above'} its {side} bound {at}"
+                + (", on it to 1 part in 10⁴ or better" if bound else "") + (f" ({simpler})" if reduced_side == side else "")
+            )))
+            continue
         out.append((b, (
-            f"{table.names[i]} = {format_uncertain(value, error, table.units[i])} lies {within} its {side} bound {format_bound(bound, table.units[i])}: "
+            f"{table.names[i]} = {format_uncertain(value, error, table.units[i])} lies within {BOUND_STDERR_FRACTION:g} standard errors of its {side} bound {at}: "
             "the ± is not symmetric there (no value lies beyond the bound)" + SAMPLE_ADVICE
         )))
     return out
