@@ -652,6 +652,14 @@ def format_percent(ratio: float) -> str:
     return (f"{percent:.0f}" if "e" in text else text) + " %"
 
 
+def format_factor(ratio: float, digits: int = 2) -> str:
+    """A factor for text, before its ``×``: ``digits`` significant, written out from 1 to 10⁶
+    (``180``, not ``:.2g``'s ``1.8e+02``), as Python writes it otherwise (``2.5``, ``0.0042``,
+    ``2.5e+07``)."""
+    text = f"{ratio:.{digits}g}"
+    return f"{float(text):.0f}" if "e" in text and 1 <= abs(ratio) < 1e6 else text
+
+
 def format_time(tau: float, digits: int = 3) -> str:
     """A time constant [s] for text: ``2 ms``, ``0.3 s``, ``40 µs`` (``digits`` significant)."""
     for unit, scale in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6), ("ns", 1e-9)):

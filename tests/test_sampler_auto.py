@@ -388,3 +388,11 @@ def test_a_posterior_built_without_a_registry_uses_the_default():
     assert post.registry is ix.DEFAULT_REGISTRY
     back = Posterior.from_xarray(post.to_xarray())
     assert back.registry is ix.DEFAULT_REGISTRY and back.settings["steps_mode"] == "fixed"
+
+
+def test_an_interval_ratio_of_hundreds_is_written_without_a_power_of_ten():
+    """REAL Autolab spectrum, R0 + (R1 + W1) ∥ CPE1 sampled 1500 steps: the warning named "R0
+    (1.8e+02×)" (``:.2g``); a factor is written out from 1 to 10⁶, two significant digits as
+    before (by hand: 183/1 → 180, 0.0042/1 → 0.0042, 2.5e7 keeps its power of ten)."""
+    (text,) = interval_warnings({"R0": 183.0, "R1": 0.0042, "C1": 2.5e7}, {"R0": 1.0, "R1": 1.0, "C1": 1.0}, chain_converged=True)
+    assert "R0 (180×)" in text and "R1 (0.0042×)" in text and "C1 (2.5e+07×)" in text, text

@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, Registry
-from ...data import format_bound, format_quantity, value_span
+from ...data import format_bound, format_factor, format_quantity, value_span
 from ..derived import QUANTILES, mean_and_sd
 from ..reductions import reducing_bounds
 
@@ -519,7 +519,7 @@ def interval_warnings(
         ratio = lin / half
         if ratio > INTERVAL_RATIO_WARNING or ratio < 1 / INTERVAL_RATIO_WARNING:
             why = [w for w, where in (("its fit is at a bound", at_bound), ("its draws pile up against an edge", piled_up)) if n in where]
-            flagged.append(f"{n} ({ratio:.2g}×{'; ' + ', '.join(why) if why else ''})")
+            flagged.append(f"{n} ({format_factor(ratio)}×{'; ' + ', '.join(why) if why else ''})")
     if not flagged:
         return []
     head = (

@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, report_text, format_bound, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
+from ...data import checked_frequencies, column_width, concise_repr, report_text, format_bound, format_factor, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
 from ...errors import DataError
 from ..arcs import BEYOND_BAND_FACTOR, ArcBeyondBand, arc_taus
 from ..frozen import freeze_fields
@@ -1045,28 +1045,28 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
         slip = sigma_unit_slip(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i], factor)
         if slip:  # (before the model is blamed: a σ in the wrong unit weighs the points wrongly, and the misfit may be that)
             out[i] = (
-                f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
+                f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"σ looks given in the wrong unit ({slip}), not understated by a noise a model could miss by: σ is in Ω, per point, for Re and Im alike, "
                 f"and a relative σ is given as sigma = rel·|Z| (e.g. make_spectrum(f, Z, sigma={_relative_example(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i])} * abs(Z)); a file's sigma column in Ω); "
-                f"until then the standard errors, which take σ as stated, are {factor:.2g}× too small, and the points are weighed by a wrong noise, so the fit's other warnings may be that weighting's",
+                f"until then the standard errors, which take σ as stated, are {format_factor(factor)}× too small, and the points are weighed by a wrong noise, so the fit's other warnings may be that weighting's",
             )
         elif c > high and factor >= SIGMA_SCALE_FACTOR and not blamed and math.isfinite(chain):
             out[i] = (
-                f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}), and a "
+                f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}), and a "
                 f"Kramers–Kronig-consistent model weighted by the same σ (the KK test's Voigt chain) leaves χ²_red {chain:.3g} too: σ misstates the noise, "
-                f"not the model: it understates it (in some band, or everywhere), and the standard errors, which take σ as stated, are then about {factor:.2g}× too small; "
+                f"not the model: it understates it (in some band, or everywhere), and the standard errors, which take σ as stated, are then about {format_factor(factor)}× too small; "
                 "correct the sigma column (or weigh by modulus), then fit again",
             )
         elif c > high and factor >= SIGMA_SCALE_FACTOR and not blamed:
             out[i] = (
-                f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
-                f"either σ understates the noise, and the standard errors, which take σ as stated, are then {factor:.2g}× too small, "
+                f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
+                f"either σ understates the noise, and the standard errors, which take σ as stated, are then {format_factor(factor)}× too small, "
                 "or the model misses something (a diagnosis, impedax diagnose, shows what)",
             )
         elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR:
             out[i] = (
-                f"the residuals are {factor:.2g}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
-                f"{SIGMA_OVERSTATES_WORDS} (or the model follows the noise with too many parameters), and the standard errors, which take σ as stated, are then {1 / factor:.2g}× too large",
+                f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
+                f"{SIGMA_OVERSTATES_WORDS} (or the model follows the noise with too many parameters), and the standard errors, which take σ as stated, are then {format_factor(1 / factor)}× too large",
             )
     return out
 
