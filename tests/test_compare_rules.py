@@ -46,8 +46,9 @@ def test_compare_command_fixes_and_starts_each_model_that_has_the_parameter(tmp_
 
     models = json.loads(capsys.readouterr().out)["models"]
     assert all(m["params"]["R0"]["value"] == 12 and m["params"]["R0"]["fixed"] for m in models)
-    assert main(argv) == 0
-    assert "held fixed in R0 + R1 || CPE1: R0 = 12" in capsys.readouterr().out
+    assert main([*argv, "--bound", "R1=50:1k"]) == 0
+    out = capsys.readouterr().out.splitlines()  # (the held value and the bounds with their units, as typed: "R0 = 12" and "R1 within 50..1000" until 2026-12-06)
+    assert "held fixed in R0 + R1 || CPE1: R0 = 12 Ω" in out and "bounded in R0 + R1 || CPE1: R1 within 50 Ω..1 kΩ" in out, out
     assert main(["compare", str(path), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--fix", "CPE1.a=1"]) == 2
     assert "no model has a parameter 'CPE1.a'; did you mean CPE1.alpha?" in capsys.readouterr().err
 

@@ -38,7 +38,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from .. import compare, fit, parse
-    from ..data import counted
+    from ..data import counted, format_bound
     from ..errors import ParameterError
     from ..fitting.least_squares.result import user_bounds_text
     from ..fitting.problem import open_spectrum
@@ -122,7 +122,8 @@ def run(args) -> int:
         for fit_result in comparison.fits:  # (the table's rows do not show what was held)
             held = {n: v for n, v in fit_result.values.items() if fit_result.fixed.get(n) and n in given["--fix"]}
             if held:
-                print(f"held fixed in {fit_result.model}: " + ", ".join(f"{n} = {v:g}" for n, v in held.items()))
+                specs = fit_result.circuit.parameter_specs(fit_result.registry)  # (the values with their units, as the bounds below: "R0 = 14 mΩ", not "0.014")
+                print(f"held fixed in {fit_result.model}: " + ", ".join(f"{n} = {format_bound(v, specs[n].unit)}" for n, v in held.items()))
             if fit_result.bounds:  # (--bound: the table's rows do not show them either)
                 print(f"bounded in {fit_result.model}: " + user_bounds_text(fit_result))
         print("\n".join(warning_lines(comparison)))
