@@ -13,7 +13,9 @@ __all__ = ["grouped_warnings", "warning_kinds", "MORE_KINDS", "labels_text", "sc
 
 WARNING_GROUPS_SHOWN = 12  # kinds of warning a batch's text lists
 LABELS_SHOWN = 8  # labels of a dimension shown in messages
-_NUMBER = re.compile(r"(?<![\w.])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
+# a number; not the power of ten a value and its error share, "(8.4 ± 1.6)e-15", which belongs to
+# the wording: notes of 10x different scales were ranged as one, "(3.2 to 8.4 ± 0.5 to 1.6)e-14 to 15"
+_NUMBER = re.compile(r"(?<![\w.])(?<![eE][-+])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
 
 
 def labels_text(labels: Sequence) -> str:

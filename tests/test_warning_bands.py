@@ -98,3 +98,17 @@ def test_global_fits_keys_are_not_counted_as_spectra_nor_cut_at_their_labels():
     assert grouped_warnings(mixed, 6, spectra=spectra) == ["warning (2 of 6 spectra: group=a, cycle=0; group=b, cycle=2; shared over cycle (group a)): R2 is at its bound"]
     # one dimension shared over with no other: the key as it was
     assert grouped_warnings({"shared over trial": (NOT_DETERMINED,)}, 4) == [f"warning (shared over trial): {NOT_DETERMINED}"]
+
+
+def test_numbers_of_different_powers_of_ten_are_not_ranged_as_one():
+    """A near-bound note writes a value and its error with a shared power of ten, "(8.4 ±
+    1.6)e-15"; two spectra's notes of different powers were merged to "(3.2 to 8.4 ± 0.5 to
+    1.6)e-14 to 15", numbers of scales 10x apart ranged as one. They stay two lines (as two SI
+    prefixes would), each its own text; notes of one power still range."""
+    def alpha(pair):
+        return f"CPE1.alpha lies {pair} below its upper bound 1, on it to 1 part in 10⁴ or better"
+
+    apart = grouped_warnings({"cycle=0": (alpha("(8.4 ± 1.6)e-15"),), "cycle=1": (alpha("(3.2 ± 0.5)e-14"),)}, 2)
+    assert sorted(line.split("): ", 1)[1] for line in apart) == sorted([alpha("(8.4 ± 1.6)e-15"), alpha("(3.2 ± 0.5)e-14")]), apart
+    (together,) = grouped_warnings({"cycle=0": (alpha("(8.4 ± 1.6)e-15"),), "cycle=1": (alpha("(3.2 ± 0.5)e-15"),)}, 2)
+    assert together.endswith(alpha("(3.2 to 8.4 ± 0.5 to 1.6)e-15")), together
