@@ -421,3 +421,23 @@ def test_an_exponent_a_rounding_below_1_reads_as_at_its_bound():
     assert 0 < distance < 1e-13 and 0 < error < distance / 2
     (note,) = [w for w in fit.warnings if w.startswith("CPE1.alpha")]
     assert note.startswith(f"CPE1.alpha lies ({distance * 1e15:.1f} ± {error * 1e15:.1f})e-15 below its upper bound 1, on it to 1 part in 10⁴ or better (CPE1 with alpha = 1 is a capacitor"), note
+
+
+def test_a_fixed_value_reads_in_the_tables_as_the_user_gave_it():
+    """SYNTHETIC R0 + R1 ∥ C1 with R0 fixed at 10.123456 Ω (``--fix R0=10.123456``): the fit's,
+    a batch's and the sampler's tables wrote it to 5 digits, "10.123 (fixed)", a value the user
+    never gave beside the mark that it was not fitted. A fixed value has no error to round to:
+    it is written as given (`data.exact_number`, as the LaTeX table has it). Oracle: the text
+    typed."""
+    f = np.geomspace(1, 1e5, 20)
+    z = 10.123456 + 2000 / (1 + 1j * 2 * np.pi * f * 2000 * 1e-7)
+    z = z * (1 + 0.01 * np.random.default_rng(0).normal(size=f.size))
+    single = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z), fixed={"R0": 10.123456})
+    (row,) = [line for line in single.report().splitlines() if line.startswith("R0 ")]
+    assert row.split() == ["R0", "10.123456", "(fixed)", "Ω"], row
+    batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, np.stack([z, z]), dims=("copy",)), fixed={"R0": 10.123456})
+    (row,) = [line for line in batch.report().splitlines() if line.startswith("R0 ")]
+    assert row.split()[1:3] == ["10.123456", "(fixed)"], row
+    post = ix.sample("R0 + R1 || C1", ix.make_spectrum(f, z), fixed={"R0": 10.123456}, steps=40, progress=False)
+    (row,) = [line for line in post.report().splitlines() if line.startswith("R0 ")]
+    assert row.split() == ["R0", "10.123456", "(fixed)", "Ω"], row

@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, report_text, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, exact_number, report_text, unit_text
 from ...errors import DataError, ParameterError
 from ..derived import bind_frequency, called, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
@@ -348,7 +348,7 @@ class Posterior(PiledUp):
                 + (f"  {UNDETERMINED_MARK}" if n in loose else "")
             )
         for (n, value), unit in zip(self.fixed.items(), fixed_units):  # (derived quantities such as the force depend on them too)
-            lines.append(f"{n:<{width}}  {value:>11.5g}  {'(fixed)':>11}  {'':>11}  {'':>9}  {'':>7}  {unit:<{unit_width}}".rstrip())
+            lines.append(f"{n:<{width}}  {exact_number(value):>11}  {'(fixed)':>11}  {'':>11}  {'':>9}  {'':>7}  {unit:<{unit_width}}".rstrip())
         lines.extend(footnotes)
         for w in self.warnings:
             lines.append(f"warning: {w}")

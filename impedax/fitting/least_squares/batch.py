@@ -21,7 +21,7 @@ import xarray as xr
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...circuits.nesting import carried_values
-from ...data import column_width, concise_repr, report_text, coordinate_labels, counted, format_band, format_relative_error, label_value, unit_text
+from ...data import column_width, concise_repr, exact_number, report_text, coordinate_labels, counted, format_band, format_relative_error, label_value, unit_text
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
@@ -682,7 +682,7 @@ def _cell(value: float, stderr, fixed: bool, at_bound: bool) -> str:
     """One spectrum's parameter as the single fit's table gives it: ``0.11946 ± 1.2%`` (value
     and relative standard error), ``… (fixed)``, ``… at bound``, ``… ± —`` (no finite error)."""
     if fixed:
-        return f"{value:.5g} (fixed)"
+        return f"{exact_number(value)} (fixed)"  # (as given: no error to round to)
     if at_bound:
         return f"{value:.5g} at bound"
     rel = format_relative_error(stderr / value) if stderr is not None and value else "—"

@@ -14,7 +14,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
-from ...data import checked_frequencies, column_width, concise_repr, report_text, format_bound, format_factor, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
+from ...data import checked_frequencies, column_width, concise_repr, exact_number, report_text, format_bound, format_factor, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
 from ...errors import DataError
 from ..arcs import BEYOND_BAND_FACTOR, ArcBeyondBand, arc_taus
 from ..frozen import freeze_fields
@@ -311,7 +311,7 @@ class FitResult:
         ]
         for n, v in self.values.items():
             if self.fixed[n]:
-                lines.append(f"{n:<{width}}  {v:>12.5g}  {'(fixed)':>10}  {'':>8}  {unit_text(specs[n].unit)}".rstrip())
+                lines.append(f"{n:<{width}}  {exact_number(v):>12}  {'(fixed)':>10}  {'':>8}  {unit_text(specs[n].unit)}".rstrip())  # (as given: no error to round to)
             else:
                 e = self.stderr[n]
                 # at a bound the linearised error says nothing (a log transform's scale at 0:
