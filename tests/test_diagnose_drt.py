@@ -213,3 +213,18 @@ def test_drt_evidence_study(split, n):
     assert s["named_drt"] >= s["named_no_drt"] and s["fixed_drt"] >= s["fixed_no_drt"]
     assert s["named_drt"] >= 0.6 * s["n_missing"]
     assert s["false_alarms_drt"] <= max(1, 0.2 * s["n_clean"])
+
+
+def test_an_unexplained_peak_of_milliohms_is_written_with_its_prefix():
+    """The three arcs at 1/1000 of their size (a battery's scale): the unexplained peak at 1 s,
+    R = 40 mΩ by construction, reads "R ≈ 4x mΩ" as impedax writes quantities, not "0.04 Ω"
+    (the DRT line of a diagnosis of REAL exampleData.csv read "R ≈ 0.00746 Ω" until 2026-12-06)."""
+    rng = np.random.default_rng(1)
+    f = np.logspace(-2, 5, 60)
+    z = multi_arc.arcs_impedance(f, 0.010, [(r / 1000, tau, alpha) for r, tau, alpha in TRUE_ARCS])
+    data = ix.make_spectrum(f, z * (1 + 0.01 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size))))
+    evidence = unexplained_peaks(drt(data), ix.fit(TWO_ARCS, data, n_starts=8))
+    (peak,) = evidence.unexplained
+    assert peak.r_ohm == pytest.approx(0.040, rel=0.15)
+    written = f"R ≈ {float(f'{peak.r_ohm * 1000:.3g}'):g} mΩ"
+    assert written in evidence.text, evidence.text

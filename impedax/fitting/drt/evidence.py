@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...data import format_time, format_uncertain
+from ...data import format_quantity, format_time, format_uncertain
 from ...errors import DataError
 from ..frozen import freeze_fields
 from .peaks import RESOLVED_SIGMAS, Peak
@@ -133,7 +133,7 @@ def unexplained_peaks(data_drt: DRTResult, model, *, tolerance_decades: float = 
         text += f" (at {', '.join(format_time(p.tau_s, 2) for p in data_peaks)})"
     text += f"; the model explains {len(explained)}"
     if len(unresolved) < len(unexplained):
-        text += "; unexplained: " + ", ".join(f"{format_time(p.tau_s, 2)} (R ≈ {p.r_ohm:.3g} Ω)" for p in unexplained if is_resolved(p))
+        text += "; unexplained: " + ", ".join(f"{format_time(p.tau_s, 2)} (R ≈ {format_quantity(p.r_ohm, 'Ω')})" for p in unexplained if is_resolved(p))
     if unresolved:
         text += (
             "; not told from zero by the DRT's uncertainty (a ripple, not a missing relaxation): "
