@@ -2547,7 +2547,7 @@ def diagnose(
         spectrum = spectrum.isel(frequency=np.nonzero(keep)[0])
         notes.append(f"{len(masked)} point(s) " + ("behind the failed KK test (without them it passes)" if located is not None else "the KK test flags as the data's own problem") + " are masked: every fit of this diagnosis leaves them out")
     elif kk is not None and not kk.valid and problem.kept is None:
-        notes.append("the KK test flags " + ", ".join(format_band(lo, hi) for lo, hi in kk.bad_bands) + ": misfits there may be data problems")
+        notes.append(f"the KK test flags {kk.measured_bands_text()}: misfits there may be data problems")  # (its flagged points, as the data line names them)
     sigma_rel, measurement = nm.sigma_rel[keep], nm.measurement[keep]
 
     if drt_evidence:
