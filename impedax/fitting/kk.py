@@ -32,7 +32,7 @@ from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
 from .frozen import freeze_fields
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "band_name", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -405,7 +405,7 @@ class KKResult:
         """For each of ``bad_bands``, the measured frequencies [Hz] of its flagged points, ascending
         (the band's edges lie halfway to the neighbours; ``--exclude`` takes these)."""
         flag, _, freq = self._rule_masks()
-        return tuple(tuple(float(f) for f in freq[i:j][flag[i:j]]) for i, j in _band_spans(flag, freq))
+        return band_points(freq, flag)
 
     @property
     def excludable_frequencies(self) -> np.ndarray:
@@ -1321,6 +1321,14 @@ def left_out_options(kept, masked) -> list[tuple[str, str]]:
         measured = np.concatenate([kept, masked])
         options.append(("--exclude", ",".join(frequency_text(f, measured) for f in inside)))
     return options
+
+
+def band_points(freq_sorted, flag) -> tuple[tuple[float, ...], ...]:
+    """For each band of ``flag`` (frequency order; the bands of `bands_of_flags`), the measured
+    frequencies [Hz] of its flagged points, ascending: what a report names (`band_name`)."""
+    freq_sorted = np.asarray(freq_sorted, dtype=float)
+    flag = np.asarray(flag, bool)
+    return tuple(tuple(float(f) for f in freq_sorted[i:j][flag[i:j]]) for i, j in _band_spans(flag, freq_sorted))
 
 
 def bands_of_flags(freq_sorted, flag) -> tuple[tuple[float, float], ...]:

@@ -40,9 +40,9 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import checked_arguments, count, real
-from ..data import concise_repr, report_text, format_frequency
+from ..data import concise_repr, report_text
 from ..errors import DataError, ParameterError
-from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
+from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
 from .problem import frequency_and_z
 from .statistics import difference_noise
 from .frozen import freeze_fields
@@ -118,6 +118,19 @@ class ZHITResult:
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
+    def band_frequencies(self) -> tuple[tuple[float, ...], ...]:
+        """For each of ``bad_bands``, the measured frequencies [Hz] of its flagged points, ascending
+        (the band's edges lie halfway to the neighbours), as `KKResult.band_frequencies`."""
+        order = np.argsort(self.frequency)
+        return band_points(self.frequency[order], np.asarray(self.flagged, bool)[order])
+
+    @property
+    def measured_bands(self) -> tuple[tuple[float, float], ...]:
+        """For each of ``bad_bands``, its lowest and highest flagged frequency [Hz], as measured:
+        the range the report names (`KKResult.measured_bands`)."""
+        return tuple((points[0], points[-1]) for points in self.band_frequencies if points)
+
+    @property
     def conclusive(self) -> bool:
         """Whether there are enough frequencies (`kk.CONCLUSIVE_POINTS_MIN`, and
         `CONCLUSIVE_PER_DECADE_MIN` a decade) for the verdict to mean something."""
@@ -160,6 +173,9 @@ class ZHITResult:
             "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),  # (added 2026-12-01, as the linear test's)
             # (added 2026-12-05) s = max(noise estimate, floor), what the rules' levels are multiples of
             "noise_floor_rel": self.noise_floor, "threshold_scale_rel": max(self.noise_estimate, self.noise_floor),
+            # (added 2026-12-06, as the linear test's) per band its flagged measured frequencies, and
+            # their lowest and highest: the range the text names (``bad_bands_hz`` keep the edges)
+            "bad_band_frequencies_hz": [list(f) for f in self.band_frequencies], "measured_bands_hz": [[lo, hi] for lo, hi in self.measured_bands],
         }
 
     def to_table(self) -> list[dict[str, object]]:
@@ -205,13 +221,13 @@ class ZHITResult:
         order = np.argsort(self.frequency)
         masks = _rule_masks(np.abs(self.residuals[order]), self.threshold, self.run_threshold, self.run_length)
         flag = np.asarray(self.flagged, bool)[order]
-        for (lo, hi), counts in zip(self.bad_bands, band_rule_counts(flag, masks, self.frequency[order])):  # (as the linear test writes them)
+        for points, counts in zip(self.band_frequencies, band_rule_counts(flag, masks, self.frequency[order])):  # (as the linear test writes them)
             said = [
                 f"{points_text(counts['point'])} with |residual| > {self.threshold * 100:.3g} % (point rule)" if counts["point"] else "",
                 f"{points_text(counts['run'])} in runs of ≥ {self.run_length} with |residual| > {self.run_threshold * 100:.3g} % (run rule)" if counts["run"] else "",
             ]
             said = "; ".join(x for x in said if x)
-            lines.append(f"  bad band: {format_frequency(lo)} – {format_frequency(hi)}" + (f": {said}" if said else ""))
+            lines.append(f"  bad band: {band_name(points)}" + (f": {said}" if said else ""))
         if self.sign_hint:
             lines.append(f"hint: {self.sign_hint}")
         return "\n".join(lines)
