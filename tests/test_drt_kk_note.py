@@ -12,7 +12,6 @@ import pytest
 
 import impedax as ix
 from impedax.cli import main
-from impedax.data import format_band
 
 FREQ = np.geomspace(0.01, 1e5, 71)
 OMEGA = 2 * np.pi * FREQ
@@ -38,7 +37,7 @@ def files(tmp_path):
 def test_a_drifting_spectrum_gets_the_kk_band_and_the_peak_inside_it(files, capsys):
     kk = ix.kk_test((FREQ, DRIFTED))
     assert not kk.valid
-    bands = ", ".join(format_band(lo, hi) for lo, hi in kk.bad_bands)
+    bands = kk.measured_bands_text()  # (until 2026-12-06 the bands' edges, halfway to the neighbouring points: impedax kk names the flagged points)
     assert main(["drt", str(files["drifted"])]) == 0
     lines = capsys.readouterr().out.splitlines()
     (note,) = [line for line in lines if line.startswith("note: the data fail")]
@@ -70,3 +69,18 @@ def test_a_flipped_sign_gets_its_hint_not_the_note(tmp_path, capsys):
     assert main(["drt", str(path)]) == 0
     out = capsys.readouterr().out
     assert "opposite sign" in out and "fail the Kramers–Kronig test" not in out
+
+
+def test_the_note_names_the_flagged_measured_points_as_impedax_kk_does(capsys):
+    """REAL Gamry: the note read "at 15.9 mHz–2.26 kHz" (the band's edge halfway to the measured
+    2.53 kHz) where ``impedax kk`` names "15.9 mHz – 2.02 kHz", its highest flagged point. Oracle:
+    the file's measured frequencies and the points the KK test flags."""
+    from pathlib import Path
+
+    path = Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA"
+    kk = ix.kk_test(ix.load(path))
+    flagged = np.sort(kk.frequency[kk.flagged])
+    assert main(["drt", str(path)]) == 0
+    (note,) = [line for line in capsys.readouterr().out.splitlines() if line.startswith("note: the data fail")]
+    named = f"{ix.data.format_frequency(float(flagged[0]))}–{ix.data.format_frequency(float(flagged[-1]))}"
+    assert note.startswith(f"note: the data fail the Kramers–Kronig test at {named} ("), note

@@ -113,7 +113,7 @@ def _kk_note(result, data, args) -> str | None:
     nor for a spectrum too short for a conclusive test."""
     import shlex
 
-    from ..data import format_band, format_frequency, format_time
+    from ..data import format_frequency, format_time
     from ..fitting.kk import kk_test, kk_test_batch
 
     results = getattr(result, "results", (result,))
@@ -126,11 +126,11 @@ def _kk_note(result, data, args) -> str | None:
         return None
     command = f"impedax kk {shlex.quote(str(args.data))}" + "".join(f" --select {shlex.quote(s)}" for s in (args.select or ()))
     if not extra:
-        bands = tests[0].bad_bands
+        bands = tests[0].bad_bands  # (the shaded bands, edges halfway to the neighbours: a peak between a flagged point and the next lies there; the text names the flagged points)
         inside = [p for p in results[0].peaks if any(lo <= p.frequency_hz <= hi for lo, hi in bands)]
         listed = ", ".join(f"τ = {format_time(p.tau_s)} (f = {format_frequency(p.frequency_hz)})" for p in inside)
         peaks = f"; the peak{'s' if len(inside) > 1 else ''} at {listed} {'lie' if len(inside) > 1 else 'lies'} there" if inside else ""
-        return (f"the data fail the Kramers–Kronig test at {', '.join(format_band(lo, hi) for lo, hi in bands)} ({command} says what to leave out): "
+        return (f"the data fail the Kramers–Kronig test at {tests[0].measured_bands_text()} ({command} says what to leave out): "
                 f"γ there holds their drift or disturbance as well as any relaxation{peaks}")
     labels = result.labels()
     named = "; ".join(", ".join(f"{d}={v}" for d, v in labels[i].items()) for i in failed[:3]) + ("; …" if len(failed) > 3 else "")
