@@ -53,3 +53,22 @@ def test_the_report_names_one_range_for_the_kk_finding(name, finding):
     for (a, a_lo, a_hi), (b, b_lo, b_hi) in itertools.combinations(ranges, 2):
         if a_lo <= b_hi * 1.0001 and b_lo <= a_hi * 1.0001:  # (overlapping)
             assert a == b, lines
+
+
+@pytest.mark.slow  # (a diagnosis: 20-40 s)
+def test_diagnose_json_gives_the_range_its_text_names(capsys):
+    """``impedax diagnose --json``'s ``kk`` held the bad bands' edges alone (REAL Gamry: up to
+    2257 Hz, halfway to the measured 2.53 kHz) beside a text naming 15.9 mHz–2.02 kHz:
+    ``measured_bands_hz`` (added, as ``impedax kk --json``'s) gives the flagged points' range."""
+    import json
+
+    from impedax.cli import main
+
+    path = REAL / "exampleDataGamry.DTA"
+    f = ix.load(path)["frequency"].values
+    assert main(["diagnose", str(path), "--model", "R0 + R1 || C1", "--json"]) == 0
+    kk = json.loads(capsys.readouterr().out)["kk"]
+    (lo, hi), = kk["measured_bands_hz"]
+    assert lo in f and hi in f and [lo, hi] == [0.0158898, 2015.625]  # (the file's own frequencies)
+    (edge_lo, edge_hi), = kk["bad_bands"]  # (kept: the JSON is a contract)
+    assert edge_lo <= lo < hi < edge_hi

@@ -412,6 +412,9 @@ class Diagnosis:
                 "valid": bool(kk.valid) if kk is not None else None,
                 "rms_rel": float(kk.rms_rel) if kk is not None else None,
                 "bad_bands": [[float(lo), float(hi)] for lo, hi in kk.bad_bands] if kk is not None else [],
+                # (added 2026-12-06) per band, the lowest and highest flagged measured frequency [Hz]: the
+                # range the text names, as impedax kk --json's (``bad_bands`` keep the edges halfway to the neighbours)
+                "measured_bands_hz": [[float(lo), float(hi)] for lo, hi in kk.measured_bands] if kk is not None else [],
                 "noise_estimate": float(kk.noise_estimate) if kk is not None else None,
                 "conclusive": bool(kk.conclusive) if kk is not None else None,
                 "sign_hint": kk.sign_hint if kk is not None else None,
