@@ -370,6 +370,11 @@ class DRTResult:
     def summary(self) -> dict:
         """The JSON of ``impedax drt --json`` (the keys are the public contract: keys are added,
         never renamed; NaN and inf are written as null)."""
+        return self._summary(self.suggested_circuit())
+
+    def _summary(self, suggestion) -> dict:
+        """`summary` with the starting circuit read off this DRT given (`suggested_circuit`: a
+        batch reads each once for its rows and its most common one)."""
         return {
             "tau_s": self.tau,
             "gamma_ohm": self.gamma,
@@ -407,7 +412,7 @@ class DRTResult:
             "dropped_r_ohm": float(sum(p.r_ohm for p in self.dropped_peaks)),
             "window_tau_s": list(self.window),
             "notes": list(self.notes),
-            **_suggestion_keys(self.suggested_circuit()),
+            **_suggestion_keys(suggestion),
         }
 
     def _repr_html_(self) -> str:
@@ -640,8 +645,9 @@ class DRTBatchResult(ResultGrid):
         from .suggest import most_common_suggestion_at
 
         labels = self.labels()
-        spectra = [{"labels": where, **one.summary()} for where, one in zip(labels, self.results)]
-        index, suggestion, count = most_common_suggestion_at(self.results)
+        suggestions = [one.suggested_circuit() for one in self.results]  # (each read once: for its row and the most common)
+        spectra = [{"labels": where, **one._summary(s)} for where, one, s in zip(labels, self.results, suggestions)]
+        index, suggestion, count = most_common_suggestion_at(self.results, suggestions)
         return {"dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results), "spectra": spectra,
                 **_suggestion_keys(suggestion), "suggested_from": labels[index], "n_suggesting": count,
                 "warnings": sorted({w for row in spectra for w in row["warnings"]})}

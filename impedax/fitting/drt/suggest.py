@@ -187,11 +187,12 @@ def most_common_suggestion(results) -> tuple[SuggestedCircuit, int]:
     return suggestion, count
 
 
-def most_common_suggestion_at(results) -> tuple[int, SuggestedCircuit, int]:
+def most_common_suggestion_at(results, suggestions=None) -> tuple[int, SuggestedCircuit, int]:
     """`most_common_suggestion` with, first, the index in ``results`` of the spectrum whose starts
-    it gives (the batch JSON's ``suggested_from``, added 2026-12-06)."""
+    it gives (the batch JSON's ``suggested_from``, added 2026-12-06); ``suggestions``: each
+    result's `DRTResult.suggested_circuit` when already read (default: read here)."""
     taking = [i for i, r in enumerate(results) if not (r.sign_hint or r.over_smoothed)] or list(range(len(results)))
-    suggestions = [(i, results[i].suggested_circuit()) for i in taking]
+    suggestions = [(i, results[i].suggested_circuit() if suggestions is None else suggestions[i]) for i in taking]
     model, count = Counter(s.model for _, s in suggestions).most_common(1)[0]
     index, suggestion = next((i, s) for i, s in suggestions if s.model == model)
     return index, suggestion, count
