@@ -7,7 +7,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..data import counted, format_quantity, format_time
+from ..data import counted, format_percent, format_quantity, format_time
 from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
@@ -128,7 +128,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.legend(fontsize=font_size("legend", 8), ncol=2)
     dropped = len(getattr(result, "dropped_peaks", ()))
     n_counted = len(counted_peaks(result.peaks))  # resolved, inside the measured range (docs/drt.md, "Peaks")
-    fig.suptitle(title or f"DRT: {n_counted} peak(s){f' (+{dropped} below the cut-off)' if dropped else ''}, λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {result.rms_rel * 100:.2g} %")
+    fig.suptitle(title or f"DRT: {n_counted} peak(s){f' (+{dropped} below the cut-off)' if dropped else ''}, λ = {result.lam:.2g} ({result.lambda_method}), rms_rel {format_percent(result.rms_rel)}")
     return fig
 
 
@@ -199,5 +199,5 @@ def plot_zhit(result, *, title: str | None = None):
     ax_mod.legend(fontsize=font_size("legend", 8))
     if result.bad_bands:
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="inconsistent |Z| and phase")
-    fig.suptitle(title or f"Z-HIT: {'valid' if result.valid else 'not valid'}, rms {result.rms_rel * 100:.2g} %")
+    fig.suptitle(title or f"Z-HIT: {'valid' if result.valid else 'not valid'}, rms_rel {format_percent(result.rms_rel)}")  # (as the report: 119 %, not 1.2e+02 %)
     return fig

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
+from ..data import format_percent
 from . import dense_model, drawn_points, font_size, legends_off_data, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
 
 
@@ -29,7 +30,7 @@ def plot_kk(result, *, title: str | None = None):
     # (judged by the data's σ: each point's own levels, t·σ/|Z|, added 2026-12-02)
     per_point = None if getattr(result, "point_scale", None) is None else (result.frequency[order], result.point_scale[order] * t["point"], result.point_scale[order] * t["run"])
     verdict = "valid" if result.valid else "not valid"
-    fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {result.rms_rel * 100:.2g} %, µ {result.mu:.2f}")  # (before the legend is placed off the labels on the final layout)
+    fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {format_percent(result.rms_rel)}, µ {result.mu:.2f}")  # (before the legend is placed off the labels on the final layout)
     add_rule_levels(ax_res, point=levels["point"], run=levels["run"], run_length=int(t["run_length"]), bands=result.bad_bands, band_rules=result.band_rules, per_point=per_point)
     # a legend that covers data wherever it stands inside goes above its panel: the residual
     # legend's least covering place lay over REAL Parstat's Δ at 60 Hz – 10 kHz (its −40 % at
