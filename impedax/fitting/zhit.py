@@ -40,16 +40,19 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import checked_arguments, count, real
-from ..data import concise_repr, report_text
+from ..data import concise_repr, format_frequency, report_text
 from ..errors import DataError, ParameterError
 from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
 from .problem import frequency_and_z
-from .statistics import difference_noise
+from .statistics import difference_noise, non_passive, non_passive_words
 from .frozen import freeze_fields
 
 __all__ = ["ZHITResult", "zhit", "END_LAYER", "END_REACH", "CONCLUSIVE_PER_DECADE_MIN", "BIN_PER_DECADE", "REFERENCE_POINTS"]
 
 _GAMMA_1 = -math.pi / 6.0
+
+ZHIT_RESIDUAL_NOISE = "Z-HIT's residuals"
+"""`statistics.non_passive_words`' name of the noise Z-HIT's residuals show (`ZHITResult.noise_estimate`)."""
 
 END_LAYER = 0.6
 """ln ω (0.26 decade): the points this close to either end of the band take the local slope when
@@ -176,6 +179,7 @@ class ZHITResult:
             # (added 2026-12-06, as the linear test's) per band its flagged measured frequencies, and
             # their lowest and highest: the range the text names (``bad_bands_hz`` keep the edges)
             "bad_band_frequencies_hz": [list(f) for f in self.band_frequencies], "measured_bands_hz": [[lo, hi] for lo, hi in self.measured_bands],
+            "non_passive_hz": self.non_passive_frequencies,  # (added 2026-12-06, as the linear test's: points with Re Z < 0)
         }
 
     def to_table(self) -> list[dict[str, object]]:
@@ -190,10 +194,32 @@ class ZHITResult:
     @property
     def notes(self) -> list[str]:
         """The caveats on the verdict (the JSON's ``notes`` and ``warnings``, as
-        `KKResult.notes`): too few frequencies for Z-HIT (`conclusive`)."""
-        if self.conclusive:
-            return []
-        return [f"inconclusive: {self.frequency.size} frequencies are too few for Z-HIT (it needs {CONCLUSIVE_POINTS_MIN}, and {CONCLUSIVE_PER_DECADE_MIN:g} a decade)"]
+        `KKResult.notes`): too few frequencies for Z-HIT (`conclusive`), points with Re Z < 0
+        (`non_passive_note`)."""
+        notes = [] if self.conclusive else [
+            f"inconclusive: {self.frequency.size} frequencies are too few for Z-HIT (it needs {CONCLUSIVE_POINTS_MIN}, and {CONCLUSIVE_PER_DECADE_MIN:g} a decade)"]
+        return notes + ([self.non_passive_note] if self.non_passive_note else [])
+
+    @property
+    def non_passive_frequencies(self) -> np.ndarray:
+        """The frequencies [Hz] of the points whose Re Z < 0 beyond the noise (`statistics.non_passive`
+        against the noise estimate × |Z|), ascending: no passive circuit reaches them, and their phase
+        lies beyond −90°, which Z-HIT's integral carries into |Z| (REAL PowerSuite: 1.12 MHz and
+        2 MHz, behind most of its rms_rel of 119 %)."""
+        noise = self.noise_estimate * np.abs(self.impedance) if math.isfinite(self.noise_estimate) else None
+        return np.sort(self.frequency[non_passive(self.impedance, noise=noise)])
+
+    @property
+    def non_passive_note(self) -> str | None:
+        """On points with Re Z < 0 (`non_passive_frequencies`), as the linear test's
+        `KKResult.non_passive_note`; None when there are none."""
+        bad = self.non_passive_frequencies
+        if not bad.size:
+            return None
+        where = ", ".join(format_frequency(f) for f in bad[:6]) + (", …" if bad.size > 6 else "")
+        noise_from = ZHIT_RESIDUAL_NOISE if math.isfinite(self.noise_estimate) else None
+        return (f"{bad.size} of {self.frequency.size} points have {non_passive_words(noise_from, self.frequency.size)} ({where}), which no passive circuit reaches; "
+                "they are part of this test (impedax diagnose and refine leave them out before theirs); leave them out with --fmin/--fmax")
 
     @property
     def rules_text(self) -> str:
@@ -228,6 +254,8 @@ class ZHITResult:
             ]
             said = "; ".join(x for x in said if x)
             lines.append(f"  bad band: {band_name(points)}" + (f": {said}" if said else ""))
+        if self.non_passive_note:
+            lines.append(f"note: {self.non_passive_note}")
         if self.sign_hint:
             lines.append(f"hint: {self.sign_hint}")
         return "\n".join(lines)
