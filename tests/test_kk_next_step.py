@@ -280,3 +280,23 @@ def test_biologics_report_names_the_flagged_point_that_was_no_stray_and_its_rete
     assert again.marginal_points_only
     text = again.report()
     assert "NOT valid: data are not KK-consistent" not in text and "only just" in text and "stop leaving points out" in text
+
+
+def test_a_band_at_an_end_too_wide_to_leave_out_is_said_so():
+    """REAL Gamry: one band at the low end, 52 of 72 points (15.9 mHz–2.02 kHz), found no passing
+    band; the report ended "next: the bands: too many points to leave out one by one", as of a
+    disturbance inside the range, where --fmin would leave them out at once but keep fewer than
+    half of the points. Oracle: the file's frequencies, counted from the lowest through the highest
+    the test flags."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA")
+    result = ix.kk_test(data, find_passing_band=True)
+    f = np.sort(data["frequency"].values)
+    top = f[np.flatnonzero(np.isin(f, result.frequency[result.flagged]))].max()
+    n_end = int(np.count_nonzero(f <= top))
+    assert (n_end, f.size) == (52, 72)
+    (line,) = [x for x in result.report().splitlines() if x.startswith("next:")]
+    assert "one by one" not in line and "the bands" not in line, line
+    assert f"{format_frequency(f[0])} – {format_frequency(top)}" in line and f"{n_end} of {f.size} points" in line, line
+    assert "fewer than half" in line, line

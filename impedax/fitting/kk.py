@@ -426,6 +426,16 @@ class KKResult:
         """`excludable_frequencies` by the bad bands' rules alone."""
         if self.valid or self.sign_hint:
             return np.zeros(0)
+        drop, freq = self._dropped_by_bands()
+        left = freq.size - np.count_nonzero(drop)
+        if left < max(CONCLUSIVE_POINTS_MIN, freq.size / 2):
+            return np.zeros(0)
+        return freq[drop]
+
+    def _dropped_by_bands(self) -> tuple[np.ndarray, np.ndarray]:
+        """(the points the bands' rules would leave out, the frequencies), in frequency order:
+        every point from an end through a band at that end, the flagged points of a band of at
+        most `FEW_BAND_POINTS` inside; before `_excludable_by_bands` asks what that leaves."""
         flag, _, freq = self._rule_masks()
         drop = np.zeros(freq.size, bool)
         for i, j in _band_spans(flag, freq):
@@ -433,10 +443,7 @@ class KKResult:
                 drop[i:j] = True
             elif np.count_nonzero(flag[i:j]) <= FEW_BAND_POINTS:
                 drop[i:j] |= flag[i:j]
-        left = freq.size - np.count_nonzero(drop)
-        if left < max(CONCLUSIVE_POINTS_MIN, freq.size / 2):
-            return np.zeros(0)
-        return freq[drop]
+        return drop, freq
 
     @property
     def suggested_options(self) -> list[str]:
@@ -510,9 +517,23 @@ class KKResult:
         inside = [f for f, (i, j) in zip(self.band_frequencies, spans) if len(f) > FEW_BAND_POINTS and i > 0 and j < self.frequency.size]
         if self.passing_band is not None and not self._excludable_by_bands().size:
             inside = []  # (the trim leaves them out too)
-        if inside or not words and not self.marginal_points_only:
-            what = ", ".join(band_name(f) for f in inside) if inside else "the bands"
+        if inside:
+            what = ", ".join(band_name(f) for f in inside)
             lines.append(f"{'  ' if lines else 'next: '}{what}: too many points to leave out one by one: a disturbance during the sweep (drift, movement); measure again, or fit knowing it (docs/kk.md, \"What to do\")")
+        elif not words and not self.marginal_points_only:  # (bands at the ends too wide to leave out: REAL Gamry, 52 of 72 points from the low end)
+            drop, _ = self._dropped_by_bands()
+            kept = drop.size - int(np.count_nonzero(drop))
+            at_ends = [(f, i == 0) for f, (i, j) in zip(self.band_frequencies, spans) if i == 0 or j == self.frequency.size]
+            if at_ends:
+                what = ", ".join(band_name(f) for f, _ in at_ends)
+                ends = " and ".join("low" if low else "high" for _, low in at_ends)
+                how = (f"the {np.count_nonzero(drop)} of {drop.size} points from the {ends} end{'s' if len(at_ends) > 1 else ''} through {'them' if len(at_ends) > 1 else 'it'} "
+                       f"({'/'.join('--fmin' if low else '--fmax' for _, low in at_ends)})")
+            else:
+                what, how = "the bands", f"their {np.count_nonzero(drop)} of {drop.size} points"
+            short = "fewer than half of the points" if kept < drop.size / 2 else f"fewer than the {CONCLUSIVE_POINTS_MIN} the test needs"
+            lines.append(f"{'  ' if lines else 'next: '}{what}: leaving out {how} would keep {kept}, {short}: "
+                         "a disturbance over much of the sweep (drift, movement); measure again, or fit knowing it (docs/kk.md, \"What to do\")")
         return lines
 
     def report(self, command: str | None = None) -> str:
