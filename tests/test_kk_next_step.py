@@ -300,3 +300,24 @@ def test_a_band_at_an_end_too_wide_to_leave_out_is_said_so():
     assert "one by one" not in line and "the bands" not in line, line
     assert f"{format_frequency(f[0])} – {format_frequency(top)}" in line and f"{n_end} of {f.size} points" in line, line
     assert "fewer than half" in line, line
+
+
+def test_the_flagged_points_a_passing_band_clears_are_named_run_by_run():
+    """REAL CH Instruments passes on 4.64 Hz–82.5 kHz; the points flagged within it lie in two runs,
+    4.64 Hz–684 Hz and 56.2 kHz–82.5 kHz, with the unflagged decades between, and the report named
+    them "(4.64 Hz–82.5 kHz)", the whole band. Oracle: the file's frequencies and the test's flags,
+    split where an unflagged point lies between two flagged ones."""
+    from pathlib import Path
+
+    from impedax.data import format_band
+
+    result = ix.kk_test(ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataCHInstruments.txt"), find_passing_band=True)
+    lo, hi = result.passing_band
+    order = np.argsort(result.frequency)
+    f, flagged = result.frequency[order], np.asarray(result.flagged, bool)[order]
+    inside = np.flatnonzero(flagged & (f >= lo) & (f <= hi))
+    runs = np.split(inside, np.flatnonzero(np.diff(inside) > 1) + 1)
+    assert len(runs) == 2
+    (line,) = [x for x in result.report().splitlines() if "flagged within it" in x]
+    named = line.split("flagged within it (")[1].split(")")[0]
+    assert named == ", ".join(format_band(f[r[0]], f[r[-1]]) for r in runs), line

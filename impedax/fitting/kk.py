@@ -504,8 +504,9 @@ class KKResult:
                          f"trim the measurement to it: {command if command else ' '.join(words)}")
             cleared = np.asarray(self.flagged, bool) & (self.frequency >= lo) & (self.frequency <= hi)
             if cleared.any():  # (the bad band reaches into the passing one: why the same points pass there)
-                f_cleared = self.frequency[cleared]
-                lines.append(f"  the {points_text(int(cleared.sum()))} flagged within it ({format_band(float(f_cleared.min()), float(f_cleared.max()))}) pass there: "
+                order = np.argsort(self.frequency)  # (named by their bands: REAL CH Instruments' two, not the 4.64 Hz–82.5 kHz between their ends)
+                where = ", ".join(format_band(points[0], points[-1]) for points in band_points(self.frequency[order], cleared[order]))
+                lines.append(f"  the {points_text(int(cleared.sum()))} flagged within it ({where}) pass there: "
                              f"fitted to every point, the chain was pulled off them by {ends}")
             if self.passing_edge is not None:
                 lines.append(f"  {self.passing_edge_words()}")
