@@ -42,3 +42,13 @@ def test_zhit_names_each_bad_band_by_its_flagged_measured_points(capsys):
     assert len(payload["measured_bands_hz"]) == len(payload["bad_bands_hz"])  # (the edges kept beside them)
     for (lo, hi), (m_lo, m_hi) in zip(payload["bad_bands_hz"], payload["measured_bands_hz"]):
         assert lo <= m_lo <= m_hi <= hi
+
+
+def test_zhit_provenance_records_no_setting_of_the_linear_chain(capsys):
+    """``kk --method zhit --json``'s provenance said ``"c": 0.85``, the linear test's µ cut-off,
+    which Z-HIT has none of (it refuses --c): a record of a setting the run did not use."""
+    assert main(["kk", str(REAL / "exampleDataGamry.DTA"), "--method", "zhit", "--json"]) == 0
+    settings = json.loads(capsys.readouterr().out)["provenance"]["settings"]
+    assert settings["method"] == "zhit" and settings["c"] is None
+    assert main(["kk", str(REAL / "exampleDataGamry.DTA"), "--json"]) == 0  # (the linear test records the c it used)
+    assert json.loads(capsys.readouterr().out)["provenance"]["settings"]["c"] == 0.85

@@ -65,7 +65,7 @@ def run(args) -> int:
         data = select_band(data, args.fmin, args.fmax, data_source(data) or args.data)  # (<stdin> for -, and any --select)
     options = dict(c=0.85 if args.c is None else args.c, max_rc=args.max_rc, inductance=not args.no_inductance, capacitance=not args.no_capacitance, noise=args.noise or "auto")
     source = data_source(data)
-    record = command_provenance(args, source=source, data_files=[args.data], c=options["c"])
+    record = command_provenance(args, source=source, data_files=[args.data], **({} if args.method == "zhit" else {"c": options["c"]}))  # (Z-HIT has no c)
     several = any(d != "frequency" for d in data["Z"].dims)
     result = kk_test_batch(data, **options) if several else zhit(data) if args.method == "zhit" else kk_test(data, **options, find_passing_band=True)
     # the reader's skipped rows in the JSON, as inspect --json gives them (added 2026-12-01); --out as
