@@ -75,7 +75,7 @@ def test_a_tie_goes_to_the_model_given_first_and_the_reduction_is_still_said(bio
     doc = json.loads(json.dumps(to_jsonable(c.summary()), allow_nan=False))
     assert doc["reduces_to_best"]["rivals"] == [WITH_W] and doc["tied_with_best"] == [second]
     fig = c.plot()
-    assert fig._suptitle.get_text() == f"model comparison — best by AIC: {first} (tied with {second})"
+    assert fig._suptitle.get_text() == f"model comparison — best by AIC: {first} (tied with {second}) (modulus weighting)"  # (the weighting named since 2026-12-06)
 
 
 @pytest.mark.slow

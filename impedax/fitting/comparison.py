@@ -22,6 +22,7 @@ from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
 from .frozen import freeze_fields
+from .problem import WEIGHTING_SCALES
 from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
 
 __all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "nested_as_held", "boundary_parameters", "boundary_limits", "chi_bar_squared_p_value", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
@@ -500,6 +501,9 @@ class Comparison:
         an AICc, and a best by AICc other than the best by AIC."""
         lines = []
         n = 2 * self.fits[0].n_points
+        scale = WEIGHTING_SCALES.get(self.fits[0].weighting)
+        if scale:  # (the weighting named, as a fit's report names it; the table did not: 2026-12-06)
+            lines.append(f"weighting {self.fits[0].weighting}: chi2_red relative to {scale}, not to the noise; AIC = n ln(χ²/n) + 2k, BIC = n ln(χ²/n) + k ln n")
         if self.aic_form == KNOWN_SIGMA:
             lines.append("AIC = χ² + 2k and BIC = χ² + k ln n: the data's sigma taken as the known noise (weighting sigma)")
             finite = [r for r in self.rows if math.isfinite(r["chi2_red"])]

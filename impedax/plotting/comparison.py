@@ -47,7 +47,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=font_size("legend", 7))
-    fig.suptitle(f"model comparison — best by AIC: {getattr(comparison, 'best_label_with_ties', comparison.best)}")  # ("X (tied with Y)": `Comparison.best_label_with_ties`)
+    fig.suptitle(f"model comparison — best by AIC: {getattr(comparison, 'best_label_with_ties', comparison.best)} ({comparison.fits[0].weighting} weighting)")  # ("X (tied with Y)": `Comparison.best_label_with_ties`)
     legends_off_data(fig)  # (a legend of long model names wider than its panel spread over the axis and its tick labels)
     return fig
 

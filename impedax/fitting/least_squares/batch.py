@@ -597,7 +597,7 @@ class BatchFitResult:
         s = self.summary()
         width = column_width(s["params"], 16)
         noun = "spectrum" if self.n_spectra == 1 else "spectra"
-        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %{self._points_text()}", ""]
+        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %   weighting {self.weighting}{self._points_text()}", ""]
         specs = self.circuit.parameter_specs(self.registry)
         if self.n_spectra <= SPECTRA_AS_COLUMNS:
             rows = s["spectra"]

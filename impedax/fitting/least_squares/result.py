@@ -408,7 +408,7 @@ class FitResult:
         return plot_spectrum(
             (self.frequency, self.z_data),
             model_curve(self),
-            title=title or f"{self.model}   rms_rel = {self.rms_rel * 100:.3g} %",
+            title=title or f"{self.model}   rms_rel = {self.rms_rel * 100:.3g} %   {self.weighting} weighting",  # (the weighting named, as the report does: 2026-12-06)
             bands=bands,
             model_label="fit",
             model_at_data=self.z_model,

@@ -1,0 +1,66 @@
+"""Every output of a fit names the weighting it was made with: the figures' titles (single fit,
+batch, comparison) and the text of a batch and of a comparison, as the single fit's report and
+every JSON do. A walkthrough (2026-12-06) fitted REAL exampleData.csv (impedance.py's milliohm
+battery spectrum) with ``--weighting proportional`` and ``unit``: the report said so, but the
+figure, the comparison's table and figure and a batch of REAL battery cycles did not, so a
+figure of a proportional fit read as one of the default.
+
+Oracles: the titles read back from matplotlib (``Figure._suptitle``), the report's lines, and
+the chi2_red of a unit-weighted fit recomputed with numpy (Σ|ΔZ|² [Ω²] / (2N − k)).
+"""
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+import impedax as ix  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "tests" / "fixtures" / "real" / "exampleData.csv"
+BATTERY = ROOT / "benchmarks" / "data" / "autoeis_battery_130.nc"
+MODEL, SMALLER = "R0 + R1 || CPE1 + L0", "R0 + R1 || C1 + L0"
+
+
+@pytest.fixture(scope="module")
+def unit_fits():
+    data = ix.load(EXAMPLE)
+    return ix.fit(MODEL, data, weighting="unit", progress=None), ix.fit(SMALLER, data, weighting="unit", progress=None)
+
+
+def test_a_single_fits_figure_names_its_weighting(unit_fits):
+    fit = unit_fits[0]
+    fig = fit.plot()
+    try:
+        assert "unit weighting" in fig._suptitle.get_text()
+    finally:
+        plt.close(fig)
+
+
+def test_a_comparison_names_its_weighting_in_its_table_and_figure(unit_fits):
+    fit = unit_fits[0]
+    d = fit.z_model - fit.z_data
+    assert fit.chi2_red == pytest.approx(float(np.sum(d.real**2 + d.imag**2)) / (2 * fit.n_points - fit.n_params), rel=1e-9)
+    comparison = ix.compare(list(unit_fits))
+    lines = comparison.table().splitlines()
+    assert any(ln.startswith("weighting unit: chi2_red relative to 1 Ω, not to the noise") for ln in lines[len(unit_fits) + 1:]), lines
+    fig = comparison.plot()
+    try:
+        assert "unit weighting" in fig._suptitle.get_text()
+    finally:
+        plt.close(fig)
+
+
+def test_a_batch_names_its_weighting_in_its_report_and_figure():
+    cycles = ix.load(BATTERY).isel(cycle=[0, 64])
+    batch = ix.fit("R0 + R1 || CPE1 + W1", cycles, weighting="proportional", progress=None)
+    assert "weighting proportional" in batch.report().splitlines()[1]
+    fig = batch.plot()
+    try:
+        assert "proportional weighting" in fig._suptitle.get_text()
+    finally:
+        plt.close(fig)
