@@ -64,3 +64,23 @@ def test_a_batch_names_its_weighting_in_its_report_and_figure():
         assert "proportional weighting" in fig._suptitle.get_text()
     finally:
         plt.close(fig)
+
+
+def test_diagnose_passes_on_a_baseline_dominated_by_a_few_points():
+    """REAL exampleData.csv crosses Z'' = 0 near 1.4 kHz (its lead inductance): under the
+    proportional weighting the residuals of Im Z there are divided by a tiny |Im Z|. ``impedax fit``
+    warned that 2 points carry most of the weight; ``diagnose --weighting proportional`` of the same
+    fit said nothing (its baseline's warnings were dropped). Oracle: the points that carry over
+    half of Σ (|Z|/|Re Z|)² + (|Z|/|Im Z|)², the file's own numbers read with numpy."""
+    f, re_z, im_z = np.loadtxt(EXAMPLE, delimiter=",", unpack=True)
+    modulus = np.hypot(re_z, im_z)
+    weight = np.concatenate([(modulus / np.abs(re_z)) ** 2, (modulus / np.abs(im_z)) ** 2])
+    order = np.argsort(-weight)
+    heavy = order[: int(np.searchsorted(np.cumsum(weight[order]), 0.5 * weight.sum())) + 1] % f.size
+    named = sorted(set(f[heavy].tolist()))
+    assert len(named) == 2 and 1e3 < named[0] < named[1] < 2e3  # (1.26 kHz and 1.58 kHz, beside the zero crossing)
+    diagnosis = ix.diagnose(ix.load(EXAMPLE), "R0 + R1 || CPE1 + R2 || CPE2 + W1", weighting="proportional", progress=None)
+    lines = [w for w in diagnosis.warnings if "proportional weighting gives 2 of 66 points" in w]
+    assert len(lines) == 1 and lines[0].startswith("the baseline fit: "), diagnosis.warnings
+    assert "(" + ", ".join(ix.data.format_frequency(x) for x in named) + ")" in lines[0]
+    assert lines[0] in diagnosis.report()

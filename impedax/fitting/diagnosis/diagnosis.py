@@ -64,7 +64,7 @@ from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band  # (frequency_text, left_out_options: here before 2026-12-02)
 from ..least_squares import BatchFitResult, FitResult, fit
-from ..least_squares.result import RESIDUAL_LONG_NAME
+from ..least_squares.result import RESIDUAL_LONG_NAME, is_dominated_note
 from ..least_squares.branches import is_idle_note, parallel_branches
 from ..least_squares.order import exchangeable_blocks
 from ..least_squares.candidates import SolverShape, fit_candidates, solver_shape
@@ -2619,6 +2619,9 @@ def diagnose(
     # an element of the user's circuit that the data do not need (its fit's idle note: Wo1 with R at 0)
     idle = [f"the baseline fit: {w}" for w in base.warnings if is_idle_note(w)]
     notes += idle
+    # a weighting that leaves the baseline (and every candidate, weighted alike) to a few points:
+    # impedax fit warned, diagnose --weighting proportional said nothing (REAL exampleData.csv, 2026-12-06)
+    notes += [f"the baseline fit: {w}" for w in base.warnings if is_dominated_note(w)]
     # parameters of the user's model the data do not fix (C2 at ± 235 % beside a second arc the
     # data lack: impedax fit warned, diagnose said nothing, walkthrough 2026-12-05); an idle note says it already
     loose = sorted((undetermined_parameters(base) | vanished_parameters(base)) & set(base.free_names))

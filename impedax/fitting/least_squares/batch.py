@@ -30,11 +30,11 @@ from ..grid import refuse_result_names
 from ..kk import KKChains
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
-from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, dominant_points, fit_noise, information_criteria, non_passive, null_sets
+from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, fit_noise, information_criteria, non_passive, null_sets
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, weighting_notes, without_error
+from .result import sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -1282,7 +1282,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     fit's number of free parameters (`misfit_notes`; None for a shared fit's spectra)."""
     b = len(z)
     inverse_weights = weights(z, sigma, weighting, source, freq)
-    weighted = weighting_notes(weighting, freq, *dominant_points(z, *inverse_weights)) if weighting in ("unit", "proportional") else [()] * b
+    weighted = dominated_notes(weighting, freq, z, *inverse_weights)
     # (σ-weighted fits beyond σ: whether a KK-consistent chain under the same σ is too, σ then misstating the noise)
     misstated, chain_chi2_red = sigma_misstated(freq, z, z_model, sigma, weighting, n_free)
     misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated)

@@ -30,7 +30,7 @@ from ..problem import FitProblem, fit_problem, open_spectrum, weights
 from ..stored import QUICK_COMPILE, StoredProgram
 from .lm import solve_by_elimination, work_queue
 from .order import canonical_order
-from .result import FitResult, fit_result
+from .result import FitResult, dominated_notes, fit_result
 from .solvers import SolverArgs, SolverOutput, SolverStatus, over_devices, padded_points, trimmed
 from .starts import SpectrumFeatures, data_driven_guess, random_starts, values_inside
 
@@ -273,12 +273,13 @@ def fit_candidates(
     outputs = _solve(rows, _spectrum_args(freq, z, inv_re, inv_im, shape.n_freq), freq.size, layout, k_pad, budget, scaled)
     elapsed = (time.perf_counter() - t0) / len(rows)
     results = []
+    (dominated,) = dominated_notes(weighting, freq, z, inv_re, inv_im)  # (the data's and the weighting's, every candidate alike, as impedax.fit warns: 2026-12-06)
     for problem, row, one in zip(prepared, rows, outputs):
         one = one._replace(x=one.x[row.flat], jacobian=one.jacobian[:, : row.n_free])
         # exchangeable blocks in the order every fit reports (docs/fitting.md), so a
         # candidate's R1 is the arc `impedax.fit` of its model from these values calls R1
         one = canonical_order(problem.circuit, problem.table, freq, one, registry)
-        results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts + data_start, elapsed, registry))
+        results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts + data_start, elapsed, registry, extra_notes=dominated))
     return results
 
 

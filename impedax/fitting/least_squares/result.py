@@ -22,13 +22,13 @@ from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
 from ..problem import WEIGHTING_SCALES
 from ..reductions import RESISTOR_LIKE_ALPHA, WARBURG_LIKE_DEVIATION, warburg_deviation
-from ..statistics import FIT_RESIDUAL_NOISE, KNOWN_SIGMA, NOISE_OF_SIGMA, UNKNOWN_VARIANCE, covariances, information_criteria, known_noise_criteria, non_passive, non_passive_words, top_of_band, uncertainties
+from ..statistics import FIT_RESIDUAL_NOISE, KNOWN_SIGMA, NOISE_OF_SIGMA, UNKNOWN_VARIANCE, covariances, dominant_points, information_criteria, known_noise_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
-    "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes",
+    "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
     "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
@@ -851,6 +851,26 @@ def at_bound_names(table: ParameterTable, sides: np.ndarray) -> tuple[str, ...]:
     return tuple(n for n, side in zip(table.free_names, np.asarray(sides).tolist()) if side)
 
 
+DOMINATED_WORDS = "the fit is dominated by them"
+"""The words of every `weighting_notes` warning (`is_dominated_note`)."""
+
+
+def is_dominated_note(text: str) -> bool:
+    """Whether a fit's warning ``text`` is a `weighting_notes` one (a fit dominated by a few points)."""
+    return DOMINATED_WORDS in text
+
+
+def dominated_notes(weighting: str, freq, z, inv_re, inv_im) -> list[tuple[str, ...]]:
+    """`weighting_notes` of spectra Z (B, N) under ``weighting``, whose inverse weights are
+    ``inv_re``, ``inv_im``: `unit` and `proportional` fits are checked, `modulus` and `sigma`
+    ones are not (one tuple per spectrum). Single, batch and candidate fits (those of `diagnose`
+    and `refine`) all take it from here."""
+    z = np.atleast_2d(z)
+    if weighting not in ("unit", "proportional"):
+        return [()] * len(z)
+    return weighting_notes(weighting, freq, *dominant_points(z, np.atleast_2d(inv_re), np.atleast_2d(inv_im)))
+
+
 def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tuple[str, ...]]:
     """The weighting warning of fits whose weight sits on a few points (`dominant_points`
     over (B, N), shares (B,)): one tuple per fit, empty where the weighting is even."""
@@ -863,7 +883,7 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
         where = ", ".join(format_frequency(f) for f in np.sort(freq[row]))  # (238 kHz, as impedax writes frequencies; "2.383e+05 Hz" until 2026-12-06)
         out.append((
             f"the {weighting} weighting gives {int(row.sum())} of {row.size} points {s * 100:.0f}% of the weight ({where}): "
-            "the fit is dominated by them; consider weighting='modulus'",
+            f"{DOMINATED_WORDS}; consider weighting='modulus'",
         ))
     return out
 
