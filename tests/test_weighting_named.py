@@ -9,6 +9,7 @@ Oracles: the titles read back from matplotlib (``Figure._suptitle``), the report
 the chi2_red of a unit-weighted fit recomputed with numpy (Σ|ΔZ|² [Ω²] / (2N − k)).
 """
 
+import json
 from pathlib import Path
 
 import matplotlib
@@ -19,6 +20,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 import impedax as ix  # noqa: E402
+from impedax.io.export import to_jsonable  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "tests" / "fixtures" / "real" / "exampleData.csv"
@@ -66,7 +68,12 @@ def test_a_batch_names_its_weighting_in_its_report_and_figure():
         plt.close(fig)
 
 
-def test_diagnose_passes_on_a_baseline_dominated_by_a_few_points():
+@pytest.fixture(scope="module")
+def proportional_diagnosis():
+    return ix.diagnose(ix.load(EXAMPLE), "R0 + R1 || CPE1 + R2 || CPE2 + W1", weighting="proportional", progress=None)
+
+
+def test_diagnose_passes_on_a_baseline_dominated_by_a_few_points(proportional_diagnosis):
     """REAL exampleData.csv crosses Z'' = 0 near 1.4 kHz (its lead inductance): under the
     proportional weighting the residuals of Im Z there are divided by a tiny |Im Z|. ``impedax fit``
     warned that 2 points carry most of the weight; ``diagnose --weighting proportional`` of the same
@@ -79,8 +86,17 @@ def test_diagnose_passes_on_a_baseline_dominated_by_a_few_points():
     heavy = order[: int(np.searchsorted(np.cumsum(weight[order]), 0.5 * weight.sum())) + 1] % f.size
     named = sorted(set(f[heavy].tolist()))
     assert len(named) == 2 and 1e3 < named[0] < named[1] < 2e3  # (1.26 kHz and 1.58 kHz, beside the zero crossing)
-    diagnosis = ix.diagnose(ix.load(EXAMPLE), "R0 + R1 || CPE1 + R2 || CPE2 + W1", weighting="proportional", progress=None)
+    diagnosis = proportional_diagnosis
     lines = [w for w in diagnosis.warnings if "proportional weighting gives 2 of 66 points" in w]
     assert len(lines) == 1 and lines[0].startswith("the baseline fit: "), diagnosis.warnings
     assert "(" + ", ".join(ix.data.format_frequency(x) for x in named) + ")" in lines[0]
     assert lines[0] in diagnosis.report()
+
+
+def test_diagnose_json_names_the_weighting_its_baseline_chi2_red_is_against(proportional_diagnosis):
+    """The baseline's chi2_red (0.124 here, against |Re Z| and |Im Z|) means another thing under
+    each weighting: the JSON's ``baseline`` says which, as fit --json's ``weighting`` does (the
+    text's first line said it; the JSON of ``ix.write_result(diagnosis, ...)`` did not)."""
+    doc = json.loads(json.dumps(to_jsonable(proportional_diagnosis.summary())))
+    assert doc["baseline"]["weighting"] == "proportional"
+    assert "(proportional weighting: residuals relative to |Re Z| and |Im Z|" in proportional_diagnosis.report().splitlines()[0]

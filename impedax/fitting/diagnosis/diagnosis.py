@@ -407,7 +407,8 @@ class Diagnosis:
             "baseline": {"rms_rel": b.rms_rel, "chi2_red": b.chi2_red, "aic": b.aic, "bic": b.bic, "n_points": b.n_points, "n_params": b.n_params,
                          "params": b.summary()["params"], "at_bound": list(b.at_bound),
                          "user_bounds": bounds_attr(b.bounds),  # (added 2026-12-01: the bounds=, --bound, as fit --json's user_bounds)
-                         "converged": bool(b.converged)},  # (added 2026-12-01, as fit --json's)
+                         "converged": bool(b.converged),  # (added 2026-12-01, as fit --json's)
+                         "weighting": b.weighting},  # (added 2026-12-06: what chi2_red and aic are against, as fit --json's weighting)
             "kk": {
                 "valid": bool(kk.valid) if kk is not None else None,
                 "rms_rel": float(kk.rms_rel) if kk is not None else None,
