@@ -100,3 +100,18 @@ def test_diagnose_json_names_the_weighting_its_baseline_chi2_red_is_against(prop
     doc = json.loads(json.dumps(to_jsonable(proportional_diagnosis.summary())))
     assert doc["baseline"]["weighting"] == "proportional"
     assert "(proportional weighting: residuals relative to |Re Z| and |Im Z|" in proportional_diagnosis.report().splitlines()[0]
+
+
+@pytest.mark.parametrize("noise, words", [("proportional", "noise σ ∝ |Z|"), ("sigma", "noise σ: the data's sigma")])
+def test_a_posteriors_figures_name_its_noise_model(noise, words):
+    """``impedax sample --noise sigma`` and the default proportional noise give other bands and
+    intervals (the predictive band is model + noise): the figures' titles say which, as the
+    report's ``noise`` line does. REAL exampleData.csv with a sigma of 0.2 % of |Z| added."""
+    data = ix.load(EXAMPLE)
+    data = data.assign(sigma=0.002 * np.abs(data["Z"]))
+    posterior = ix.sample("R0 + R1 || CPE1 + L0", data, noise=noise, walkers=16, steps=60, burn=20, progress=False)
+    for fig in (posterior.plot(), posterior.corner()):
+        try:
+            assert words in fig._suptitle.get_text(), fig._suptitle.get_text()
+        finally:
+            plt.close(fig)

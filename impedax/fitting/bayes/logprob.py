@@ -52,6 +52,9 @@ NOISE_MODELS = {
     NoiseModel.SIGMA: "Re and Im of each point carry Gaussian noise with the known σ_k of the data's 'sigma' variable (e.g. SEM of repeated trials)",
 }
 
+NOISE_TITLES = {NoiseModel.PROPORTIONAL: "noise σ ∝ |Z|", NoiseModel.SIGMA: "noise σ: the data's sigma"}
+"""`NOISE_MODELS` in a few words, for a posterior's figure titles (`Posterior.plot`, `corner`)."""
+
 
 @dataclass(frozen=True)
 class LogProbStructure:

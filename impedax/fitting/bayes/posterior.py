@@ -29,7 +29,7 @@ from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, wit
 from ..frozen import freeze_fields
 from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
-from .logprob import NOISE_MODELS, NoiseModel
+from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, implausible_gap_notes, rebuild
 
@@ -453,7 +453,7 @@ class Posterior(PiledUp):
         f = np.geomspace(self.frequency.min(), self.frequency.max(), 200)
         return plot_posterior_bands(
             self.frequency, self.z_data, f, self.predict(f), n_lines=n_lines, z_predictive=self.predict(f, noise=True, copies=PREDICTIVE_COPIES),
-            title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws)", figsize=figsize,
+            title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws; {NOISE_TITLES[self.noise]})", figsize=figsize,  # (the noise model named: 2026-12-06)
         )
 
     def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000, params: Sequence[str] | None = None):
@@ -465,7 +465,7 @@ class Posterior(PiledUp):
         `ParameterError`."""
         from ...plotting.bayes import plot_corner
 
-        return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: posterior", params=params)
+        return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: posterior ({NOISE_TITLES[self.noise]})", params=params)
 
     # -- storage --------------------------------------------------------------------------
     def to_xarray(self) -> xr.Dataset:

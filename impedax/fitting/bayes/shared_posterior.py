@@ -42,7 +42,7 @@ from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
 from ..frozen import freeze_fields
 from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
-from .logprob import NOISE_MODELS, NoiseModel, start_weighting
+from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
 from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, Posterior, undetermined_rows, chain_figures, checked_copies, sigma_between, with_noise
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
@@ -370,7 +370,7 @@ class SharedPosterior(PiledUp):
         return plot_joint_posterior_bands(
             self.frequency, self.z_data[rows], labels, f, self.predict(f)[rows], n_lines=n_lines,
             z_predictive=self.predict(f, noise=True, copies=PREDICTIVE_COPIES)[rows],
-            title=title or f"{self.model}: joint posterior bands ({self.n_walkers * self.n_draws} draws{shown})", figsize=figsize,
+            title=title or f"{self.model}: joint posterior bands ({self.n_walkers * self.n_draws} draws{shown}; {NOISE_TITLES[self.noise]})", figsize=figsize,
         )
 
     def _plotted_rows(self, spectra) -> list[int]:
@@ -391,7 +391,7 @@ class SharedPosterior(PiledUp):
         the noise's (`default_corner_params`; the title says which)."""
         from ...plotting.bayes import CORNER_MAX_PARAMS, plot_corner
 
-        title = f"{self.model}: joint posterior"
+        title = f"{self.model}: joint posterior ({NOISE_TITLES[self.noise]})"
         if params is None and len(self.names) > CORNER_MAX_PARAMS:
             params = self.default_corner_params()
             title += f", the shared parameters, {self.spectra[0]}'s and the noise (others: params=, --corner-params)"
