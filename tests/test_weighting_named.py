@@ -115,3 +115,22 @@ def test_a_posteriors_figures_name_its_noise_model(noise, words):
             assert words in fig._suptitle.get_text(), fig._suptitle.get_text()
         finally:
             plt.close(fig)
+
+
+@pytest.mark.parametrize("words, expected", [
+    (["--weighting", "sigma"], "impedax sample has no --weighting: its noise model is --noise proportional"),
+    (["--weighting=unit"], "impedax sample has no --weighting: its noise model is --noise proportional"),
+    (["--noise", "modulus"], "'modulus' is a weighting of impedax fit: sample's --noise proportional is that weighting's noise model"),
+    (["--noise", "unit"], "'unit' is a weighting of impedax fit: sample's noise models are proportional"),
+])
+def test_sample_refuses_a_weighting_with_its_noise_model_named(words, expected, capsys):
+    """A user who fits with --weighting reaches for it on sample: argparse said "unrecognized
+    arguments: --weighting sigma" (or "invalid choice: 'modulus'"), not that sample's noise model
+    is its --noise. One message, exit 2, before any work."""
+    from impedax.cli import main
+
+    with pytest.raises(SystemExit) as stopped:
+        main(["sample", str(EXAMPLE), "--model", "R0 + R1 || C1", *words])
+    assert stopped.value.code == 2
+    err = capsys.readouterr().err
+    assert expected in err and err.count("error:") == 1, err

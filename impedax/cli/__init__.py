@@ -377,6 +377,11 @@ def model_option_hint(prog: str, circuits: list[str]) -> str:
     return f"; a circuit follows {'its own ' if len(circuits) > 1 else ''}--model: {prog} DATA {given}"
 
 
+SAMPLE_NOISE_WORDS = ("--noise proportional (σ_k = sigma_rel·|Z_k|, sigma_rel sampled: the noise model of impedax fit's --weighting modulus) "
+                      "or --noise sigma (the data's own sigma, as --weighting sigma)")
+"""impedax sample's noise models in the words of fit's weightings, for a ``--weighting`` given to
+sample (`_refuse_unknown`) and a weighting's name given as its ``--noise`` (`sample.noise_model_option`)."""
+
 NO_DATA_COMMANDS = ("info",)
 """Commands with a --model that read no data file (`model_option_hint`)."""
 
@@ -404,6 +409,8 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
         hint += f"; a NAME=VALUE follows its option ({', '.join(takers)}): e.g. {example} {' '.join(assignments)}"
     if "--model" in sub._option_string_actions:  # (refine DATA 'R0 + R1 || C1': its --model is optional)
         hint += model_option_hint(sub.prog, circuit_words(unknown))
+    if command == "sample" and any(item.split("=", 1)[0] == "--weighting" for item in unknown):  # (fit's option, reached for on sample: 2026-12-06)
+        hint += f"; impedax sample has no --weighting: its noise model is {SAMPLE_NOISE_WORDS}"
     files = [item for item in unknown if not item.startswith("-") and os.path.isfile(item)]
     if files and command in SERIES_COMMANDS:  # (fit day01.csv day02.csv: one DATA per run)
         hint += f"; {command} reads one DATA file: join files of one spectrum each into one series with impedax stack FILE ... --out SERIES.nc, then impedax {command} SERIES.nc"

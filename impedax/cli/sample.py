@@ -67,8 +67,15 @@ def noise_model_option(text: str) -> str:
 
     from ..arguments import reads_as_number
 
+    text = text.strip()
+    if text == "modulus":  # (fit's weightings, reached for on sample: "invalid choice" named no way on, 2026-12-06)
+        raise argparse.ArgumentTypeError("'modulus' is a weighting of impedax fit: sample's --noise proportional is that weighting's noise model "
+                                         "(σ_k = sigma_rel·|Z_k|, sigma_rel sampled; the start fit is weighted by |Z|); --noise sigma takes the data's own sigma")
+    if text == "unit":
+        raise argparse.ArgumentTypeError(f"{text!r} is a weighting of impedax fit: sample's noise models are proportional (σ_k = sigma_rel·|Z_k|, "
+                                         "fit's --weighting modulus) and sigma (the data's own sigma)")
     if not reads_as_number(text):
-        return text.strip()
+        return text
     raise argparse.ArgumentTypeError(
         f"{text!r} is a noise level; sample's --noise is the noise model (proportional: the level is sampled, as sigma_rel; sigma: "
         "the data's own sigma). A level is what diagnose and refine take as --noise"
