@@ -57,11 +57,26 @@ def test_a_comparison_names_its_weighting_in_its_table_and_figure(unit_fits):
         plt.close(fig)
 
 
-def test_a_batch_names_its_weighting_in_its_report_and_figure():
+@pytest.fixture(scope="module")
+def proportional_batches():
     cycles = ix.load(BATTERY).isel(cycle=[0, 64])
-    batch = ix.fit("R0 + R1 || CPE1 + W1", cycles, weighting="proportional", progress=None)
+    return [ix.fit(m, cycles, weighting="proportional", progress=None) for m in ("R0 + R1 || CPE1 + W1", "R0 + R1 || C1 + W1")]
+
+
+def test_a_batch_names_its_weighting_in_its_report_and_figure(proportional_batches):
+    batch = proportional_batches[0]
     assert "weighting proportional" in batch.report().splitlines()[1]
     fig = batch.plot()
+    try:
+        assert "proportional weighting" in fig._suptitle.get_text()
+    finally:
+        plt.close(fig)
+
+
+def test_a_comparison_of_batches_names_its_weighting_in_its_figure(proportional_batches):
+    comparison = ix.compare(proportional_batches)
+    assert comparison.report().splitlines()[0].endswith("weighting proportional")
+    fig = comparison.plot()
     try:
         assert "proportional weighting" in fig._suptitle.get_text()
     finally:

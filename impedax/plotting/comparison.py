@@ -94,6 +94,6 @@ def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = N
     ax.set_ylabel("ΔAIC to the spectrum's best")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=font_size("legend", 7), loc="best")
-    fig.suptitle(f"model comparison over {counted(len(rows), 'spectrum', 'spectra')} — lowest summed AIC: {comparison.labels[comparison.best_index]}")
+    fig.suptitle(f"model comparison over {counted(len(rows), 'spectrum', 'spectra')} — lowest summed AIC: {comparison.labels[comparison.best_index]} ({comparison.dataset.attrs['weighting']} weighting)")
     fig.tight_layout()
     return fig
