@@ -265,7 +265,10 @@ def test_the_chi2_red_note_reads_as_chi2_red_against_the_noise_not_as_a_bound_on
     note = Diagnosis._chi2_red_basis(NS(baseline=NS(weighting="modulus"), noise_ratio=38.2))
     assert note == " (modulus weighting: residuals relative to |Z|, not to the noise; against the noise σ given below, chi2_red ≈ 1.46e+03, as the residuals are 38.2× that noise)"
     assert "σ below" not in note
-    assert Diagnosis._chi2_red_basis(NS(baseline=NS(weighting="sigma"), noise_ratio=38.2)) == ""
+    # under sigma weighting the weighting is named (since 2026-12-06; "" before), and the figure
+    # against the noise below only where it differs from the fit's own chi2_red (38.2² = 1459)
+    assert Diagnosis._chi2_red_basis(NS(baseline=NS(weighting="sigma", chi2_red=1459.0), noise_ratio=38.2)) == " (sigma weighting: residuals relative to the data's sigma)"
+    assert Diagnosis._chi2_red_basis(NS(baseline=NS(weighting="sigma", chi2_red=4000.0), noise_ratio=38.2)).endswith("; against the noise σ given below, chi2_red ≈ 1.46e+03, as the residuals are 38.2× that noise)")
 
 
 def test_a_sigma_from_trials_is_named_trial_scatter():

@@ -149,3 +149,25 @@ def test_sample_refuses_a_weighting_with_its_noise_model_named(words, expected, 
     assert stopped.value.code == 2
     err = capsys.readouterr().err
     assert expected in err and err.count("error:") == 1, err
+
+
+def test_diagnose_under_sigma_weighting_names_it_and_sets_chi2_red_beside_the_noise_it_judges_by():
+    """REAL exampleData.csv with a sigma of 0.2 % of |Z| (0.6 % below 0.1 Hz) added, diagnosed
+    with --weighting sigma: the first line read "chi2_red 9.56" bare (no weighting named), and the
+    noise line under it "the residuals are 1.81× the noise" (the sigma with the model-discrepancy
+    floor), 1.81² = 3.3, not 9.56: the contradiction the other weightings' note resolves. Oracles:
+    χ² against the data's sigma with numpy, and the report's own noise ratio squared."""
+    data = ix.load(EXAMPLE)
+    f = data["frequency"].values
+    data = data.assign(sigma=0.002 * np.abs(data["Z"]) * np.where(f < 0.1, 3.0, 1.0))
+    diagnosis = ix.diagnose(data, "R0 + R1 || CPE1 + R2 || CPE2 + W1 + L0", weighting="sigma", progress=None)
+    base = diagnosis.baseline
+    sigma = data["sigma"].sel(frequency=base.frequency).values
+    d = (base.z_model - base.z_data) / sigma
+    assert base.chi2_red == pytest.approx(float(np.sum(d.real**2 + d.imag**2)) / (2 * base.n_points - base.n_params), rel=1e-9)
+    first, *rest = diagnosis.report().splitlines()
+    ratio = float(next(ln for ln in rest if ln.startswith("noise: ")).split("the residuals are ")[1].split("×")[0])
+    assert f"chi2_red {base.chi2_red:.3g} (sigma weighting: residuals relative to the data's sigma" in first, first
+    if not 0.8 < ratio**2 / base.chi2_red < 1.25:
+        shown = float(first.split("against the noise σ given below, chi2_red ≈ ")[1].split(",")[0])
+        assert shown == pytest.approx(ratio**2, rel=0.01), first  # (the ratio printed to 3 digits)

@@ -489,10 +489,15 @@ class Diagnosis:
         that noise)``. A walkthrough read "chi2_red 0.0218" beside "the residuals are 14.7× the
         noise" as a contradiction; a fit weighted by the data's sigma (χ² against it) needs no
         note. (2026-12-02: it read "against the noise σ below ≈ 216", which a walkthrough took
-        for "σ is below 216".)"""
-        if self.baseline.weighting == "sigma":
-            return ""
+        for "σ is below 216".) Under sigma weighting it names the weighting, and sets the figure
+        against the noise below beside it where they differ by over 25 % (that noise adds a
+        model-discrepancy floor to the sigma: REAL exampleData.csv with a sigma column read
+        "chi2_red 9.56" bare beside "the residuals are 1.81× the noise", 2026-12-06)."""
         ratio = self.noise_ratio
+        if self.baseline.weighting == "sigma":
+            chi2_red = self.baseline.chi2_red
+            differs = not 0.8 < ratio**2 / chi2_red < 1.25 if chi2_red > 0 else False
+            return " (sigma weighting: residuals relative to the data's sigma" + (f"; against the noise σ given below, chi2_red ≈ {ratio**2:.3g}, as the residuals are {ratio:.3g}× that noise)" if differs else ")")
         scale = WEIGHTING_SCALES.get(self.baseline.weighting, f"its {self.baseline.weighting} weights")
         return f" ({self.baseline.weighting} weighting: residuals relative to {scale}, not to the noise; against the noise σ given below, chi2_red ≈ {ratio**2:.3g}, as the residuals are {ratio:.3g}× that noise)"
 
