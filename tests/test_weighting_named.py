@@ -171,3 +171,10 @@ def test_diagnose_under_sigma_weighting_names_it_and_sets_chi2_red_beside_the_no
     if not 0.8 < ratio**2 / base.chi2_red < 1.25:
         shown = float(first.split("against the noise σ given below, chi2_red ≈ ")[1].split(",")[0])
         assert shown == pytest.approx(ratio**2, rel=0.01), first  # (the ratio printed to 3 digits)
+
+
+def test_the_notebook_displays_name_the_weighting(unit_fits, proportional_batches):
+    """`_repr_html_` of a fit and of a batch (what a notebook shows): the weighting, as the text
+    reports give it (a sigma-weighted fit's HTML had no word of it)."""
+    assert "weighting unit" in unit_fits[0]._repr_html_()
+    assert "weighting proportional" in proportional_batches[0]._repr_html_()

@@ -387,7 +387,7 @@ class FitResult:
         from ...plotting.html import result_html
 
         status = "converged" if self.converged else "NOT converged"
-        lines = [f"rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}{self._chi2_red_basis()}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings, *(f"note: {n}" for n in self.notes)]
+        lines = [f"weighting {self.weighting}: rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}{self._chi2_red_basis()}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings, *(f"note: {n}" for n in self.notes)]
         # as the text table: a parameter at a bound has no meaningful linearised error to show
         # (and the status line above says whether the fit converged)
         rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k not in ("converged", "warnings", *FIT_STATISTICS)} for row in self.to_table()]
