@@ -178,3 +178,17 @@ def test_the_notebook_displays_name_the_weighting(unit_fits, proportional_batche
     reports give it (a sigma-weighted fit's HTML had no word of it)."""
     assert "weighting unit" in unit_fits[0]._repr_html_()
     assert "weighting proportional" in proportional_batches[0]._repr_html_()
+
+
+def test_a_long_models_fit_figure_keeps_its_title_inside():
+    """The title now ends with the weighting: a long model's ran off the figure (it did before
+    with the rms_rel alone; it is wrapped before a ' + ' now). Oracle: matplotlib's extents."""
+    from test_cli_review import outside_the_figure
+
+    model = "R0 + (R1 + (R_relax + (R_relax2 + R_relax4 || C_relax3) || C_relax2) || C_relax) || CPE1 + CPE_relax + L_lead + C_stray"
+    fit = ix.fit(model, ix.load(EXAMPLE), weighting="proportional", max_steps=5, n_starts=1, progress=None)
+    fig = fit.plot()
+    try:
+        assert outside_the_figure(fig) == [] and fig._suptitle.get_text().endswith("proportional weighting")
+    finally:
+        plt.close(fig)

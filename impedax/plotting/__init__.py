@@ -702,8 +702,9 @@ def plot_spectrum(
         freq_axes.append(ax_res)
     if bands:
         shade_bands(freq_axes, bands, label=band_label, color=band_color)
-    if title:
-        fig.suptitle(title)
+    if title:  # (each line wrapped to the figure, before a ' + ': a long model's title ran off it)
+        width = characters_across(fig.get_figwidth(), font_size("suptitle", 12))
+        fig.suptitle("\n".join(wrap_model(line, width) for line in title.split("\n")))
     return fig
 
 
