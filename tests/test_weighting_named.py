@@ -108,6 +108,14 @@ def test_diagnose_passes_on_a_baseline_dominated_by_a_few_points(proportional_di
     assert lines[0] in diagnosis.report()
 
 
+def test_a_diagnosis_figure_names_its_weighting(proportional_diagnosis):
+    fig = proportional_diagnosis.plot()
+    try:
+        assert "proportional weighting" in fig._suptitle.get_text()
+    finally:
+        plt.close(fig)
+
+
 def test_diagnose_json_names_the_weighting_its_baseline_chi2_red_is_against(proportional_diagnosis):
     """The baseline's chi2_red (0.124 here, against |Re Z| and |Im Z|) means another thing under
     each weighting: the JSON's ``baseline`` says which, as fit --json's ``weighting`` does (the

@@ -46,6 +46,13 @@ def model_and_data_bands(diagnosis) -> tuple[list, list]:
             [(b.f_min, b.f_max) for b in bands if getattr(b, "data_problem", False)])
 
 
+def weighting_words(fit) -> str:
+    """``, proportional weighting`` after a figure title's rms_rel: the weighting ``fit`` was made
+    with ("" for an object that records none)."""
+    weighting = getattr(fit, "weighting", None)
+    return f", {weighting} weighting" if weighting else ""
+
+
 def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float, float] | None = None):
     """Nyquist, Bode and residual panels of the baseline with the failing bands shaded (those
     where the KK test flags the data apart, `DATA_PROBLEM_BANDS`) and the best suggestion
@@ -58,7 +65,7 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
     # baseline's and the suggestion's curves widening it by at most `MODEL_OVERSHOOT` of the
     # data's span (`nyquist_view`; REAL ZPlot's ran to 900 Ω beside data that end at 615 Ω)
     fig = plot_spectrum(
-        (b.frequency, b.z_data), model_curve(b), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %)", bands=bands,
+        (b.frequency, b.z_data), model_curve(b), title=title or f"{b.model}: {diagnosis.verdict} (rms_rel {b.rms_rel * 100:.3g} %{weighting_words(b)})", bands=bands,
         model_label="baseline", residual_labels=("Re (baseline)", "Im (baseline)"), model_at_data=b.z_model,
         band_label=band_shading(diagnosis)[0], band_color=band_shading(diagnosis)[1], figsize=figsize,
         nyquist_curves=[] if suggestion is None else [suggestion[1]], nyquist_points=_masked_impedance(diagnosis),
