@@ -200,3 +200,17 @@ def test_a_long_models_fit_figure_keeps_its_title_inside():
         assert outside_the_figure(fig) == [] and fig._suptitle.get_text().endswith("proportional weighting")
     finally:
         plt.close(fig)
+
+
+def test_a_fits_csv_written_from_python_names_its_weighting(unit_fits, proportional_batches, tmp_path):
+    """``ix.write_result(fit, "fit.csv")``: chi2, chi2_red and aic on every row mean another thing
+    under each weighting, and only the command line's provenance columns (``setting_weighting``)
+    said which; a CSV written from Python had no word of it. Oracle: the file read back with
+    the csv module."""
+    import csv
+
+    for result, weighting in ((unit_fits[0], "unit"), (proportional_batches[0], "proportional")):
+        path = tmp_path / f"{weighting}.csv"
+        ix.write_result(result, path)
+        rows = list(csv.DictReader(path.open()))
+        assert rows and {row["weighting"] for row in rows} == {weighting}

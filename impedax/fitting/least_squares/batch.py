@@ -377,7 +377,7 @@ class BatchFitResult:
         then the flags (added 2026-12-01, as `FitResult.to_table`): ``converged`` (the spectrum's),
         ``at_bound`` and ``undetermined`` (this parameter's; the rule of `undetermined`), and
         ``warnings``: the spectrum's warnings joined by "; " ("" if none; as a comparison's
-        table; added 2026-12-02)."""
+        table; added 2026-12-02), and ``weighting`` (as `FitResult.to_table`; added 2026-12-06)."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         names = [str(p) for p in ds["param"].values]
@@ -399,7 +399,7 @@ class BatchFitResult:
             for p, n in enumerate(names):
                 rows.append({
                     **where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p], **own,
-                    "converged": bool(converged[index]), "at_bound": bool(at_bound[index + (p,)]), "undetermined": bool(flagged[index + (p,)]), "warnings": warned,
+                    "converged": bool(converged[index]), "at_bound": bool(at_bound[index + (p,)]), "undetermined": bool(flagged[index + (p,)]), "warnings": warned, "weighting": self.weighting,
                 })
         return rows
 
