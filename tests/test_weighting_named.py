@@ -57,6 +57,13 @@ def test_a_comparison_names_its_weighting_in_its_table_and_figure(unit_fits):
         plt.close(fig)
 
 
+def test_a_comparisons_csv_names_its_weighting(unit_fits, tmp_path):
+    import csv
+
+    ix.write_result(ix.compare(list(unit_fits)), tmp_path / "c.csv")
+    assert [row["weighting"] for row in csv.DictReader((tmp_path / "c.csv").open())] == ["unit", "unit"]
+
+
 @pytest.fixture(scope="module")
 def proportional_batches():
     cycles = ix.load(BATTERY).isel(cycle=[0, 64])

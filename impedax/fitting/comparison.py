@@ -303,8 +303,9 @@ class Comparison:
     def to_table(self) -> list[dict]:
         """One row per model, as ``compare --out FILE.csv`` writes them: the columns of the table
         with chi2, the AICc deltas and weights, the undetermined parameters and the user's bounds
-        (``bounds``, `bounds_text`; both ``;``-joined)."""
-        return [{**r, "undetermined": ";".join(undetermined_names(f)), "bounds": ";".join(bounds_text(f))} for r, f in zip(self.rows, self.fits)]
+        (``bounds``, `bounds_text`; both ``;``-joined), and the ``weighting`` (what chi2 and AIC
+        are against; added 2026-12-06)."""
+        return [{**r, "undetermined": ";".join(undetermined_names(f)), "bounds": ";".join(bounds_text(f)), "weighting": f.weighting} for r, f in zip(self.rows, self.fits)]
 
     def weak_evidence(self) -> dict | None:
         """How weakly the data prefer the best model by AIC, or None when its lead is clear: a
