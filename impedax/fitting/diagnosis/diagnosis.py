@@ -1530,10 +1530,12 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
     options = dict(fixed=fixed or None, bounds=dict(base.bounds) or None, weighting=base.weighting, n_starts=n_starts, seed=seed, registry=base.registry, shape=shape, max_steps=BASELINE_STEPS, step_limit=max_steps)
     try:
         fits = fit_candidates(circuits, spectrum, init=inits, **options)
+        restarted = []  # (the stalled candidates and starts refitted: the same again would tie their fits, kept or beaten since)
 
         def restart_stalled():
             stalled = _stalled_behind_nested(proposals, fits[1:])
-            if stalled:
+            if stalled and stalled != restarted:
+                restarted[:] = stalled
                 if say is not None:
                     say(f"refitting {len(stalled)} candidate(s) stalled short of a candidate nested in them, from that one's optimum")
                 redo = fit_candidates([proposals[i][1].circuit for i, _ in stalled], spectrum, init=[[start] for _, start in stalled], **options)
