@@ -657,8 +657,6 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
         rows[j]["same_fit_as"] = twin
     tests = []
     n = 2 * ref.n_points
-    from scipy import stats
-
     for i, s in enumerate(results):
         for j, c in enumerate(results):
             if i == j or s.n_params >= c.n_params or not nested_as_held(s.circuit, held_values(s), c.circuit, held_values(c), c.registry):
@@ -808,8 +806,10 @@ def chi_bar_squared_p_value(f_value: float, df1: int, df2: int, n_boundary: int 
     Stram & Lee 1994, Biometrics 50, 1171): P(T ≥ t) = Σ_j C(q, j) 2⁻ᑫ P(d_j·F_{d_j, df2} ≥ t), d_j = df1 − q + j, a term
     with d_j = 0 (the point mass at T = 0) adding nothing; for one boundary constraint and
     df1 = 1, half the F-test's p. The weights C(q, j) 2⁻ᑫ take the boundary parameters'
-    estimates as uncorrelated. ``n_boundary`` 0: the F-test's own p, F.sf(F, df1, df2)."""
-    from scipy import stats
+    estimates as uncorrelated. ``n_boundary`` 0: the F-test's own p, F.sf(F, df1, df2), by
+    `scipy.special.fdtrc` (what scipy.stats.f.sf computes, F < 0 taken as 0; scipy.special
+    imports in a fifth of the time scipy.stats takes, ~1 s of every compare process)."""
+    from scipy.special import fdtrc
 
     q = min(int(n_boundary), int(df1))
     t = float(f_value) * df1
@@ -819,7 +819,7 @@ def chi_bar_squared_p_value(f_value: float, df1: int, df2: int, n_boundary: int 
     for j in range(q + 1):
         d = df1 - q + j
         if d > 0:
-            total += math.comb(q, j) / 2**q * float(stats.f.sf(t / d, d, df2))
+            total += math.comb(q, j) / 2**q * float(fdtrc(d, df2, max(t / d, 0.0)))
     return total
 
 
