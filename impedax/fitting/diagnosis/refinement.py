@@ -516,6 +516,23 @@ def _drt_start(first: Diagnosis, steps: list[RefinementStep], limit: int) -> _DR
     return _DRTStart(named.fit, ", ".join(n for n in theirs if n not in own), removed, where)
 
 
+def unfollowed_effect_note(steps: list[RefinementStep], best) -> str:
+    """Why refine ends on a model whose own diagnosis names an effect ``best`` (its verdict) that
+    refine did not add, below its limit: the model is a simplification of the path's end
+    (`_simplified`, `_pruned` come after the paths) or the step taken from it was dropped
+    (`_finish`). REAL Autolab under proportional weighting ended "MISSING_EFFECT — adding
+    extra_relaxation lowers AIC by 36.6" with no word of why (2026-12-06)."""
+    last = steps[-1]
+    if len(steps) > 1 and last.effect is None:
+        why = f"refine simplified the model in its last step ({last.change.removesuffix(' [simplified]')}) and adds no effect after simplifying"
+    else:
+        why = "the step refine took from it was dropped (see the note on what the data do not determine)"
+    return (
+        f"the final model still misses {best.effect} ({best.added}) by its own diagnosis, which refine did not add: {why}; "
+        f"a diagnosis of {last.model} shows it, and refine from that model tries it"
+    )
+
+
 def _best_within(diagnosis: Diagnosis, room: int):
     """The best significant suggestion of ``diagnosis`` adding at most ``room`` effects (a pair
     ranked first gives way to the best single effect when one effect is left), or None."""
@@ -1259,6 +1276,8 @@ def refine(
             f"refine stopped at its limit of {limit} added effect(s) (max_effects; --max-effects of impedax refine) while the last model "
             f"still misses an effect ({last.best.effect}, see the verdict): a higher limit goes on"
         )
+    elif last.verdict == Verdict.MISSING_EFFECT and last.best is not None:
+        notes.append(unfollowed_effect_note(steps, last.best))
     # the final fit is reproduced from its values when its own refit kept the warm start (`_reproduced`
     # noted it): another path's note says nothing of the final model
     from_values = any(out is steps[-1].fit and note is not None for _, (out, note), _ in refits.values())

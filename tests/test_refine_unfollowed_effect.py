@@ -1,0 +1,56 @@
+"""A refinement that ends on a model whose own diagnosis still names a missing effect, below
+refine's limit, says why refine did not add it. REAL Autolab under proportional weighting ended
+"verdict: MISSING_EFFECT — … adding extra_relaxation (R_relax2 || C_relax2) lowers AIC by 36.6"
+with no word of why refine stopped there (2026-12-06): its last step simplified CPE3 to C3, and
+refine adds no effect after simplifying."""
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+import impedax as ix
+from impedax.fitting.diagnosis.refinement import unfollowed_effect_note
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+
+
+def _step(effect, change, model):
+    return SimpleNamespace(effect=effect, change=change, model=model)
+
+
+def test_the_note_names_a_last_simplification_as_the_reason():
+    steps = [_step(None, "(start)", "R0 + R1 || C1"), _step("extra_relaxation", "+ R_relax || CPE_relax [extra_relaxation]", "A"), _step(None, "CPE_relax → C_relax [simplified]", "B")]
+    note = unfollowed_effect_note(steps, SimpleNamespace(effect="series_inductance", added="L_lead"))
+    assert note.startswith("the final model still misses series_inductance (L_lead) by its own diagnosis, which refine did not add: ")
+    assert "simplified the model in its last step (CPE_relax → C_relax)" in note and "a diagnosis of B shows it" in note
+
+
+def test_the_note_names_a_dropped_step_otherwise():
+    steps = [_step(None, "(start)", "R0 + R1 || C1"), _step("extra_relaxation", "+ R_relax || C_relax [extra_relaxation]", "A")]
+    note = unfollowed_effect_note(steps, SimpleNamespace(effect="diffusion", added="W_d"))
+    assert "the step refine took from it was dropped" in note and "a diagnosis of A shows it" in note
+
+
+@pytest.mark.slow
+def test_real_autolab_refine_says_why_it_ends_on_a_missing_effect():
+    data = ix.load(REAL / "exampleDataAutolab.txt")
+    result = ix.refine(data, "R0 + R1 || C1", weighting="proportional")
+    assert result.verdict == "missing_effect" and result.steps[-1].effect is None  # (the case: a simplification ends it, below the limit of 4)
+    best = result.steps[-1].diagnosis.best
+    said = [n for n in result.notes if n.startswith(f"the final model still misses {best.effect} ({best.added})")]
+    assert len(said) == 1 and "refine simplified the model in its last step" in said[0], result.notes
+    assert not any("refine stopped at its limit" in n for n in result.notes)
+
+
+@pytest.mark.slow
+def test_an_adequate_end_gets_no_such_note():
+    """Nothing missing: SYNTHETIC R0 + R1 || C1 (numpy formula, 1 % noise) refined from itself."""
+    import numpy as np
+
+    rng = np.random.default_rng(3)
+    f = np.logspace(-1, 5, 40)
+    z = 10.0 + 100.0 / (1 + 2j * np.pi * f * 100.0 * 1e-5)
+    z = z * (1 + 0.01 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+    result = ix.refine(ix.make_spectrum(f, z), "R0 + R1 || C1")
+    assert result.verdict == "adequate" and not any("still misses" in n for n in result.notes)
