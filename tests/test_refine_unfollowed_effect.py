@@ -54,3 +54,19 @@ def test_an_adequate_end_gets_no_such_note():
     z = z * (1 + 0.01 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
     result = ix.refine(ix.make_spectrum(f, z), "R0 + R1 || C1")
     assert result.verdict == "adequate" and not any("still misses" in n for n in result.notes)
+
+
+@pytest.mark.slow
+def test_a_refinement_names_its_weighting_in_report_json_and_figure():
+    """REAL Autolab refined under proportional weighting: every step's rms_rel and AIC are of that
+    weighting, and neither the report, the JSON nor the figure said which (fit, diagnose and
+    compare name it; 2026-12-06)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    data = ix.load(REAL / "exampleDataAutolab.txt")
+    result = ix.refine(data, "R0 + R1 || C1", weighting="unit", max_effects=1)
+    assert result.report().splitlines()[0] == "refinement of R0 + R1 || C1 under unit weighting (rms_rel and AIC of each step's fit)"
+    assert result.summary()["weighting"] == "unit"
+    fig = result.plot()
+    assert "unit weighting" in fig._suptitle.get_text().replace("\n", " ")

@@ -226,7 +226,7 @@ def plot_refinement(refinement, *, title: str | None = None):
     fig.axes[-1].set_xlabel("frequency [Hz]")
     nyquist = fig.add_subplot(grid[0, :] if across else left[0])
     _refinement_nyquist(nyquist, refinement, characters_across((width if across else width * ratios[0] / sum(ratios)) - 1.0, font_size("legend", 8)))
-    fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({_verdict_where(refinement)})", characters_across(width - 0.4, font_size("suptitle", 12))))
+    fig.suptitle(title or wrap_model(f"refinement: {refinement.steps[0].model} → {refinement.final_model} ({_verdict_where(refinement)}{weighting_words(refinement.steps[-1].fit)})", characters_across(width - 0.4, font_size("suptitle", 12))))
     legends_off_data(fig)
     return fig
 

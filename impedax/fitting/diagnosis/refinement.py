@@ -188,6 +188,7 @@ class Refinement:
         last = self.steps[-1].diagnosis
         return {
             "steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict,
+            "weighting": final.weighting,  # (added 2026-12-06: every step's rms_rel, AIC and chi2_red are of it)
             "final_rms_rel": final.rms_rel, "n_params": final.n_params, "final_params": final.summary()["params"], "final_at_bound": list(final.at_bound),
             "final_user_bounds": bounds_attr(final.bounds),  # (added 2026-12-01: the bounds=, --bound, the final fit kept, as fit --json's user_bounds)
             "undetermined": sorted(undetermined_parameters(final) | vanished_parameters(final)),
@@ -246,7 +247,8 @@ class Refinement:
 
     def report(self) -> str:
         first, last = self.steps[0].fit, self.final
-        lines = [self.table(), ""]
+        # (the weighting named since 2026-12-06: fit, diagnose and compare said it, refine did not)
+        lines = [f"refinement of {first.model} under {first.weighting} weighting (rms_rel and AIC of each step's fit)", self.table(), ""]
         if len(self.steps) > 1:
             before, after = f"{first.rms_rel * 100:.3g}", f"{last.rms_rel * 100:.3g}"
             # (a step that only simplified leaves rms_rel as it was: "fell from 1.4 % to 1.4 %" read oddly; walkthrough 2026-12-05)
