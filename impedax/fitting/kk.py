@@ -32,7 +32,7 @@ from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
 from .frozen import freeze_fields
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
+__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "retested_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -1441,9 +1441,7 @@ def kk_test(
     options = dict(c=c, max_rc=max_rc, n_rc=n_rc, inductance=inductance, capacitance=capacitance, thresholds=thresholds, noise=noise)
     sigma = None if sigma is None else sigma[None, :]
     result = _run(freq, z[None, :], (), (), {}, **options, source=source, attrs=data.attrs if isinstance(data, xr.Dataset) else None, sigma=sigma).results[0]
-    if not find_passing_band or result.valid or result.sign_hint or not result.conclusive or result.excludable_frequencies.size or result.marginal_points_only:
-        return result
-    found = passing_band(freq, z, sigma=None if sigma is None else sigma[0], min_points=max(CONCLUSIVE_POINTS_MIN, math.ceil(freq.size / 2)), **options)
+    found = retested_band(result, freq, z, sigma=None if sigma is None else sigma[0], **options) if find_passing_band else None
     if found is None:
         return result
     lo, hi, passed = found
@@ -1465,6 +1463,16 @@ def _passing_edge(passed: KKResult, *, cut_low: bool, cut_high: bool) -> tuple[f
         if math.sqrt(float(np.mean(size[edge] ** 2))) > EDGE_EXCESS * median:
             return float(f[edge].min()), float(f[edge].max()), float(size[edge].min()), float(size[edge].max()), median
     return None
+
+
+def retested_band(result: KKResult, freq, z, *, sigma=None, **options) -> tuple[float, float, KKResult] | None:
+    """The band `kk_test(find_passing_band=True)` (and so ``impedax kk``) names for its test
+    ``result`` of (``freq`` [Hz], ``z`` [Ω]): `passing_band` keeping at least half of the points,
+    searched only when the test failed and the bands' rules leave no point out; None otherwise or
+    when none passes. ``diagnose`` names the same band (one trim for one spectrum)."""
+    if result.valid or result.sign_hint or not result.conclusive or result.excludable_frequencies.size or result.marginal_points_only:
+        return None
+    return passing_band(freq, z, sigma=sigma, min_points=max(CONCLUSIVE_POINTS_MIN, math.ceil(np.size(freq) / 2)), **options)
 
 
 def passing_band(freq, z, *, sigma=None, min_points: int = CONCLUSIVE_POINTS_MIN, **options) -> tuple[float, float, KKResult] | None:

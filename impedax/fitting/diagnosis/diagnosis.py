@@ -62,7 +62,7 @@ from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Re
 from ...data import concise_repr, report_text, counted, format_quantity, make_spectrum, unit_text
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
-from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band  # (frequency_text, left_out_options: here before 2026-12-02)
+from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band, retested_band  # (frequency_text, left_out_options: here before 2026-12-02)
 from ..least_squares import BatchFitResult, FitResult, fit
 from ..least_squares.result import RESIDUAL_LONG_NAME, is_dominated_note
 from ..least_squares.branches import is_idle_note, parallel_branches
@@ -322,12 +322,14 @@ class Diagnosis:
     solver_shape: SolverShape | None = None  # the compiled candidate solver's shape (refine passes it on: one compilation for all steps)
     masked_impedance: tuple[complex, ...] = ()  # the measured Z [Ω] at each of ``masked_points`` (drawn, marked, in the figure)
     sign_hint: str | None = None  # the KK test's (`io.sign_check.sign_hint`): Z'' (or Z) may be stored with the opposite sign
-    kk_valid_band: tuple[float, float] | None = None  # data_invalid: the run of points [Hz, lowest and highest] the KK test passes (`kk_valid_run`), which --fmin/--fmax keep
-    misses_valid_band: bool = False  # data_invalid: the model misses ``kk_valid_band`` clearly (an effect is missing there; refine starts again on it)
+    kk_valid_band: tuple[float, float] | None = None  # data_invalid: the band [Hz, lowest and highest measured] the KK test passes, which --fmin/--fmax keep: impedax kk's (`kk.retested_band`) when it names one, else the run it leaves unflagged (`kk_valid_run`)
+    misses_valid_band: bool = False  # data_invalid: the model misses ``kk_valid_band`` clearly (an effect is missing there)
     not_passive_points: tuple[float, ...] = ()  # those of ``masked_points`` [Hz] left out for Re Z < 0 beyond the noise (the rest: the KK test's)
     kk_flagged_kept: str | None = None  # why points the KK test flags were kept in every fit (inside the band, more than `KK_MASK_MAX_FRACTION`, or mask=False): the data's problem, reported beside the verdict
     effects_left_out: tuple[str, ...] = ()  # the ids of `DEFAULT_EFFECTS` the candidates did not try (``effects=``, --effects, gave a subset)
     drt_circuit: "DRTCircuit | None" = None  # the data's DRT's starting circuit, fitted, when it is better than the best suggestion (`_drt_circuit_fit`)
+    kk_run_band: tuple[float, float] | None = None  # data_invalid: the band refine starts again on when the model misses it clearly (`kk_valid_run`, or tested again keeping 3 points per free parameter); ``kk_valid_band`` unless impedax kk names another
+    misses_run_band: bool = False  # data_invalid: the model misses ``kk_run_band`` clearly
 
     @property
     def source(self) -> str | None:
@@ -1296,6 +1298,8 @@ class DataProblem(NamedTuple):
     misses_valid_band: bool = False
     kept: str | None = None  # why KK-flagged points were kept in every fit (inside the band, or too many), or None
     kept_passing_band: tuple[float, float] | None = None  # too many kept: the run the KK test passes [Hz], which ``kept`` names with its trim
+    run_band: tuple[float, float] | None = None  # invalid: the band refine starts again on (`kk_valid_run`, or tested again), ``valid_band`` unless impedax kk names another
+    misses_run_band: bool = False  # invalid: the model misses ``run_band`` clearly
 
 
 def kk_valid_run(frequency: np.ndarray, flagged: np.ndarray, n_params: int) -> np.ndarray | None:
@@ -1319,30 +1323,52 @@ def kk_valid_run(frequency: np.ndarray, flagged: np.ndarray, n_params: int) -> n
     return run
 
 
-def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.ndarray, noise: NoiseModel, *, retested: bool = False) -> tuple[str, bool]:
-    """What a ``data_invalid`` reason adds when part of the band passes the KK test (``run``,
-    `kk_valid_run`, or with ``retested`` the band `kk.passing_band` found by testing again
-    without points at the ends, ``dkk`` then that test's): where it fails, where it passes, the exact ``--fmin``/``--fmax`` that keep
-    the passing run, and whether the model misses clearly there — its rms_rel at least
-    1/`KK_COMPARABLE`× the KK misfit there (the rule that keeps a flagged point as the model's
-    problem) and above `NOISE_RATIO_MAX` × the noise (a missing effect, not the data's).
-    Returns the words and that flag."""
-    f = fit.frequency
-    trim = left_out_words(left_out_options(f[run], f[~run]))
+def _band_misses(fit: FitResult, run: np.ndarray, dkk: np.ndarray, noise: NoiseModel) -> tuple[bool, float, float, float]:
+    """Whether the model misses the points ``run`` clearly — its rms_rel there at least
+    1/`KK_COMPARABLE`× the KK misfit ``dkk`` there (the rule that keeps a flagged point as the
+    model's problem) and above `NOISE_RATIO_MAX` × the noise (a missing effect, not the data's) —
+    with the model's rms_rel, the KK rms_rel and the noise ratio there."""
     model_rms = float(np.sqrt(np.mean(np.abs(fit.residuals[run]) ** 2)))
     kk_rms = float(np.sqrt(np.mean(dkk[run] ** 2)))
     ratio = float(np.sqrt(np.mean(np.abs(fit.residuals[run]) ** 2 / (2 * noise.sigma_rel[run] ** 2))))
-    misses = model_rms >= kk_rms / KK_COMPARABLE and ratio > NOISE_RATIO_MAX
+    return model_rms >= kk_rms / KK_COMPARABLE and ratio > NOISE_RATIO_MAX, model_rms, kk_rms, ratio
+
+
+def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.ndarray, noise: NoiseModel, *, retested: bool = False,
+                      refine_run: np.ndarray | None = None, refine_misses: bool = False, unnamed_by_kk: str = "") -> tuple[str, bool]:
+    """What a ``data_invalid`` reason adds when part of the band passes the KK test (``run``:
+    `kk_valid_run`, or with ``retested`` the band found by testing again without points at the
+    ends, `impedax kk`'s (`retested_band`) first, ``dkk`` then that test's): where it fails, where
+    it passes, the exact ``--fmin``/``--fmax`` that keep the passing run, and whether the model
+    misses clearly there (`_band_misses`). ``refine_run``: the points refine starts again on
+    (`DataProblem.run_band`) when they are another band, ``refine_misses`` whether the model misses
+    them clearly; ``unnamed_by_kk``: why impedax kk names no band (`_unnamed_by_kk`), or "".
+    Returns the words and that flag."""
+    f = fit.frequency
+    trim = left_out_words(left_out_options(f[run], f[~run]))
+    misses, model_rms, kk_rms, ratio = _band_misses(fit, run, dkk, noise)
     failing = kk.measured_bands_text()
+    other = refine_run is not None and not np.array_equal(refine_run, run)
+    narrower = (f", as impedax kk does; the full test leaves only {format_band(float(f[refine_run].min()), float(f[refine_run].max()))} unflagged in one run: its chain, fitted to every point, "
+                "is pulled off the rest of this band by the points outside it") if other else ""
     words = (
         f" The KK test fails at {failing} and passes at {format_frequency(float(f[run].min()))}–{format_frequency(float(f[run].max()))} "
-        f"({int(run.sum())} points, KK rms_rel {kk_rms * 100:.2g} %{', tested again without the points outside' if retested else ''}): trim the measurement to that band ({trim})"
+        f"({int(run.sum())} points, KK rms_rel {kk_rms * 100:.2g} %{', tested again without the points outside' if retested else ''}{narrower}{unnamed_by_kk}): "
+        f"trim the measurement to that band ({trim})"
     )
     if misses:
         outside = float(np.mean(~run))
         by_refine = "refine does so on its own" if outside <= KK_MASK_MAX_FRACTION else (
             f"refine does not: the trim leaves out {outside * 100:.0f} % of the points, more than the {KK_MASK_MAX_FRACTION * 100:.0f} % it leaves out on its own"
         )
+        if other and (outside <= KK_MASK_MAX_FRACTION or (refine_misses and np.mean(~refine_run) <= KK_MASK_MAX_FRACTION)):
+            # (refine acts on its own band: say which, whatever this one's share)
+            band = format_band(float(f[refine_run].min()), float(f[refine_run].max()))
+            starts = refine_misses and np.mean(~refine_run) <= KK_MASK_MAX_FRACTION
+            by_refine = (f"refine starts again on its own on {band}, the run the full test leaves unflagged ({left_out_words(left_out_options(f[refine_run], f[~refine_run]))})" if starts else
+                         f"refine does not: it starts again only on {band}, the run the full test leaves unflagged, " + (
+                             "where the model does not miss clearly" if not refine_misses else
+                             f"which leaves out {np.mean(~refine_run) * 100:.0f} % of the points, more than the {KK_MASK_MAX_FRACTION * 100:.0f} % it leaves out on its own"))
         words += (
             f"; the model misses those points by {model_rms * 100:.3g} % rms, {model_rms / max(kk_rms, 1e-300):.2g}× the data's own misfit there "
             f"and {ratio:.2g}× the noise: diagnose that band ({trim}) to find what is missing ({by_refine})"
@@ -1350,7 +1376,43 @@ def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.nda
     return words + ".", misses
 
 
-def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_hint: str | None = None) -> DataProblem:
+_KK_NAMED: dict[tuple[bytes, bytes], tuple[float, float, KKResult] | None] = {}
+"""`retested_band` by the fit's (frequency, Z), the last few: refine diagnoses one spectrum many times."""
+
+
+def _kk_named_band(fit: FitResult, kk: KKResult | None) -> tuple[np.ndarray, np.ndarray] | None:
+    """The band ``impedax kk`` names for the fit's points (`retested_band` of their test ``kk``,
+    as tested: before `kk_judged_locally`), as a bool per point of the fit and that band's test's
+    |Δ| per point (0 outside); None when it names none, when ``kk`` is of another grid than the
+    fit's (the fit over a part of the data), or for a stand-in without the data."""
+    z = getattr(fit, "z_data", None)
+    if z is None or not isinstance(kk, KKResult) or np.size(kk.frequency) != fit.n_points or kk_indices(kk, fit.frequency) is None:
+        return None
+    key = (np.asarray(fit.frequency, float).tobytes(), np.asarray(z, complex).tobytes())
+    if key not in _KK_NAMED:
+        if len(_KK_NAMED) >= 8:
+            _KK_NAMED.pop(next(iter(_KK_NAMED)))
+        _KK_NAMED[key] = retested_band(kk, fit.frequency, z)
+    found = _KK_NAMED[key]
+    if found is None:
+        return None
+    lo, hi, passing = found
+    run = (fit.frequency >= lo) & (fit.frequency <= hi)
+    dkk = np.zeros(fit.n_points)
+    dkk[run] = np.hypot(passing.residuals_real, passing.residuals_imag)[np.searchsorted(passing.frequency, fit.frequency[run])]
+    return run, dkk
+
+
+def _unnamed_by_kk(kk: KKResult | None, n_points: int) -> str:
+    """Why ``impedax kk`` names no trim where diagnose names the run the full test leaves
+    unflagged: it keeps at least half of the points (`retested_band`); "" when kk's test is not
+    the fit's or it does name one."""
+    if not isinstance(kk, KKResult) or np.size(kk.frequency) != n_points or kk.valid or kk.suggested_options or kk.passing_band is not None:
+        return ""
+    return f"; the run the full test leaves unflagged: impedax kk names no trim, as no band keeping at least half of the {n_points} points passes"
+
+
+def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_hint: str | None = None, kk_as_tested: KKResult | None = None) -> DataProblem:
     """``data_invalid`` when the KK misfit is comparable to the model's (|Δ_kk| ≥ `KK_COMPARABLE`·|r|
     at a point the KK test flags) at at least `KK_INVALID_FRACTION` of the points; otherwise the
     flagged run at either end of the band (`end_runs`, with `end_islands_masked`) is masked when
@@ -1361,8 +1423,13 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     then invalid whatever the share, and the reason blames the sign convention and gives the fix,
     not the measurement (a good cell whose file stores −Z'' under Z'' was sent to be measured
     again; a model of the right kind misses conj(Z) by far more than the KK chain does, so the
-    share was below `KK_INVALID_FRACTION` and conjugated SYNTHETIC finger data got "adequate")."""
+    share was below `KK_INVALID_FRACTION` and conjugated SYNTHETIC finger data got "adequate").
+    The band the words name with its trim is the one ``impedax kk`` names (`_kk_named_band` of
+    ``kk_as_tested``, the test before `kk_judged_locally`; default ``kk``) when it names one:
+    on REAL CH Instruments 4.64 Hz–82.5 kHz, where the longest run the full test leaves
+    unflagged is 825 Hz–46.4 kHz; refine still acts on the latter (`DataProblem.run_band`)."""
     none = np.zeros(fit.n_points, bool)
+    tested = kk if kk_as_tested is None else kk_as_tested
     if kk is None or kk.valid:
         return DataProblem(None, none, None)
     idx = kk_indices(kk, fit.frequency)
@@ -1393,13 +1460,23 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
                 run = (fit.frequency >= lo) & (fit.frequency <= hi)
                 dkk = np.zeros(fit.n_points)
                 dkk[run] = np.hypot(passing.residuals_real, passing.residuals_imag)[np.searchsorted(passing.frequency, fit.frequency[run])]
-        band_words, misses = _valid_band_words(fit, kk, run, dkk, noise, retested=retested) if run is not None else ("", False)
+        # (refine acts on ``run``; the words name the band impedax kk names, when it names one)
+        run_misses = run is not None and _band_misses(fit, run, dkk, noise)[0]
+        run_band = None if run is None else (float(fit.frequency[run].min()), float(fit.frequency[run].max()))
+        named = _kk_named_band(fit, tested)
+        if named is not None:
+            band_words, misses = _valid_band_words(fit, kk, named[0], named[1], noise, retested=True, refine_run=run, refine_misses=run_misses)
+            band = (float(fit.frequency[named[0]].min()), float(fit.frequency[named[0]].max()))
+        elif run is not None:
+            band_words, misses = _valid_band_words(fit, kk, run, dkk, noise, retested=retested, unnamed_by_kk="" if retested else _unnamed_by_kk(tested, fit.n_points))
+            band = run_band
+        else:
+            band_words, misses, band = "", False, None
         return DataProblem(
             f"the data themselves are not Kramers–Kronig consistent where the model fails: at {share * 100:.0f} % of the points the KK misfit is at least "
             f"{KK_COMPARABLE:.0%} of the model's (KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %): drift, movement or a non-stationary "
             "sample during the sweep; no circuit should be asked to fit them. Repeat or trim the measurement." + band_words,
-            none, None,
-            None if run is None else (float(fit.frequency[run].min()), float(fit.frequency[run].max())), misses,
+            none, None, band, misses, run_band=run_band, misses_run_band=run_misses,
         )
     # what is left out is the data's judgement, not the model's: the flagged run at an end of the
     # band (an instrument's limit, a drifting start or end of the sweep), at most
@@ -1439,9 +1516,15 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     )
     kept = f"the KK test flags {int(flagged.sum())} of {flagged.size} points ({runs_words(flagged, fit.frequency)}): kept in every fit, as the data's problem there, not left out: {why}"
     run = kk_valid_run(fit.frequency, flagged, fit.n_params) if share_ends > KK_MASK_MAX_FRACTION else None
+    named = _kk_named_band(fit, tested) if run is not None else None  # (the band impedax kk names first: one trim for one spectrum)
+    why = "" if named is None else ", tested again without the points outside, as impedax kk does"
+    if named is not None:
+        run, dkk = named
+    elif run is not None:
+        why = _unnamed_by_kk(tested, fit.n_points)
     passing = None if run is None else (float(fit.frequency[run].min()), float(fit.frequency[run].max()))
     if run is not None:  # (REAL Gamry: 72 % flagged; a missing effect named over the whole band, refine's next step then found the data invalid)
-        kept += (f"{KEPT_PASSING_LEAD}{format_band(*passing)} ({int(run.sum())} points, KK rms_rel {np.sqrt(np.mean(dkk[run] ** 2)) * 100:.2g} %): "
+        kept += (f"{KEPT_PASSING_LEAD}{format_band(*passing)} ({int(run.sum())} points, KK rms_rel {np.sqrt(np.mean(dkk[run] ** 2)) * 100:.2g} %{why}): "
                  f"diagnose that band alone ({left_out_words(left_out_options(fit.frequency[run], fit.frequency[~run]))}) to see what the model lacks where the data are sound")
     return DataProblem(None, none, f"{kept}: diagnosed with every point", kept=kept, kept_passing_band=passing)
 
@@ -2540,14 +2623,15 @@ def diagnose(
         problem = DataProblem(None, located[0], None)
         kk_bands = ()
     else:
-        problem = _data_problem(base, kk, nm, sign_hint)
+        problem = _data_problem(base, kk, nm, sign_hint, kk_as_tested)
         if not mask and problem.masked.any():
             kept = f"the KK test flags {int(np.sum(np.asarray(kk.flagged, bool)))} of {base.n_points} points: kept in every fit (mask=False; --keep-all-points)"
             problem = problem._replace(masked=np.zeros_like(problem.masked), note=None, kept=kept)
     if problem.invalid is not None:
         bands = failing_bands(base, nm.sigma_rel, kk_bad_bands=kk_bands)
         return Diagnosis(base, kk if kk is not None else inconclusive, nm.sigma_rel, nm.source, bands, (), Verdict.DATA_INVALID, problem.invalid, tuple(notes), _thresholds(), None, nm.measurement, nm.discrepancy, not_passive, kk_as_tested=kk_as_tested, solver_shape=shape, masked_impedance=tuple(left_out.values()), sign_hint=sign_hint,
-                         kk_valid_band=problem.valid_band, misses_valid_band=problem.misses_valid_band, not_passive_points=not_passive)
+                         kk_valid_band=problem.valid_band, misses_valid_band=problem.misses_valid_band, not_passive_points=not_passive,
+                         kk_run_band=problem.run_band, misses_run_band=problem.misses_run_band)
     if problem.note:
         notes.append(problem.note)
     kk_flagged_kept = problem.kept

@@ -959,7 +959,7 @@ def _on_valid_band(ds: xr.Dataset, band: xr.Dataset, steps: list[RefinementStep]
     """`refine` of ``circuit`` again on ``band``, the run of points the KK test passes, when a
     step of the path ``steps`` on all of ``ds`` ended ``data_invalid`` (the misfit left is the
     data's own over at least `KK_INVALID_FRACTION` of the points) while its model still misses
-    that run clearly (`Diagnosis.misses_valid_band`). The points outside the run are in the
+    that run clearly (`Diagnosis.misses_run_band`). The points outside the run are in the
     result's ``masked_points`` (its report prints the ``--fmin``/``--fmax`` that leave them
     out) and a note says why. The case behind it (2026-12-01): on Gamry's real file the KK test
     fails at 16 mHz–2.26 kHz (1–12 % misfit) and passes above (0.46 %); after one step refine
@@ -968,7 +968,7 @@ def _on_valid_band(ds: xr.Dataset, band: xr.Dataset, steps: list[RefinementStep]
     run and its note, or None and a note why the whole band's path stands: the run's final model
     misses the points outside by more than `VALID_BAND_MISS_FACTOR` × their KK misfit."""
     stop = steps[-1]
-    lo, hi = stop.diagnosis.kk_valid_band
+    lo, hi = stop.diagnosis.kk_run_band
     f = ds["frequency"].values
     outside = tuple(sorted(float(x) for x in f if not lo <= x <= hi))
     trim = left_out_words(left_out_options(band["frequency"].values, outside))
@@ -1001,6 +1001,21 @@ def _on_valid_band(ds: xr.Dataset, band: xr.Dataset, steps: list[RefinementStep]
     measured = dict(zip(start.masked_points, start.masked_impedance)) | {float(x): complex(v) for x, v in zip(f, ds["Z"].values) if not lo <= x <= hi}
     first = replace(again.steps[0], diagnosis=replace(start, masked_points=masked, masked_impedance=tuple(measured[x] for x in masked)))
     return Refinement((first,) + tuple(again.steps[1:]), again.verdict, (note,) + again.notes, masked, final_from_values=again.final_from_values), note
+
+
+def _named_band_instead(ds: xr.Dataset, stop: Diagnosis, run_band: tuple[float, float]) -> tuple[float, float, xr.Dataset] | None:
+    """The band the verdict names (`Diagnosis.kk_valid_band`, impedax kk's) with its points, when
+    it is not ``run_band`` (the one refine acts on) and leaves out more than `KK_MASK_MAX_FRACTION`
+    of the points too: refine's note then names it (REAL CH Instruments: 4.64 Hz–82.5 kHz, not the
+    run 825 Hz–46.4 kHz); None otherwise."""
+    named = stop.kk_valid_band
+    if named is None or tuple(named) == tuple(run_band):
+        return None
+    f = ds["frequency"].values
+    band = ds.isel(frequency=np.nonzero((f >= named[0]) & (f <= named[1]))[0])
+    if 1 - band.sizes["frequency"] / ds.sizes["frequency"] <= KK_MASK_MAX_FRACTION:
+        return None
+    return named[0], named[1], band
 
 
 def _capacitors(fit: FitResult) -> list[tuple[str, str, Circuit, dict[str, float]]]:
@@ -1242,14 +1257,18 @@ def refine(
     picked = _best_within(first, limit)
     steps = _greedy([RefinementStep(first.baseline, None, None, first)], picked, limit, diagnosed, say, "")
     stop = steps[-1].diagnosis
-    if mask and stop.verdict == Verdict.DATA_INVALID and stop.misses_valid_band and stop.kk_valid_band is not None:
+    if mask and stop.verdict == Verdict.DATA_INVALID and stop.misses_run_band and stop.kk_run_band is not None:
         # the misfit left is the data's own over much of the band, but the model still misses the
         # band the KK test passes: judge it there (`_on_valid_band`), not give up on the whole,
         # when what it leaves out is at most the share a diagnosis leaves out (`KK_MASK_MAX_FRACTION`)
-        lo, hi = stop.kk_valid_band
+        lo, hi = stop.kk_run_band
         band = ds.isel(frequency=np.nonzero((ds["frequency"].values >= lo) & (ds["frequency"].values <= hi))[0])
         outside = 1 - band.sizes["frequency"] / ds.sizes["frequency"]
         if 0 < band.sizes["frequency"] < ds.sizes["frequency"] and outside > KK_MASK_MAX_FRACTION:
+            named = _named_band_instead(ds, stop, (lo, hi))  # (the verdict's band, impedax kk's, when it too leaves out more than that share)
+            if named is not None:
+                lo, hi, band = named
+                outside = 1 - band.sizes["frequency"] / ds.sizes["frequency"]
             notes.append(
                 f"the KK test passes only {format_frequency(lo)}–{format_frequency(hi)} ({band.sizes['frequency']} of {ds.sizes['frequency']} points), where {stop.baseline.model} "
                 f"misses the data clearly; refine does not start again there: it would leave out {outside * 100:.0f} % of the points, more than the "

@@ -1,0 +1,41 @@
+"""diagnose names the band to keep that ``impedax kk`` names (`kk.retested_band`), with the same
+--fmin/--fmax, and says why when it names a band kk does not (docs/diagnosis.md, section 1)."""
+
+from pathlib import Path
+
+import numpy as np
+
+import impedax as ix
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+
+
+def test_diagnose_names_the_band_and_trim_impedax_kk_names_on_real_ch_instruments():
+    """REAL CH Instruments: the full test leaves 825 Hz–46.4 kHz unflagged in one run, and diagnose
+    named it (--fmin 8e2 --fmax 5e4) where impedax kk names 4.64 Hz–82.5 kHz (--fmin 4.6 --fmax 8.3e4),
+    a band that passes a KK test of its own: one spectrum, two trims."""
+    data = ix.load(REAL / "exampleDataCHInstruments.txt")
+    kk = ix.kk_test(data, find_passing_band=True)
+    lo, hi = kk.passing_band
+    f = data["frequency"].values
+    assert ix.kk_test(data.isel(frequency=np.nonzero((f >= lo) & (f <= hi))[0])).valid  # (the oracle: the band passes by itself)
+    trim = " ".join(kk.suggested_options)
+    assert trim == "--fmin 4.6 --fmax 8.3e4"
+    d = ix.diagnose(data, "R0 + R1 || CPE1 + CPE2")
+    assert d.verdict.value == "data_invalid" and d.masked_points == ()  # (the decision is unchanged)
+    assert "passes at 4.64 Hz–82.5 kHz" in d.reason and f"({trim})" in d.reason, d.reason
+    assert "825 Hz–46.4 kHz (" not in d.reason and "--fmin 8e2" not in d.reason, d.reason
+    assert d.summary()["kk_valid_band"] == [lo, hi]
+    assert d.kk_run_band == (825.2, 46440.0)  # (refine still acts on the run the full test leaves unflagged)
+
+
+def test_diagnose_says_why_impedax_kk_names_no_band_on_real_gamry():
+    """REAL Gamry: the full test leaves 2.53 kHz–200 kHz unflagged (20 of 72 points) and diagnose
+    advises it, while impedax kk names no trim (it keeps at least half of the points): the note says so."""
+    data = ix.load(REAL / "exampleDataGamry.DTA")
+    kk = ix.kk_test(data, find_passing_band=True)
+    assert kk.passing_band is None and kk.suggested_options == []
+    d = ix.diagnose(data, "R0 + R1 || CPE1")
+    kept = d.kk_flagged_kept
+    assert "2.53 kHz–200 kHz" in kept and "(--fmin 2.5e3)" in kept, kept
+    assert "impedax kk names no trim" in kept and "half of the 72 points" in kept, kept
