@@ -1,11 +1,15 @@
 """diagnose names the band to keep that ``impedax kk`` names (`kk.retested_band`), with the same
---fmin/--fmax, and says why when it names a band kk does not (docs/diagnosis.md, section 1)."""
+--fmin/--fmax, and says why when it names a band kk does not; a KK result given for another
+frequency grid than the fit's is refused (docs/diagnosis.md, "Is it the data or the model?")."""
 
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import impedax as ix
+from impedax.errors import ParameterError
+from impedax.fitting.diagnosis.effects import DEFAULT_EFFECTS
 
 REAL = Path(__file__).parent / "fixtures" / "real"
 
@@ -39,3 +43,20 @@ def test_diagnose_says_why_impedax_kk_names_no_band_on_real_gamry():
     kept = d.kk_flagged_kept
     assert "2.53 kHz–200 kHz" in kept and "(--fmin 2.5e3)" in kept, kept
     assert "impedax kk names no trim" in kept and "half of the 72 points" in kept, kept
+
+
+def test_a_kk_result_of_another_grid_is_refused_by_name_and_one_of_the_full_data_still_serves_a_trimmed_fit():
+    """Before: a KK result of every other point of REAL CH Instruments was never placed on the fit's
+    points: nothing masked, no word. The KK test of the full data with a fit over --fmin/--fmax
+    is legitimate (its grid holds the fit's points)."""
+    data = ix.load(REAL / "exampleDataCHInstruments.txt")
+    other = ix.kk_test(data.isel(frequency=slice(None, None, 2)))
+    with pytest.raises(ParameterError) as err:
+        ix.diagnose(data, "R0 + R1 || CPE1", kk=other)
+    message = str(err.value)
+    assert "37 frequencies" in message and "73" in message and "100 mHz" in message, message
+    full = ix.kk_test(data)
+    d = ix.diagnose(data, "R0 + R1 || CPE1", kk=full, fmin=5, fmax=9e4, effects=DEFAULT_EFFECTS.select(()), drt_evidence=False)
+    f = data["frequency"].values
+    # (placed on the fit's 51 points: its flags at the trimmed band's ends are masked there)
+    assert d.baseline.n_points + len(d.masked_points) == np.count_nonzero((f >= 5) & (f <= 9e4)) and len(d.masked_points) > 0

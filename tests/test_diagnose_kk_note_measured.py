@@ -1,10 +1,7 @@
-"""The diagnosis' note on a KK result it cannot place point by point (``kk=`` tested on other
-frequencies than the fit's) names the flagged range by its measured points, as the data line
-beside it does: SYNTHETIC data read "data: … in 1 mHz–3.98 Hz" above "note: the KK test flags
-1 mHz–5.01 Hz" (5.01 Hz is halfway between the measured 3.98 Hz and 6.31 Hz). Oracle: the grid
-the data were written on, and the frequencies the KK result flags."""
-
-import re
+"""A KK result of other frequencies than the fit's (``kk=``) is refused, both grids named by their
+measured points. Until 2026-12-06 it was never placed on the fit's points and a note named its
+flagged range (SYNTHETIC: "note: the KK test flags 1 mHz–5.01 Hz", then by its measured points,
+1 mHz–3.98 Hz), nothing masked. Oracle: the grid the data were written on."""
 
 import numpy as np
 import pytest
@@ -25,21 +22,16 @@ def _drifting_low_end():
     return f, z * (1 + 0.1 * np.cos(np.pi * x / 2) * (1 + 1j) / np.sqrt(2))
 
 
-@pytest.mark.slow  # (a diagnosis: about 20 s)
-def test_the_note_on_a_kk_result_of_other_frequencies_names_its_measured_points():
+@pytest.mark.slow  # (the baseline fit before the check: about 9 s)
+def test_a_kk_result_of_other_frequencies_is_refused_naming_both_grids_by_their_measured_points():
+    """Until 2026-12-06 such a result was never placed on the fit's points (a note named its flagged
+    range, nothing was masked); now it is refused, both grids named by their measured ends."""
     f, z = _drifting_low_end()
     ds = ix.make_spectrum(f, z)
-    kk = ix.kk_test(ds.isel(frequency=slice(0, 40)))  # (tested without the top point: kk= cannot be placed on the fit's points)
+    kk = ix.kk_test(ds.isel(frequency=slice(0, 40)))  # (tested without the top point)
     assert not kk.valid
-    d = ix.diagnose(ds, "R0 + R1 || C1", kk=kk, drt_evidence=False, n_starts=1, progress=None)
-    note, = [n for n in d.notes if n.startswith("the KK test flags") and "misfits there" in n]
-    named = re.findall(r"(\d+(?:\.\d+)?) (m|k)?Hz", note.split(":")[0])
-    named = [float(v) * {"m": 1e-3, "k": 1e3, None: 1.0, "": 1.0}[p] for v, p in named]
-    flagged = np.sort(kk.frequency[kk.flagged])
-    grid = {format_frequency(float(x)) for x in f}
-    for value in named:  # every frequency named is a measured one, not a band edge between two
-        assert format_frequency(value) in grid, note
-    assert format_frequency(named[0]) == format_frequency(flagged[0]) and format_frequency(named[-1]) in {format_frequency(x) for x in flagged}, note
-    # the data line names the same range
-    data_line, = [line for line in d.report().splitlines() if line.startswith("data:")]
-    assert note.split(": misfits")[0].removeprefix("the KK test flags ") in data_line, (note, data_line)
+    with pytest.raises(ix.ParameterError) as err:
+        ix.diagnose(ds, "R0 + R1 || C1", kk=kk, drt_evidence=False, n_starts=1, progress=None)
+    message = str(err.value)
+    assert f"40 frequencies, {format_frequency(f[0])}–{format_frequency(f[39])}" in message, message
+    assert f"41 frequencies, {format_frequency(f[0])}–{format_frequency(f[40])}" in message, message

@@ -1286,6 +1286,20 @@ def _kk_of(spectrum: xr.Dataset, notes: list[str], attrs: Mapping | None = None)
         return None
 
 
+def _require_kk_on_the_fit(kk: KKResult, frequency: np.ndarray) -> None:
+    """`ParameterError` when the KK result given (``kk=``) lacks some of the fit's frequencies
+    [Hz]: its flags and residuals are placed on the fit's points by frequency (`kk_indices`), and
+    before, a test of another grid was silently never placed (nothing masked, "adequate"). A test
+    of the full data with a fit over a part of it (--fmin/--fmax) holds them all."""
+    f_kk = np.asarray(kk.frequency, float)
+    if kk_indices(kk, frequency) is None:
+        grid = lambda f: f"{f.size} frequencies, {format_band(float(f.min()), float(f.max()))}"  # noqa: E731
+        raise ParameterError(
+            f"the KK result given (kk=) is of another frequency grid ({grid(f_kk)}) than the fit's ({grid(np.asarray(frequency, float))}): "
+            "it must hold every frequency of the fit; run the KK test on the data diagnosed (impedax.kk_test(data)), or leave kk out"
+        )
+
+
 class DataProblem(NamedTuple):
     """The data's own problems at the fit's points: why they are invalid (or None) and which
     points to mask (bool per point of the fit); when invalid, the band the KK test passes that a
@@ -2598,6 +2612,8 @@ def diagnose(
     if kk is None:
         say("the Kramers–Kronig test of the data")
         kk = _kk_of(spectrum, notes, data.attrs if data is not None else None)
+    else:
+        _require_kk_on_the_fit(kk, base.frequency)
     inconclusive = None  # (reported as the test; its flags and noise estimate would read the Voigt chain's misfit as noise)
     if kk is not None and not kk.conclusive:
         _require_noise_without_kk(kk.frequency.size, noise, sigma, source=data.attrs.get("source") if data is not None else None)
