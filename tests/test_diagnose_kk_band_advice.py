@@ -60,3 +60,13 @@ def test_a_kk_result_of_another_grid_is_refused_by_name_and_one_of_the_full_data
     f = data["frequency"].values
     # (placed on the fit's 51 points: its flags at the trimmed band's ends are masked there)
     assert d.baseline.n_points + len(d.masked_points) == np.count_nonzero((f >= 5) & (f <= 9e4)) and len(d.masked_points) > 0
+
+
+def test_the_points_kept_inside_the_band_are_named_with_the_exclude_impedax_kk_gives_on_real_biologic():
+    """REAL BioLogic: impedax kk says --exclude 5.34,56.2,123,270; diagnose's note said
+    --exclude 5.33641,56.2418,123.303,270.433 for the same four points."""
+    data = ix.load(REAL / "exampleDataBioLogic.mpt")
+    options = ix.kk_test(data, find_passing_band=True).suggested_options
+    assert options[0] == "--exclude"
+    d = ix.diagnose(data, "R0 + R1 || CPE1", effects=DEFAULT_EFFECTS.select(()), drt_evidence=False)
+    assert f"--exclude {options[1]} leaves these out too" in d.kk_flagged_kept, d.kk_flagged_kept

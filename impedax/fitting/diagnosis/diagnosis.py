@@ -1502,7 +1502,7 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     inside_words = None if not inside.any() else (
         f"the KK test flags {int(inside.sum())} point(s) inside the band ({runs_words(inside, fit.frequency)}): kept in every fit, as the data's problem there, not left out "
         f"(a diagnosis leaves out only a flagged run at an end of the band, where an instrument's limit or a drifting start or end of the sweep puts it; "
-        f"--exclude {','.join(f'{f:.6g}' for f in np.sort(fit.frequency[inside]))} leaves these out too)"
+        f"{left_out_words(left_out_options(fit.frequency[~inside], fit.frequency[inside]))} leaves these out too)"  # (impedax kk's words: REAL BioLogic --exclude 5.34,56.2,123,270)
     )
     if ends.any() and share_ends <= KK_MASK_MAX_FRACTION and n_left >= max(MIN_KEPT_POINTS, 3 * fit.n_params):
         island = ends & ~flagged
