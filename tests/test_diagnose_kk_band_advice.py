@@ -70,3 +70,18 @@ def test_the_points_kept_inside_the_band_are_named_with_the_exclude_impedax_kk_g
     assert options[0] == "--exclude"
     d = ix.diagnose(data, "R0 + R1 || CPE1", effects=DEFAULT_EFFECTS.select(()), drt_evidence=False)
     assert f"--exclude {options[1]} leaves these out too" in d.kk_flagged_kept, d.kk_flagged_kept
+
+
+def test_refine_s_note_names_the_band_impedax_kk_names_on_real_ch_instruments():
+    """REAL CH Instruments, refine stopping at its start (max_effects=0): its note said "the KK test
+    passes only 825 Hz–46.4 kHz (22 of 73 points) … it would leave out 70 %", beside a verdict and
+    an impedax kk naming 4.64 Hz–82.5 kHz; refine still does not start again (both leave out more
+    than the quarter it may)."""
+    data = ix.load(REAL / "exampleDataCHInstruments.txt")
+    lo, hi = ix.kk_test(data, find_passing_band=True).passing_band
+    f = data["frequency"].values
+    inside = int(np.count_nonzero((f >= lo) & (f <= hi)))
+    r = ix.refine(data, "R0 + R1 || CPE1 + CPE2", max_effects=0)
+    assert r.verdict.value == "data_invalid" and r.masked_points == ()
+    note, = [n for n in r.notes if n.startswith("the KK test passes only")]
+    assert f"passes only 4.64 Hz–82.5 kHz ({inside} of {f.size} points)" in note and f"leave out {(1 - inside / f.size) * 100:.0f} %" in note, note
