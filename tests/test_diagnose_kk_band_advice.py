@@ -31,6 +31,8 @@ def test_diagnose_names_the_band_and_trim_impedax_kk_names_on_real_ch_instrument
     assert "825 Hz–46.4 kHz (" not in d.reason and "--fmin 8e2" not in d.reason, d.reason
     assert d.summary()["kk_valid_band"] == [lo, hi]
     assert d.kk_run_band == (825.2, 46440.0)  # (refine still acts on the run the full test leaves unflagged)
+    # the same with kk= impedax kk's own result (which holds its passing band already)
+    assert ix.diagnose(data, "R0 + R1 || CPE1 + CPE2", kk=kk).reason == d.reason
 
 
 def test_diagnose_says_why_impedax_kk_names_no_band_on_real_gamry():

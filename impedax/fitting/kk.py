@@ -422,6 +422,13 @@ class KKResult:
         lo, hi = self.passing_band
         return np.sort(self.frequency[(self.frequency < lo) | (self.frequency > hi)])
 
+    @property
+    def searches_passing_band(self) -> bool:
+        """Whether `kk_test(find_passing_band=True)` searches a passing band for this result
+        (`retested_band`): the test failed, conclusively, not by the sign, not by marginal points
+        alone, and the bands' rules leave no point out (a result that holds its band already too)."""
+        return not (self.valid or self.sign_hint or not self.conclusive or self._excludable_by_bands().size or self.marginal_points_only)
+
     def _excludable_by_bands(self) -> np.ndarray:
         """`excludable_frequencies` by the bad bands' rules alone."""
         if self.valid or self.sign_hint:
@@ -1470,7 +1477,7 @@ def retested_band(result: KKResult, freq, z, *, sigma=None, **options) -> tuple[
     ``result`` of (``freq`` [Hz], ``z`` [Ω]): `passing_band` keeping at least half of the points,
     searched only when the test failed and the bands' rules leave no point out; None otherwise or
     when none passes. ``diagnose`` names the same band (one trim for one spectrum)."""
-    if result.valid or result.sign_hint or not result.conclusive or result.excludable_frequencies.size or result.marginal_points_only:
+    if not result.searches_passing_band:
         return None
     return passing_band(freq, z, sigma=sigma, min_points=max(CONCLUSIVE_POINTS_MIN, math.ceil(np.size(freq) / 2)), **options)
 

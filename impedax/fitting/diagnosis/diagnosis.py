@@ -1391,7 +1391,8 @@ def _valid_band_words(fit: FitResult, kk: KKResult, run: np.ndarray, dkk: np.nda
 
 
 _KK_NAMED: dict[tuple[bytes, bytes], tuple[float, float, KKResult] | None] = {}
-"""`retested_band` by the fit's (frequency, Z), the last few: refine diagnoses one spectrum many times."""
+"""`retested_band` by the fit's (frequency, Z), the last few (its search depends on them alone, with
+the default options diagnose's test has): refine diagnoses one spectrum many times."""
 
 
 def _kk_named_band(fit: FitResult, kk: KKResult | None) -> tuple[np.ndarray, np.ndarray] | None:
@@ -1400,7 +1401,7 @@ def _kk_named_band(fit: FitResult, kk: KKResult | None) -> tuple[np.ndarray, np.
     |Δ| per point (0 outside); None when it names none, when ``kk`` is of another grid than the
     fit's (the fit over a part of the data), or for a stand-in without the data."""
     z = getattr(fit, "z_data", None)
-    if z is None or not isinstance(kk, KKResult) or np.size(kk.frequency) != fit.n_points or kk_indices(kk, fit.frequency) is None:
+    if z is None or not isinstance(kk, KKResult) or np.size(kk.frequency) != fit.n_points or kk_indices(kk, fit.frequency) is None or not kk.searches_passing_band:
         return None
     key = (np.asarray(fit.frequency, float).tobytes(), np.asarray(z, complex).tobytes())
     if key not in _KK_NAMED:
@@ -1421,7 +1422,7 @@ def _unnamed_by_kk(kk: KKResult | None, n_points: int) -> str:
     """Why ``impedax kk`` names no trim where diagnose names the run the full test leaves
     unflagged: it keeps at least half of the points (`retested_band`); "" when kk's test is not
     the fit's or it does name one."""
-    if not isinstance(kk, KKResult) or np.size(kk.frequency) != n_points or kk.valid or kk.suggested_options or kk.passing_band is not None:
+    if not isinstance(kk, KKResult) or np.size(kk.frequency) != n_points or not kk.searches_passing_band:
         return ""
     return f"; the run the full test leaves unflagged: impedax kk names no trim, as no band keeping at least half of the {n_points} points passes"
 
