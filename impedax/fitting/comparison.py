@@ -546,7 +546,8 @@ class Comparison:
         table = self.to_table()
         for column in ("bounds", "undetermined"):
             data[column] = ("model", [row[column] for row in table])
-        return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]}).copy(deep=True)
+        # ``impedax_kind`` (added 2026-12-06): `impedax.load` of the written .nc names it, not "no variable 'Z'"
+        return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]}, attrs={"impedax_kind": "comparison"}).copy(deep=True)
 
     def _repr_html_(self) -> str:
         """The notebook display, as `FitResult`'s: a row per model (its label, k, rms_rel,

@@ -193,6 +193,7 @@ RESULT_KINDS = {
     # (their spectrum is the kept points' data; the fit inside them is read with the call named)
     "refinement": ("refinement (impedax refine) with its final fit", "Refinement.final_fit_of"),
     "diagnosis": ("diagnosis (impedax diagnose) with its baseline fit", "Diagnosis.baseline_of"),
+    "comparison": ("comparison of models on one spectrum (impedax compare)", "impedax.io.read_netcdf"),
     "batch_comparison": ("comparison of models over many spectra (impedax compare)", "BatchComparison.from_xarray"),
 }
 
