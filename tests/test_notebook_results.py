@@ -31,3 +31,35 @@ def test_a_comparison_nc_given_as_data_is_named(data, tmp_path):
     back = ix.io.read_netcdf(out)
     assert list(back["model"].values) == ["R0 + R1 || C1", "R0 + R1 || CPE1"]
     np.testing.assert_allclose(back["aic"].values, [row["aic"] for row in comparison.rows])
+
+
+def _report_strays(report: str) -> list[float]:
+    """The stray points the report names, in Hz, read off its words ("5.34 Hz, 56.2 Hz, 270 Hz")."""
+    line = next(l for l in report.splitlines() if l.startswith("left out of the chain's fit as stray"))
+    scale = {"m": 1e-3, "": 1.0, "k": 1e3}
+    return [float(v) * scale[p] for v, p in re.findall(r"([\d.]+) (m|k|)Hz", line.split(":", 1)[1].split(";")[0])]
+
+
+def test_a_kk_tests_nc_holds_the_stray_points_its_report_names(data, tmp_path):
+    """The REAL BioLogic file's report says the chain was fitted without 5.34, 56.2 and 270 Hz;
+    ``to_xarray`` (and so ``impedax kk --out kk.nc``) held the chain (``Z_kk``, ``resistance``)
+    with no word of which points it was fitted without."""
+    result = ix.kk_test(data)
+    named = _report_strays(result.report())
+    assert len(named) == 3
+    out = tmp_path / "kk.nc"
+    ix.write_result(result, out)
+    for ds in (result.to_xarray(), ix.io.read_netcdf(out)):
+        stray = ds["stray"]
+        assert stray.dtype == bool and stray.dims == ("frequency",)
+        np.testing.assert_allclose(np.sort(ds["frequency"].values[stray.values]), named, rtol=5e-3)
+
+
+def test_a_kk_batchs_dataset_holds_each_spectrums_stray_points(data):
+    """`KKBatchResult.to_xarray` holds the same ``stray`` per spectrum as each one's own."""
+    stacked = ix.make_spectrum(data["frequency"].values, np.stack([data["Z"].values, data["Z"].values * 2]), dims=("cell",))
+    batch = ix.kk_test_batch(stacked)
+    ds = batch.to_xarray()
+    single = ix.kk_test(data).to_xarray()["stray"].values
+    assert ds["stray"].dims == ("cell", "frequency")
+    np.testing.assert_array_equal(ds["stray"].values, [single, single])

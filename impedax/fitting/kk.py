@@ -256,6 +256,7 @@ class KKResult:
                 "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": ("frequency", self.flagged, {"long_name": "point flagged as not KK-consistent (a bad band may hold unflagged points)"}),
                 "point_scale": ("frequency", np.array(self.scale_per_point, float), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),  # (added 2026-12-02)
+                "stray": ("frequency", self.stray_points, {"long_name": STRAY_LONG_NAME}),  # (added 2026-12-06)
                 "bad_band_f_min": ("band", lo, {"units": "Hz"}),
                 "bad_band_f_max": ("band", hi, {"units": "Hz"}),
                 "time_constant": ("rc", self.time_constants, {"units": "s"}),
@@ -373,6 +374,11 @@ class KKResult:
         """The scale s each point was judged against (data order): ``point_scale`` when judged by
         the stated σ, else ``threshold_scale`` at every point."""
         return np.broadcast_to(self.threshold_scale if self.point_scale is None else self.point_scale, self.frequency.shape)
+
+    @property
+    def stray_points(self) -> np.ndarray:
+        """Which points (data order) the chain was fitted without as stray (`stray_frequencies`)."""
+        return np.isin(self.frequency, self.stray_frequencies)
 
     def _rule_masks(self) -> tuple[np.ndarray, dict[str, np.ndarray], np.ndarray]:
         """(this result's flags, each rule's flags, the frequencies) in frequency order, at
@@ -665,8 +671,11 @@ fit's residuals are model minus data: docs/physics.md), as their ``long_name``s.
 POINT_SCALE_LONG_NAME = "scale s each point's residuals were judged against, relative to |Z_data| (its sigma/|Z| when judged by sigma, else the one noise estimate's)"
 """``point_scale``'s ``long_name`` (`KKResult.scale_per_point`): the flags' thresholds are multiples of it."""
 
+STRAY_LONG_NAME = "stray point left out of the Voigt chain's fit (Z_kk, resistance) and judged against the chain without it"
+"""``stray``'s ``long_name`` (`KKResult.stray_points`)."""
+
 BATCH_RESULT_NAMES = frozenset({
-    "frequency", "band", "rc", "Z", "Z_kk", "residuals_real", "residuals_imag", "flagged", "point_scale", "bad_band_f_min", "bad_band_f_max", "time_constant", "resistance",
+    "frequency", "band", "rc", "Z", "Z_kk", "residuals_real", "residuals_imag", "flagged", "point_scale", "stray", "bad_band_f_min", "bad_band_f_max", "time_constant", "resistance",
     "n_rc", "mu", "rms_rel", "noise_estimate", "valid", "conclusive", "series_resistance", "series_inductance", "inverse_series_capacitance",
 })
 """The dimensions and variables of `KKBatchResult.to_xarray`'s Dataset: `kk_test_batch` refuses a
@@ -747,6 +756,7 @@ class KKBatchResult(ResultGrid):
                 "residuals_imag": (per_freq, stack(lambda r: r.residuals_imag), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": (per_freq, stack(lambda r: r.flagged).astype(bool)),
                 "point_scale": (per_freq, stack(lambda r: r.scale_per_point), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),  # (added 2026-12-02)
+                "stray": (per_freq, stack(lambda r: r.stray_points).astype(bool), {"long_name": STRAY_LONG_NAME}),  # (added 2026-12-06)
                 "bad_band_f_min": ((*dims, "band"), stack(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
                 "bad_band_f_max": ((*dims, "band"), stack(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"}),
                 "time_constant": ((*dims, "rc"), stack(lambda r: r.time_constants, n_rc), {"units": "s"}),
