@@ -490,7 +490,8 @@ def closest_name(name: str, known: Sequence[str], *, impedance_py_symbols: Mappi
     """The parameter of ``known`` a mistyped ``name`` most likely means, or None: the one
     equal but for case (``r1`` → ``R1``); else, for ``ELEMENT.attr``, the parameter of that
     element (case aside) whose attribute starts with the typed one (``CPE1.a`` →
-    ``CPE1.alpha``, not the closer spelling ``CPE1.Q``); else the impedax name of an
+    ``CPE1.alpha``, not the closer spelling ``CPE1.Q``) or whose attribute other tools call so
+    (`OTHER_PARAMETER_NAMES`: ``CPE1.n`` → ``CPE1.alpha``); else the impedax name of an
     impedance.py parameter name (`impedance_py_parameter`: ``CPE1_1`` → ``CPE1.alpha``, ``W1`` →
     ``W1.sigma``) or of an AutoEIS one (`autoeis_parameter`: ``P4n`` → ``CPE4.alpha``); else
     the closest spelling (`difflib`)."""
@@ -504,6 +505,9 @@ def closest_name(name: str, known: Sequence[str], *, impedance_py_symbols: Mappi
         started = [k for k in same_element if k.partition(".")[2].casefold().startswith(attribute.casefold())]
         if started:
             return started[0]
+        named = [k for k in same_element if k.partition(".")[2] == OTHER_PARAMETER_NAMES.get(attribute.casefold())]
+        if named:
+            return named[0]
     meant = impedance_py_parameter(name, known, impedance_py_symbols) or autoeis_parameter(name, known)
     if meant:
         return " or ".join(meant)
@@ -556,6 +560,12 @@ def autoeis_parameter(name: str, known: Sequence[str]) -> list[str]:
     if not suffix or len(parameters) != 2:
         return parameters
     return [parameters["wn".index(suffix)]]
+
+
+OTHER_PARAMETER_NAMES = {"n": "alpha", "p": "alpha", "t": "Q", "y0": "Q"}
+"""Other tools' and papers' names of an element's parameter (case aside) → impedax's, where the
+element has it: a CPE's exponent n (ZView's CPE-P) and magnitude T (ZView) or Y0 (Gamry).
+``CPE1.n`` was told "did you mean CPE1.Q?", the closer spelling (2026-12-06)."""
 
 
 def unknown_parameter(what: str, name, known, circuit: object = None, *, impedance_py_symbols: Mapping[str, str] | None = None) -> ParameterError:

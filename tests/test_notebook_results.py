@@ -63,3 +63,16 @@ def test_a_kk_batchs_dataset_holds_each_spectrums_stray_points(data):
     single = ix.kk_test(data).to_xarray()["stray"].values
     assert ds["stray"].dims == ("cell", "frequency")
     np.testing.assert_array_equal(ds["stray"].values, [single, single])
+
+
+@pytest.mark.parametrize("typed, meant", [("CPE1.n", "CPE1.alpha"), ("CPE1.P", "CPE1.alpha"), ("CPE1.phi", "CPE1.alpha"),
+                                          ("CPE1.T", "CPE1.Q"), ("CPE1.Y0", "CPE1.Q"), ("Wo1.T", "Wo1.tau")])
+def test_other_tools_names_of_a_parameter_are_hinted(data, typed, meant):
+    """A CPE's exponent is n in most papers (ZView's CPE-P), its magnitude T (ZView)
+    or Y0 (Gamry): ``init={"CPE1.n": 0.9}`` was told "did you mean CPE1.Q?", the closer spelling
+    and the wrong parameter. The hint names the parameter those names mean, for init, fixed and
+    bounds alike, before any fit."""
+    model = "R0 + R1 || CPE1 + Wo1"
+    for keyword, value in (("init", {typed: 0.9}), ("fixed", {typed: 0.9}), ("bounds", {typed: (0.5, 1.0)})):
+        with pytest.raises(ix.ParameterError, match=re.escape(f"{keyword}: unknown parameter {typed!r} for {model}; did you mean {meant}?")):
+            ix.fit(model, data, **{keyword: value})
