@@ -206,12 +206,13 @@ def test_the_batch_dataset_holds_what_each_spectrums_dataset_holds(cycles):
 
 def test_a_drt_batch_repr_is_one_line(cycles):
     """The generated repr printed every spectrum's arrays; now one line: the count, the counted
-    peaks (two arcs per cycle, τ 1 ms and 1 s) and the fits' rms_rel."""
+    peaks (two arcs per cycle, τ 1 ms and 1 s: "2 counted peak(s) each", 2026-12-06; "2 counted
+    peak(s)" of 2 spectra read as two in all) and the fits' rms_rel."""
     path, _ = cycles
     batch = drt(path)
     low, high = (f"{v * 100:.3g}" for v in sorted(r.rms_rel for r in batch.results))
     span = low if low == high else f"{low}–{high}"
-    assert repr(batch) == f"DRTBatchResult(2 spectra over cycle: 2 counted peak(s), rms_rel {span} %)"
+    assert repr(batch) == f"DRTBatchResult(2 spectra over cycle: 2 counted peak(s) each, rms_rel {span} %)"
 
 
 def test_the_batch_summary_reads_each_spectrum_s_suggestion_once(cycles, monkeypatch):

@@ -527,12 +527,12 @@ class DRTBatchResult(ResultGrid):
     results: tuple[DRTResult, ...]
 
     def __repr__(self) -> str:
-        """One line: how many spectra over which dimensions, their counted peaks and rms_rel
+        """One line: how many spectra over which dimensions, the counted peaks of each and rms_rel
         (the generated repr printed every spectrum's arrays)."""
         peaks = [len(counted_peaks(r.peaks)) for r in self.results]
         rms = [r.rms_rel * 100 for r in self.results]
         return (f"DRTBatchResult({counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: "
-                f"{_span(min(peaks), max(peaks), '{}')} counted peak(s), rms_rel {_span(min(rms), max(rms), '{:.3g}')} %)")
+                f"{_span(min(peaks), max(peaks), '{}')} counted peak(s){' each' if len(peaks) > 1 else ''}, rms_rel {_span(min(rms), max(rms), '{:.3g}')} %)")
 
     @property
     def gamma(self) -> np.ndarray:
