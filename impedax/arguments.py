@@ -249,6 +249,15 @@ def flag(value, name):
     return bool(value)
 
 
+def progress_line_flag(value, name):
+    """`flag` for a run whose progress is its own line on stderr (`sample`): a callback, which
+    `fit`, `diagnose` and `refine` take (``progress=print``, README), is named as theirs."""
+    if callable(value):
+        raise ParameterError(f"{name} must be True or False here: sample's progress is its own line on stderr (steps, time left); "
+                             f"a callback such as progress=print is taken by fit, diagnose and refine")
+    return flag(value, name)
+
+
 def reads_as_number(value) -> bool:
     """A real number, or a string that reads as one (``"0.01"``, ``"1%"``)."""
     if isinstance(value, str):

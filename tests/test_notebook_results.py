@@ -76,3 +76,12 @@ def test_other_tools_names_of_a_parameter_are_hinted(data, typed, meant):
     for keyword, value in (("init", {typed: 0.9}), ("fixed", {typed: 0.9}), ("bounds", {typed: (0.5, 1.0)})):
         with pytest.raises(ix.ParameterError, match=re.escape(f"{keyword}: unknown parameter {typed!r} for {model}; did you mean {meant}?")):
             ix.fit(model, data, **{keyword: value})
+
+
+def test_sample_given_a_progress_callback_says_whose_that_is(data):
+    """The README says a long call's stages go to ``progress=print``: `fit`, `diagnose` and
+    `refine` take a callback, `sample` draws its own line on stderr and was told only "progress
+    must be True or False, got <built-in function print>". Refused before any work, naming the
+    functions that take one."""
+    with pytest.raises(ix.ParameterError, match=r"progress must be True or False.*own line on stderr.*progress=print.*fit, diagnose and refine"):
+        ix.sample("R0 + R1 || CPE1", data, progress=print, steps=20)

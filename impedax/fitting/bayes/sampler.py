@@ -18,7 +18,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choice, closest_name, count, flag, frequency, instance_of, number_text, parameter_bounds, parameter_values, seed as seed_rule, unknown_parameter
+from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choice, closest_name, count, frequency, instance_of, number_text, parameter_bounds, parameter_values, progress_line_flag, seed as seed_rule, unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
@@ -415,7 +415,7 @@ def _chain_fits_in_memory(arguments) -> None:
     priors=instance_of(Mapping, optional=True, what="a mapping name → Prior or 'kind:a,b'"), noise=choice(NOISE_MODELS, label="noise model", if_number="a number is a noise level, which diagnose and refine take; the proportional model samples it as sigma_rel"),
     walkers=count(2, MAX_WALKERS, optional=True), steps=steps_rule,
     burn=count(0, optional=True), thin=count(1), seed=seed_rule, fixed=parameter_values(), bounds=parameter_bounds,
-    reparametrization=instance_of(Reparametrization, optional=True), fmin=frequency, fmax=frequency, progress=flag,
+    reparametrization=instance_of(Reparametrization, optional=True), fmin=frequency, fmax=frequency, progress=progress_line_flag,
     registry=instance_of(Registry, optional=True),
 )
 def sample(
