@@ -142,6 +142,16 @@ _LAZY = {
 }
 
 
+# the commands whose Python function has another name (``ix.kk(data)`` raised a bare AttributeError)
+_COMMAND_FUNCTIONS = {
+    "kk": "impedax.kk_test (several spectra: kk_test_batch; --method zhit: zhit)",
+    "stack": "impedax.stack_files",
+    "draw": "impedax.draw_circuit",
+    "gap": "impedax.models.gap_analysis",
+    "remaining": "impedax.models.gap.gap_remainder",
+}
+
+
 def clear_caches() -> None:
     """Release every compiled program impedax and JAX hold in this process: solvers, samplers,
     circuit programs, parsed circuits. Each compiled program keeps its machine code mapped, and
@@ -186,7 +196,8 @@ def __getattr__(name: str):
     try:
         module, attribute = _LAZY[name]
     except KeyError:
-        raise AttributeError(f"module 'impedax' has no attribute {name!r}") from None
+        command = f"; the command impedax {name} is {_COMMAND_FUNCTIONS[name]}" if name in _COMMAND_FUNCTIONS else ""
+        raise AttributeError(f"module 'impedax' has no attribute {name!r}{command}") from None
     value = _importlib.import_module(module, __name__)
     value = value if attribute is None else getattr(value, attribute)
     globals()[name] = value

@@ -85,3 +85,15 @@ def test_sample_given_a_progress_callback_says_whose_that_is(data):
     functions that take one."""
     with pytest.raises(ix.ParameterError, match=r"progress must be True or False.*own line on stderr.*progress=print.*fit, diagnose and refine"):
         ix.sample("R0 + R1 || CPE1", data, progress=print, steps=20)
+
+
+@pytest.mark.parametrize("command, named", [("kk", "impedax.kk_test"), ("stack", "impedax.stack_files"), ("draw", "impedax.draw_circuit"),
+                                            ("gap", "impedax.models.gap_analysis"), ("remaining", "impedax.models.gap.gap_remainder")])
+def test_a_command_name_used_in_python_names_its_function(command, named):
+    """``ix.kk(data)``, the command's name, raised "module 'impedax' has no attribute 'kk'" with no
+    hint (Python suggests close spellings only, and kk_test is not one); the command names whose
+    function has another name point at it. Each named function exists."""
+    with pytest.raises(AttributeError, match=re.escape(f"module 'impedax' has no attribute {command!r}; the command impedax {command} is {named}")):
+        getattr(ix, command)
+    module, _, name = named.rpartition(".")
+    assert callable(getattr(__import__(module, fromlist=[name]), name))
