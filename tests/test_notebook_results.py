@@ -3,10 +3,14 @@ what a result's ``to_xarray`` and its written ``.nc`` hold, and what reading one
 
 from __future__ import annotations
 
+import copy
+import dataclasses
+import pickle
 import re
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import impedax as ix
 from impedax.errors import DataError
@@ -97,3 +101,22 @@ def test_a_command_name_used_in_python_names_its_function(command, named):
         getattr(ix, command)
     module, _, name = named.rpartition(".")
     assert callable(getattr(__import__(module, fromlist=[name]), name))
+
+
+@pytest.mark.parametrize("copier", [lambda r: pickle.loads(pickle.dumps(r)), copy.deepcopy], ids=["pickle", "deepcopy"])
+def test_a_result_copied_by_pickle_or_deepcopy_stays_read_only(data, copier):
+    """A fit, a KK test, a DRT, a Z-HIT and a comparison sent through pickle (a notebook's saved
+    state, multiprocessing, joblib) or ``copy.deepcopy`` came back with writable arrays: ``r.z_data[0]
+    = 0`` changed the copy's report silently, which the original refuses ("Results are
+    read-only"). Each copy holds the same numbers and refuses edits as the original does."""
+    from test_frozen_results import assert_read_only
+
+    fit = ix.fit("R0 + R1 || CPE1", data, progress=False)
+    for result in (fit, ix.kk_test(data), ix.drt(data), ix.zhit(data), ix.compare([ix.fit("R0 + R1 || C1", data, progress=False), fit])):
+        copied = copier(result)
+        xr.testing.assert_identical(copied.to_xarray(), result.to_xarray())
+        if dataclasses.is_dataclass(copied) and any(isinstance(getattr(copied, f.name), (np.ndarray, dict, xr.Dataset)) for f in dataclasses.fields(copied)):
+            assert_read_only(copied)
+    copied = copier(fit)
+    with pytest.raises(ValueError, match="read-only"):
+        copied.z_data[0] = 0

@@ -18,7 +18,7 @@ from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOI
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key
 from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, data_difference, misfit_hint_spectra
-from .frozen import freeze_fields
+from .frozen import FrozenResult, freeze_fields
 
 __all__ = ["BatchComparison", "compare_batches", "PER_SPECTRUM_CRITERIA", "SUM_NOTE"]
 
@@ -41,7 +41,7 @@ EACH_SPECTRUM_WHERE = "comparison.to_table() or summary()['spectra']; one spectr
 
 
 @dataclass(frozen=True)
-class SpectrumStatistics:
+class SpectrumStatistics(FrozenResult):
     """One spectrum's fit in a batch as `criteria` reads a fit: N frequencies (``n_points``),
     k free parameters, χ², its ``weighting`` and the AIC and BIC the batch computed with the
     formula of `FitResult.aic` (`statistics.information_criteria`)."""
@@ -178,7 +178,7 @@ def _lead_text(model: dict) -> str:
 
 
 @dataclass(frozen=True, eq=False)
-class BatchComparison:
+class BatchComparison(FrozenResult):
     """Several models compared over the same spectra: ``dataset`` holds each spectrum's
     `PER_SPECTRUM_CRITERIA` over (model, *the batches' dimensions), and per model ``circuit``,
     ``n_params`` and ``aic_sum`` (`SUM_NOTE`), with its ``delta_aic_sum`` and

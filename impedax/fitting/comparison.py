@@ -21,7 +21,7 @@ from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
-from .frozen import freeze_fields
+from .frozen import FrozenResult, freeze_fields
 from .problem import WEIGHTING_SCALES
 from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
 
@@ -167,7 +167,7 @@ def held_values(fit: FitResult) -> dict[str, float]:
 
 
 @dataclass(frozen=True, eq=False)
-class Comparison:
+class Comparison(FrozenResult):
     """The comparison table, one row per model in the order given; ``best`` has the lowest AIC
     (AIC ranks; ``aic_form`` says which AIC, `criteria`; `best_aicc_index` the lowest AICc)."""
 

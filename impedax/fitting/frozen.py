@@ -18,7 +18,7 @@ import jax
 import numpy as np
 import xarray as xr
 
-__all__ = ["ReadOnlyDict", "freeze_fields", "read_only", "read_only_array", "read_only_dataset"]
+__all__ = ["FrozenResult", "ReadOnlyDict", "freeze_fields", "read_only", "read_only_array", "read_only_dataset"]
 
 
 class ReadOnlyDict(dict):
@@ -104,6 +104,16 @@ def read_only(value):
     if type(value) is tuple and any(isinstance(v, (np.ndarray, dict, tuple, xr.Dataset, xr.DataArray)) for v in value):
         return tuple(read_only(v) for v in value)
     return value
+
+
+class FrozenResult:
+    """Base of the results whose ``__post_init__`` calls `freeze_fields`: a copy made by pickle
+    or ``copy.deepcopy``, which rebuild NumPy arrays writable and skip ``__post_init__``, is
+    made read-only again (a pickled fit's ``z_data[0] = 0`` changed its report, 2026-12-06)."""
+
+    def __setstate__(self, state) -> None:
+        self.__dict__.update(state)
+        freeze_fields(self)
 
 
 def freeze_fields(result) -> None:

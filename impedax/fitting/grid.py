@@ -16,7 +16,7 @@ import xarray as xr
 from ..arguments import shown
 from ..data import label_value
 from ..errors import IN_MEMORY, DataError, ParameterError
-from .frozen import freeze_fields
+from .frozen import FrozenResult, freeze_fields
 
 __all__ = ["ResultGrid", "refuse_result_names", "aligned_values"]
 
@@ -37,7 +37,7 @@ def refuse_result_names(batch_dims: Sequence[str], result_names: Collection[str]
 
 
 @dataclass(frozen=True, eq=False)
-class ResultGrid:
+class ResultGrid(FrozenResult):
     """``results`` in C order over ``dims`` (sizes ``shape``, coordinates ``coords``);
     ``grid[i, j]`` (integer positions) gives one result."""
 

@@ -30,7 +30,7 @@ from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
-from .frozen import freeze_fields
+from .frozen import FrozenResult, freeze_fields
 
 __all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "retested_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
@@ -150,7 +150,7 @@ def band_name(points) -> str:
 
 
 @dataclass(frozen=True, eq=False)
-class KKResult:
+class KKResult(FrozenResult):
     """Outcome of the linear Kramers–Kronig test on one spectrum (arrays in the data's order).
 
     ``residuals_real``/``residuals_imag`` are Δ = (Z_data − Z_kk)/|Z_data| (dimensionless);

@@ -45,7 +45,7 @@ from ..errors import DataError, ParameterError
 from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, non_passive_words
-from .frozen import freeze_fields
+from .frozen import FrozenResult, freeze_fields
 
 __all__ = ["ZHITResult", "zhit", "END_LAYER", "END_REACH", "CONCLUSIVE_PER_DECADE_MIN", "BIN_PER_DECADE", "REFERENCE_POINTS"]
 
@@ -83,7 +83,7 @@ points a decade leave up to 4–16 %, against ≤ 3.4 % from 2 a decade up (`ZHI
 
 
 @dataclass(frozen=True, eq=False)
-class ZHITResult:
+class ZHITResult(FrozenResult):
     """Z-HIT of one spectrum (arrays in the data's order).
 
     ``modulus``: |Z| reconstructed from the phase [Ω]; ``residuals``: (|Z| − modulus)/|Z|

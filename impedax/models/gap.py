@@ -50,7 +50,7 @@ from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.kk import KKChains
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
-from ..fitting.frozen import freeze_fields
+from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
@@ -113,7 +113,7 @@ NO_AIR_GAP = "NO AIR GAP"
 
 
 @dataclass(frozen=True, eq=False)
-class GapAnalysis:
+class GapAnalysis(FrozenResult):
     """Result of `gap_analysis`. Lengths in m and capacitances in F inside; `summary` gives µm.
 
     ``method`` ``"hierarchical"``: u is the population median of the trials' gap thicknesses

@@ -56,7 +56,7 @@ from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, pa
 from ...data import column_width, make_spectrum, report_text
 from ...errors import DataError, FitError, ParameterError
 from ..derived import draw_indices
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 from .diagnostics import PiledUp, PriorEdges, prior_edges, reducing_bounds
 from .priors import Prior, PriorKind
 from .reparam import Reparametrization
@@ -670,7 +670,7 @@ def _rhat(x: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class HierarchicalPosterior(PiledUp):
+class HierarchicalPosterior(PiledUp, FrozenResult):
     """Draws of the hierarchical model (module docstring). Natural units (SI) throughout.
 
     ``mu`` (chains, draws, K): ln of the population median of each per-trial quantity;

@@ -26,7 +26,7 @@ from ..derived import bind_frequency, called, draw_indices, draws_band, needs_fr
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel
@@ -92,7 +92,7 @@ DERIVED_FROM_UNDETERMINED = "its interval shows where the priors take over, not 
 
 
 @dataclass(frozen=True, eq=False)
-class Posterior(PiledUp):
+class Posterior(PiledUp, FrozenResult):
     """Draws from the posterior of a circuit's parameters given one spectrum. Immutable.
 
     ``draws`` (walker, draw, param) are natural values of the sampled parameters ``names``

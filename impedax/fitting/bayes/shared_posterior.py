@@ -40,7 +40,7 @@ from ..least_squares.branches import left_to_priors
 from ..least_squares.result import parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
@@ -102,7 +102,7 @@ def _log_prob_functions(st: _Structure):
 
 
 @dataclass(frozen=True, eq=False)
-class SharedPosterior(PiledUp):
+class SharedPosterior(PiledUp, FrozenResult):
     """Draws from the joint posterior of a global fit. Immutable.
 
     ``names`` are the sampled parameters: the ``shared`` ones, then every other free parameter

@@ -75,7 +75,7 @@ from ..parameters import ParameterTable
 from ..problem import WEIGHTING_SCALES, WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from ..statistics import KK_RESIDUAL_NOISE, NOISE_OF_SIGMA, information_criteria, non_passive, non_passive_words, top_of_band
 from ..arcs import FAR_BEYOND_FACTOR, ArcBeyondBand, arcs_beyond_band
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 from ...data import format_band
 from .bands import FailingBand, failing_bands, format_frequency, RUN_P
 from .catalog import BaselineContext, Effect, EffectCatalog, Proposal
@@ -212,7 +212,7 @@ class Verdict(enum.StrEnum):
 
 
 @dataclass(frozen=True, eq=False)
-class Suggestion:
+class Suggestion(FrozenResult):
     """A candidate circuit (one effect at one placement) and its fit."""
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -292,7 +292,7 @@ class DRTCircuit:
 
 
 @dataclass(frozen=True, eq=False)
-class Diagnosis:
+class Diagnosis(FrozenResult):
     """Outcome of `diagnose`: the baseline fit, KK test, noise, failing bands, ranked
     candidates (``suggestions``: the significant ones, best first; ``candidates``: all) and the
     `Verdict` with its ``reason``; ``drt``: the data's DRT peaks against the baseline's

@@ -25,7 +25,7 @@ from ..parameters import ParameterTable
 from ..reductions import capacitor_name
 from ..problem import WEIGHTINGS, check_argument_order, circuit_parameters, open_spectrum
 from ..arcs import ArcBeyondBand, arcs_beyond_band
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 from .bands import format_frequency
 from .catalog import EffectCatalog
 from .diagnosis import CANDIDATE_STEPS, DELTA_AIC_MIN, KEPT_PASSING_LEAD, KK_MASK_MAX_FRACTION, NOISE_FRACTION_MIN, Diagnosis, DRTMemo, Verdict, beyond_catalog_words, diagnose, left_out_options, left_out_words, noise_variance_explained, non_passive_points, ranked_size, require_points_for_diagnosis, undetermined_parameters, unidentified_note, verdict_scope_words
@@ -37,7 +37,7 @@ __all__ = ["Refinement", "RefinementStep", "refine", "capacitor_name"]
 
 
 @dataclass(frozen=True, eq=False)
-class RefinementStep:
+class RefinementStep(FrozenResult):
     """One model of the loop: its fit, what was added to get it, its diagnosis, and the
     elements the step left out (`Suggestion.removed`); a step of `_simplified` or `_pruned`
     adds nothing (``added`` and ``effect`` None) and lists the element(s) it took out, and a
@@ -105,7 +105,7 @@ class RefinementStep:
 
 
 @dataclass(frozen=True, eq=False)
-class Refinement:
+class Refinement(FrozenResult):
     """Outcome of `refine`: the steps (first: the user's model), the final model and verdict."""
 
     __repr__ = concise_repr  # (the generated one printed every array)

@@ -22,7 +22,7 @@ import numpy as np
 from ...circuits.tree import Element, Parallel, Series
 from ...errors import CircuitError, ParameterError
 from ..arcs import arc_taus
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 
 # a ZARC with α ≥ 0.99 has a FWHM below 0.03 decade, finer than any τ grid it is drawn on:
 # it is reported as a delta (an R‖C) at its τ₀
@@ -60,7 +60,7 @@ def havriliak_negami_drt(tau, r: float, tau0: float, alpha: float, beta: float) 
 
 
 @dataclass(frozen=True, eq=False)
-class AnalyticDRT:
+class AnalyticDRT(FrozenResult):
     """The DRT of a circuit: ``gamma`` [Ω] on ``tau`` [s] (continuous part), ``deltas``
     ((τ [s], R [Ω]) of ideal R‖C blocks), ``r_inf_ohm``, ``l_h``, ``c_f`` (inf: none) and the
     circuit text."""

@@ -10,7 +10,7 @@ import numpy as np
 
 from ...data import format_quantity, format_time, format_uncertain
 from ...errors import DataError
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 from .peaks import RESOLVED_SIGMAS, Peak
 from .result import DRTResult
 
@@ -24,7 +24,7 @@ def is_resolved(peak: Peak) -> bool:
 
 
 @dataclass(frozen=True, eq=False)
-class PeakEvidence:
+class PeakEvidence(FrozenResult):
     """What the data's DRT says about a fitted circuit.
 
     ``data_peaks``/``model_peaks``: peaks of the data's DRT and of the DRT of the circuit's

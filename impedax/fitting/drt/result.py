@@ -13,7 +13,7 @@ from ...data import checked_frequencies, concise_repr, report_text, counted, for
 from ...errors import IN_MEMORY
 from .peaks import ROUNDOFF_SHARE, Peak, below_roundoff, counted_peaks
 from ..grid import ResultGrid
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 
 __all__ = ["DRTResult", "DRTBatchResult", "format_lambda"]
 
@@ -62,7 +62,7 @@ PREDICT_BLOCK = 32
 
 
 @dataclass(frozen=True, eq=False)
-class DRTResult:
+class DRTResult(FrozenResult):
     """The distribution of relaxation times of one spectrum (see `impedax.drt`).
 
     Z(ω) = R_∞ + jωL + 1/(jωC) + ∫ γ(ln τ)/(1 + jωτ) d ln τ.

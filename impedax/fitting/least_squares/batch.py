@@ -25,7 +25,7 @@ from ...data import column_width, concise_repr, exact_number, report_text, coord
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
 from ...warning_groups import grouped_warnings, warning_kinds
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 from ..grid import refuse_result_names
 from ..kk import KKChains
 from ..parameters import ParameterTable
@@ -96,7 +96,7 @@ def positional_labels_message(what: str, positional: tuple, dims: tuple[str, ...
 
 
 @dataclass(frozen=True, eq=False)
-class BatchFitResult:
+class BatchFitResult(FrozenResult):
     """Fits of one circuit to every spectrum of a Dataset with extra dimensions. Immutable.
 
     ``dataset`` holds ``value``/``stderr`` over (param, *dims) (stderr NaN at a bound, inf for a

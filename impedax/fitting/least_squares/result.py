@@ -17,7 +17,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, pa
 from ...data import checked_frequencies, column_width, concise_repr, exact_number, report_text, format_bound, format_factor, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
 from ...errors import DataError
 from ..arcs import BEYOND_BAND_FACTOR, ArcBeyondBand, arc_taus
-from ..frozen import freeze_fields
+from ..frozen import FrozenResult, freeze_fields
 from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
 from ..problem import WEIGHTING_SCALES
@@ -104,7 +104,7 @@ def without_sample_advice(text: str) -> str:
 
 
 @dataclass(frozen=True, eq=False)
-class FitResult:
+class FitResult(FrozenResult):
     """A least-squares fit of ``circuit`` to one spectrum. Immutable.
 
     ``values``/``stderr`` are keyed by parameter name (stderr NaN for fixed parameters);
