@@ -120,3 +120,11 @@ def test_a_result_copied_by_pickle_or_deepcopy_stays_read_only(data, copier):
     copied = copier(fit)
     with pytest.raises(ValueError, match="read-only"):
         copied.z_data[0] = 0
+
+
+@pytest.mark.parametrize("rule", ["gcv", "lcurve", "GCV"])
+def test_a_drts_rule_given_as_lam_names_lam_method(data, rule):
+    """``ix.drt(data, lam="gcv")``, the rule where λ goes (the command's ``--lam auto|VALUE`` beside
+    ``--lam-method gcv|lcurve``), was told only "lam must be 'auto' or a positive number"."""
+    with pytest.raises(ix.ParameterError, match=re.escape(f"lam must be 'auto' or a positive number, got {rule!r}; the rule that chooses λ is lam_method={rule.lower()!r} (with lam='auto')")):
+        ix.drt(data, lam=rule)

@@ -217,7 +217,8 @@ def drt(
         raise ParameterError(f"lam_method must be one of {', '.join(map(repr, LAMBDA_METHODS))}, got {lam_method!r}")
     if isinstance(lam, str):
         if lam != "auto":
-            raise ParameterError(f"lam must be 'auto' or a positive number, got {lam!r}")
+            rule = f"; the rule that chooses λ is lam_method={lam.lower()!r} (with lam='auto')" if lam.lower() in LAMBDA_METHODS else ""
+            raise ParameterError(f"lam must be 'auto' or a positive number, got {lam!r}{rule}")
         fixed = None
     else:
         try:
