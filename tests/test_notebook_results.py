@@ -128,3 +128,26 @@ def test_a_drts_rule_given_as_lam_names_lam_method(data, rule):
     ``--lam-method gcv|lcurve``), was told only "lam must be 'auto' or a positive number"."""
     with pytest.raises(ix.ParameterError, match=re.escape(f"lam must be 'auto' or a positive number, got {rule!r}; the rule that chooses λ is lam_method={rule.lower()!r} (with lam='auto')")):
         ix.drt(data, lam=rule)
+
+
+def test_a_comparisons_dataset_holds_its_f_tests(data, tmp_path):
+    """The report's F-test line ("F = 19.3, p = 1.66e-05" on REAL BioLogic, C1 nested in CPE1 at
+    α = 1) was in ``summary()`` but not in ``to_xarray`` nor the ``.nc`` it writes. Oracle: F from
+    the two fits' χ² and degrees of freedom, p from scipy's F distribution, halved for the
+    boundary (the 50:50 chi-bar-squared mixture the note names)."""
+    from scipy import stats
+
+    simple, complex_ = ix.fit("R0 + R1 || C1", data, progress=False), ix.fit("R0 + R1 || CPE1", data, progress=False)
+    comparison = ix.compare([simple, complex_])
+    n = 2 * data.sizes["frequency"]
+    f = (simple.chi2 - complex_.chi2) / (4 - 3) / (complex_.chi2 / (n - 4))
+    out = tmp_path / "c.nc"
+    ix.write_result(comparison, out)
+    for ds in (comparison.to_xarray(), ix.io.read_netcdf(out)):
+        assert ds.sizes["f_test"] == 1
+        assert str(ds["f_test_simple"].values[0]) == "R0 + R1 || C1" and str(ds["f_test_complex"].values[0]) == "R0 + R1 || CPE1"
+        np.testing.assert_allclose(ds["f_test_f"].values, [f], rtol=1e-9)
+        np.testing.assert_allclose(ds["f_test_p_value"].values, [0.5 * stats.f.sf(f, 1, n - 4)], rtol=1e-6)
+        assert list(ds["f_test_df2"].values) == [n - 4]
+        assert "chi-bar-squared" in str(ds["f_test_note"].values[0])
+        assert ds.attrs["aic_form"] == comparison.aic_form

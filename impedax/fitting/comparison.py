@@ -546,8 +546,18 @@ class Comparison(FrozenResult):
         table = self.to_table()
         for column in ("bounds", "undetermined"):
             data[column] = ("model", [row[column] for row in table])
+        # (added 2026-12-06) the F-tests of the report over ``f_test``: the models by their labels,
+        # F, its degrees of freedom, p, whether it holds and the note ("" for none)
+        tests = self.f_tests
+        data.update({
+            "f_test_simple": ("f_test", np.array([t["simple_label"] for t in tests], str)), "f_test_complex": ("f_test", np.array([t["complex_label"] for t in tests], str)),
+            "f_test_f": ("f_test", np.array([t["f"] for t in tests], float)), "f_test_df1": ("f_test", np.array([t["df1"] for t in tests], int)),
+            "f_test_df2": ("f_test", np.array([t["df2"] for t in tests], int)),
+            "f_test_p_value": ("f_test", np.array([math.nan if t["p_value"] is None else t["p_value"] for t in tests], float)),
+            "f_test_valid": ("f_test", np.array([t["valid"] for t in tests], bool)), "f_test_note": ("f_test", np.array([t["note"] or "" for t in tests], str)),
+        })
         # ``impedax_kind`` (added 2026-12-06): `impedax.load` of the written .nc names it, not "no variable 'Z'"
-        return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]}, attrs={"impedax_kind": "comparison"}).copy(deep=True)
+        return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]}, attrs={"impedax_kind": "comparison", "aic_form": self.aic_form}).copy(deep=True)
 
     def _repr_html_(self) -> str:
         """The notebook display, as `FitResult`'s: a row per model (its label, k, rms_rel,
