@@ -91,7 +91,7 @@ def test_a_saved_refinement_holds_its_final_fit(swapped_candidate, tmp_path, cap
 
 def test_a_saved_diagnosis_holds_its_baseline(swapped_candidate, tmp_path, capsys):
     fit = swapped_candidate
-    candidate = SimpleNamespace(model=TWO_ARCS + " + L1", effect="inductance", rms_rel=0.01, delta_aic=-3.0, delta_bic=-1.0, significant=False)
+    candidate = SimpleNamespace(model=TWO_ARCS + " + L1", effect="inductance", rms_rel=0.01, delta_aic=-3.0, delta_bic=-1.0, significant=False, undetermined=(), warning=None)
     diagnosis = Diagnosis(
         baseline=fit, kk=None, noise=np.full(fit.frequency.size, 0.002), noise_source="given", failing_bands=(), candidates=(candidate,),
         verdict="adequate", reason="no effect", masked_points=(5.0,), masked_impedance=(3 - 4j,),

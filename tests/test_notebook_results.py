@@ -151,3 +151,24 @@ def test_a_comparisons_dataset_holds_its_f_tests(data, tmp_path):
         assert list(ds["f_test_df2"].values) == [n - 4]
         assert "chi-bar-squared" in str(ds["f_test_note"].values[0])
         assert ds.attrs["aic_form"] == comparison.aic_form
+
+
+def test_a_diagnosis_dataset_and_view_say_which_candidates_the_data_do_not_determine(data):
+    """On REAL BioLogic the report says "not proposed: R0 + (R1 + R_relax || C_relax) || C1 (rms_rel
+    2.77 %): the data do not determine R1, R_relax"; ``to_xarray`` (and ``diagnose --out d.nc``)
+    and the notebook table showed that candidate as ΔAIC −58 and "significant: no" with no word why.
+    Oracle: the names the report's "not proposed" lines give."""
+    diagnosis = ix.diagnose(data, "R0 + R1 || C1", progress=False)
+    named = {m: names.split(", ") for m, names in re.findall(r"not proposed: (.+?) \(rms_rel [^)]*\): the data do not determine ([^(]+?) \(", diagnosis.report())}
+    assert "R0 + (R1 + R_relax || C_relax) || C1" in named
+    ds = diagnosis.to_xarray()
+    by_model = dict(zip(ds["candidate_model"].values, ds["candidate_undetermined"].values))
+    for model, names in named.items():
+        assert by_model[model].split(";") == names
+    warnings = dict(zip(ds["candidate_model"].values, ds["candidate_warning"].values))
+    for model, names in by_model.items():  # (the report names the nearest few; every one's warning says its names)
+        assert (str(names) == "") == ("do not determine" not in str(warnings[model]))
+        assert str(names).replace(";", ", ") in str(warnings[model])
+    assert "do not determine R1, R_relax" in warnings["R0 + (R1 + R_relax || C_relax) || C1"]
+    view = diagnosis._repr_html_()
+    assert "undetermined" in view and "R1, R_relax" in view

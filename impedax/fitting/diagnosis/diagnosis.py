@@ -611,6 +611,10 @@ class Diagnosis(FrozenResult):
                 "delta_aic": ("candidate", [s.delta_aic for s in self.candidates]),
                 "delta_bic": ("candidate", [s.delta_bic for s in self.candidates]),
                 "significant": ("candidate", [s.significant for s in self.candidates]),
+                # (added 2026-12-06) why a candidate is not proposed: the parameters the data do not
+                # determine (";"-joined, as a comparison's ``undetermined``) and the report's words ("" for none)
+                "candidate_undetermined": ("candidate", np.array([";".join(s.undetermined) for s in self.candidates], str)),
+                "candidate_warning": ("candidate", np.array([s.warning or "" for s in self.candidates], str)),
             },
             coords={"frequency": ("frequency", b.frequency, {"units": "Hz"}), "candidate": np.arange(len(self.candidates))},
             attrs={"model": b.model, "verdict": str(self.verdict), "reason": self.reason, "noise_source": self.noise_source, "baseline_rms_rel": b.rms_rel, "baseline_aic": b.aic, **{f"threshold_{k}": v for k, v in self.thresholds.items()}},
@@ -641,7 +645,8 @@ class Diagnosis(FrozenResult):
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
 
-        rows = [{"effect": s.effect, "model": s.model, "rms_rel [%]": f"{s.rms_rel * 100:.3g}", "ΔAIC": s.delta_aic, "significant": s.significant} for s in self.candidates[:8]]
+        rows = [{"effect": s.effect, "model": s.model, "rms_rel [%]": f"{s.rms_rel * 100:.3g}", "ΔAIC": s.delta_aic, "significant": s.significant,
+                 "undetermined": ", ".join(s.undetermined)} for s in self.candidates[:8]]
         lines = [f"verdict: {self.verdict}{self.verdict_scope} — {self.reason}", f"baseline rms_rel {self.baseline.rms_rel * 100:.3g} %, AIC {self.baseline.aic:.2f}"]
         return result_html(f"diagnosis of {self.baseline.model}", rows, lines=lines)
 
