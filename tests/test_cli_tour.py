@@ -125,9 +125,14 @@ def test_sample_noise_choices_are_named_as_typed(spectrum, capsys):
     """An unknown --noise lists the choices as the user types them (it listed Python enum reprs,
     ``<NoiseModel.PROPORTIONAL: 'proportional'>``)."""
     with pytest.raises(SystemExit) as info:
-        main(["sample", str(spectrum), "--model", "R0 + R1 || CPE1", "--noise", "unit"])
+        main(["sample", str(spectrum), "--model", "R0 + R1 || CPE1", "--noise", "laplace"])
     err = capsys.readouterr().err
     assert info.value.code == 2 and "(choose from 'proportional', 'sigma')" in err and "NoiseModel" not in err
+    # (fit's weighting names get their own message since 2026-12-06, the noise models named in words)
+    with pytest.raises(SystemExit) as info:
+        main(["sample", str(spectrum), "--model", "R0 + R1 || CPE1", "--noise", "unit"])
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and "sample's noise models are proportional" in err and "NoiseModel" not in err
 
 
 def test_a_noise_level_given_to_sample_and_a_noise_model_given_to_diagnose_say_where_they_belong(spectrum, capsys):

@@ -144,9 +144,10 @@ def test_stack_notes_equal_the_notes_of_one_fit(rng):
     for b in range(300):
         one = fit_notes(TABLE, dict(zip(names, values[b].tolist())), dict(zip(names, stderr[b].tolist())), corr[b], [], 1.0, finite=True, converged=True, message="")
         assert got.get(b, ()) == one and (b in got) == bool(one)
-        kinds |= {w.split(" ")[-1] for w in one}
+        kinds |= {w.split(" ")[-1] for w in one} | {" ".join(w.split(" ")[-4:]) for w in one if " bound " in w}
     # every kind of note was exercised: correlation (both texts; a CPE's Q and α with their errors), undetermined, either bound, near a bound
-    assert {"posterior's", "sample)", "correlation)", "data", "0.95", "50", "1"} <= kinds  # ("posterior's": two elements' pair, `correlated_note`)
+    # (a bound with its unit since 2026-12-06: "upper bound 50 Ω", not "50")
+    assert {"posterior's", "sample)", "correlation)", "data", "0.95", "upper bound 50 Ω", "lower bound 1 Ω"} <= kinds, kinds  # ("posterior's": two elements' pair, `correlated_note`)
     assert np.any(np.abs(corr) > CORRELATION_LIMIT)
 
 
