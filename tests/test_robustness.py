@@ -233,6 +233,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("kk-unknown-method", ["kk", "{good}", "--method", "bogus"], "invalid choice: 'bogus'"),
     ("drt-lambda-negative", ["drt", "{good}", "--lam", "-1"], "lam must be a positive finite number"),
     ("drt-lambda-not-a-number", ["drt", "{good}", "--lam", "abc"], "expected 'auto' or a positive number"),
+    ("drt-lambda-a-rule", ["drt", "{good}", "--lam", "gcv"], "expected 'auto' or a positive number; the rule that chooses λ is --lam-method gcv (with --lam auto, the default)"),
     ("drt-unknown-lambda-method", ["drt", "{good}", "--lam-method", "bogus"], "invalid choice: 'bogus'"),
     ("diagnose-unknown-effect", ["diagnose", "{good}", "--model", "R1", "--effects", "bogus"], "unknown effect 'bogus'"),
     ("diagnose-noise-negative", ["diagnose", "{good}", "--model", "R1", "--noise", "-1"], "noise must be positive"),

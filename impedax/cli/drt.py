@@ -11,7 +11,9 @@ def _lam(text: str):
     try:
         value = float(text)
     except ValueError:
-        raise ParameterError(f"--lam {text!r}: expected 'auto' or a positive number") from None
+        # (a rule's name given where λ goes: --lam gcv said only "expected 'auto' …", 2026-12-06; ix.drt(lam="gcv") names lam_method alike)
+        rule = f"; the rule that chooses λ is --lam-method {text.lower()} (with --lam auto, the default)" if text.lower() in ("gcv", "lcurve") else ""
+        raise ParameterError(f"--lam {text!r}: expected 'auto' or a positive number{rule}") from None
     return value
 
 
