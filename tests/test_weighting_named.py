@@ -28,6 +28,14 @@ BATTERY = ROOT / "benchmarks" / "data" / "autoeis_battery_130.nc"
 MODEL, SMALLER = "R0 + R1 || CPE1 + L0", "R0 + R1 || C1 + L0"
 
 
+def title_of(fig) -> str:
+    """The figure's title (its suptitle), the figure closed."""
+    try:
+        return fig._suptitle.get_text()
+    finally:
+        plt.close(fig)
+
+
 @pytest.fixture(scope="module")
 def unit_fits():
     data = ix.load(EXAMPLE)
@@ -36,11 +44,7 @@ def unit_fits():
 
 def test_a_single_fits_figure_names_its_weighting(unit_fits):
     fit = unit_fits[0]
-    fig = fit.plot()
-    try:
-        assert "unit weighting" in fig._suptitle.get_text()
-    finally:
-        plt.close(fig)
+    assert "unit weighting" in title_of(fit.plot())
 
 
 def test_a_comparison_names_its_weighting_in_its_table_and_figure(unit_fits):
@@ -50,11 +54,7 @@ def test_a_comparison_names_its_weighting_in_its_table_and_figure(unit_fits):
     comparison = ix.compare(list(unit_fits))
     lines = comparison.table().splitlines()
     assert any(ln.startswith("weighting unit: chi2_red relative to 1 Ω, not to the noise") for ln in lines[len(unit_fits) + 1:]), lines
-    fig = comparison.plot()
-    try:
-        assert "unit weighting" in fig._suptitle.get_text()
-    finally:
-        plt.close(fig)
+    assert "unit weighting" in title_of(comparison.plot())
 
 
 def test_a_comparisons_csv_names_its_weighting(unit_fits, tmp_path):
@@ -73,21 +73,13 @@ def proportional_batches():
 def test_a_batch_names_its_weighting_in_its_report_and_figure(proportional_batches):
     batch = proportional_batches[0]
     assert "weighting proportional" in batch.report().splitlines()[1]
-    fig = batch.plot()
-    try:
-        assert "proportional weighting" in fig._suptitle.get_text()
-    finally:
-        plt.close(fig)
+    assert "proportional weighting" in title_of(batch.plot())
 
 
 def test_a_comparison_of_batches_names_its_weighting_in_its_figure(proportional_batches):
     comparison = ix.compare(proportional_batches)
     assert comparison.report().splitlines()[0].endswith("weighting proportional")
-    fig = comparison.plot()
-    try:
-        assert "proportional weighting" in fig._suptitle.get_text()
-    finally:
-        plt.close(fig)
+    assert "proportional weighting" in title_of(comparison.plot())
 
 
 @pytest.fixture(scope="module")
@@ -116,11 +108,7 @@ def test_diagnose_passes_on_a_baseline_dominated_by_a_few_points(proportional_di
 
 
 def test_a_diagnosis_figure_names_its_weighting(proportional_diagnosis):
-    fig = proportional_diagnosis.plot()
-    try:
-        assert "proportional weighting" in fig._suptitle.get_text()
-    finally:
-        plt.close(fig)
+    assert "proportional weighting" in title_of(proportional_diagnosis.plot())
 
 
 def test_diagnose_json_names_the_weighting_its_baseline_chi2_red_is_against(proportional_diagnosis):
