@@ -124,6 +124,8 @@ _LAZY = {
     "stratum_corneum_reparametrization": (".fitting", "stratum_corneum_reparametrization"),
     "zhit": (".fitting", "zhit"),
     "ZHITResult": (".fitting", "ZHITResult"),
+    "zhit_batch": (".fitting", "zhit_batch"),
+    "ZHITBatchResult": (".fitting", "ZHITBatchResult"),
     "load": (".io", "load"),
     "write_result": (".io", "write_result"),
     "save": (".io", "save"),
@@ -144,7 +146,7 @@ _LAZY = {
 
 # the commands whose Python function has another name (``ix.kk(data)`` raised a bare AttributeError)
 _COMMAND_FUNCTIONS = {
-    "kk": "impedax.kk_test (several spectra: kk_test_batch; --method zhit: zhit)",
+    "kk": "impedax.kk_test (several spectra: kk_test_batch; --method zhit: zhit, several spectra: zhit_batch)",
     "stack": "impedax.stack_files",
     "draw": "impedax.draw_circuit",
     "gap": "impedax.models.gap_analysis",

@@ -12,7 +12,7 @@ def register(sub) -> None:
         help="linear Kramers-Kronig test of a spectrum (data problems vs model problems)",
         description="Fit a Kramers-Kronig-consistent Voigt chain (Schoenleber et al. 2014) and report where the data are not KK-consistent (drift, movement, non-stationarity). See docs/kk.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file; a file of several spectra is tested spectrum by spectrum (one line each), or pick one with --select")
+    p.add_argument("data", metavar="DATA", help="spectrum file; a file of several spectra is tested spectrum by spectrum (one line each, by either method), or pick one with --select")
     p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md; --c, --max-rc, --no-inductance and --no-capacitance set the linear test's chain and are refused with it)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     add_plot_option(p, "save data vs KK fit and the residuals with bad bands shaded")
@@ -42,7 +42,7 @@ LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance", "--nois
 
 def run(args) -> int:
     from ..errors import ParameterError
-    from ..fitting import kk_test, kk_test_batch, zhit
+    from ..fitting import kk_test, kk_test_batch, zhit, zhit_batch
     from .common import (check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows,
                          plan_outputs, result_writer, skipped_rows, with_source, WithSummaryKeys)
 
@@ -55,8 +55,8 @@ def run(args) -> int:
             )
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: every one tested (one table row each), as `fit` fits them
-    # all; Z-HIT and the plot take one (--select)
-    single = "impedax kk --method zhit" if args.method == "zhit" else "impedax kk --plot" if args.plot else None
+    # all, by either method (Z-HIT too since 2026-12-06); the plot takes one (--select)
+    single = "impedax kk --plot" if args.plot else None
     data = exclude_points(load_selected(args.data, args.select, single=single, readers=args.readers), args.exclude)
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
@@ -67,7 +67,10 @@ def run(args) -> int:
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data], **({} if args.method == "zhit" else {"c": options["c"]}))  # (Z-HIT has no c)
     several = any(d != "frequency" for d in data["Z"].dims)
-    result = kk_test_batch(data, **options) if several else zhit(data) if args.method == "zhit" else kk_test(data, **options, find_passing_band=True)
+    if args.method == "zhit":
+        result = zhit_batch(data) if several else zhit(data)
+    else:
+        result = kk_test_batch(data, **options) if several else kk_test(data, **options, find_passing_band=True)
     # the reader's skipped rows in the JSON, as inspect --json gives them (added 2026-12-01); --out as
     # fit's and drt's (added 2026-12-01: docs/io.md listed kk --out, which kk refused)
     command, options = _next_command(args, result, data) if not several and args.method == "linear" else (None, None)

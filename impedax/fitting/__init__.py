@@ -26,7 +26,7 @@ from .diagnosis import (
     refine as refine,
 )
 from .drt import DRTResult as DRTResult, drt as drt
-from .zhit import ZHITResult as ZHITResult, zhit as zhit
+from .zhit import ZHITBatchResult as ZHITBatchResult, ZHITResult as ZHITResult, zhit as zhit, zhit_batch as zhit_batch
 from .kk import KKBatchResult as KKBatchResult, KKResult as KKResult, kk_test as kk_test, kk_test_batch as kk_test_batch
 from .least_squares import BatchFitResult as BatchFitResult, FitResult as FitResult, SharedFitResult as SharedFitResult, WEIGHTINGS as WEIGHTINGS, fit as fit
 from .statistics import information_criteria as information_criteria

@@ -1,6 +1,6 @@
 """`ResultGrid`: one method's results for every spectrum of a Dataset with extra dimensions
-(trial, session, ...), held in C order over those dimensions; the batch results of the KK test
-and the DRT are grids. `refuse_result_names`: the check, shared by every batch analysis, that
+(trial, session, ...), held in C order over those dimensions; the batch results of the KK test,
+Z-HIT and the DRT are grids. `refuse_result_names`: the check, shared by every batch analysis, that
 no batch dimension has the name of its result's own variables and dimensions. `aligned_values`:
 a value given per spectrum (a DataArray over the data's extra dimensions) matched to the data's
 labels, as `fit`'s ``fixed=``/``init=`` and `derive`'s ``constants=`` take them."""

@@ -40,14 +40,15 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import checked_arguments, count, real
-from ..data import concise_repr, format_frequency, report_text
+from ..data import column_width, concise_repr, counted, format_frequency, label_value, report_text
 from ..errors import DataError, ParameterError
 from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
+from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, non_passive_words
 from .frozen import FrozenResult, freeze_fields
 
-__all__ = ["ZHITResult", "zhit", "END_LAYER", "END_REACH", "CONCLUSIVE_PER_DECADE_MIN", "BIN_PER_DECADE", "REFERENCE_POINTS"]
+__all__ = ["ZHITResult", "ZHITBatchResult", "zhit", "zhit_batch", "END_LAYER", "END_REACH", "CONCLUSIVE_PER_DECADE_MIN", "BIN_PER_DECADE", "REFERENCE_POINTS"]
 
 _GAMMA_1 = -math.pi / 6.0
 
@@ -273,6 +274,138 @@ class ZHITResult(FrozenResult):
 
 
 
+BATCH_RESULT_NAMES = frozenset({
+    "frequency", "band", "Z", "modulus_zhit", "residuals", "flagged", "end_slope_local", "bad_band_f_min", "bad_band_f_max",
+    "rms_rel", "noise_estimate", "valid", "conclusive", "point_threshold", "run_threshold",
+})
+"""The variables and dimensions of `ZHITBatchResult.to_xarray`: no batch dimension may have one of these names."""
+
+
+@dataclass(frozen=True, eq=False)
+class ZHITBatchResult(ResultGrid):
+    """Z-HIT of every spectrum of a Dataset with extra dimensions (cycle, trial, ...), as
+    `kk.KKBatchResult` holds the linear test's: one `ZHITResult` per spectrum in C order over
+    ``dims``; ``batch[i, j]`` (integer positions) gives one, ``valid`` and ``rms_rel`` are arrays
+    over ``dims``."""
+
+    results: tuple[ZHITResult, ...]
+
+    def __repr__(self) -> str:
+        few, consistent = self._verdict_counts()
+        inconclusive = f", {few} inconclusive" if few else ""
+        return (f"ZHITBatchResult({counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: "
+                f"{consistent} valid, {len(self.results) - few - consistent} not{inconclusive})")
+
+    __str__ = report_text
+
+    def _verdict_counts(self) -> tuple[int, int]:
+        """(inconclusive, valid and conclusive) spectra."""
+        few = sum(not r.conclusive for r in self.results)
+        return few, sum(bool(r.valid) and r.conclusive for r in self.results)
+
+    @property
+    def valid(self) -> np.ndarray:
+        return self.per_spectrum("valid", bool)
+
+    @property
+    def rms_rel(self) -> np.ndarray:
+        return self.per_spectrum("rms_rel")
+
+    def summary(self) -> dict:
+        """The JSON of ``impedax kk --method zhit --json`` for several spectra, as the linear
+        test's (`KKBatchResult.summary`): ``method`` ("zhit"), ``dims``, ``sizes``, ``n_spectra``,
+        ``n_valid`` (inconclusive spectra count as valid), ``n_conclusive``, ``n_inconclusive``,
+        ``spectra`` (each spectrum's ``labels``, then the keys of `ZHITResult.summary`) and
+        ``warnings`` (the spectra's, each once)."""
+        few, _ = self._verdict_counts()
+        spectra = [{"labels": where, **r.summary()} for where, r in zip(self.labels(), self.results)]
+        return {"method": "zhit", "dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results),
+                "n_valid": sum(bool(r.valid) for r in self.results), "n_conclusive": len(self.results) - few, "n_inconclusive": few, "spectra": spectra,
+                "warnings": sorted({w for row in spectra for w in row["warnings"]})}
+
+    def to_table(self) -> list[dict[str, object]]:
+        """`ZHITResult.to_table` of every spectrum after a column per dimension (its label)."""
+        return [{**where, **row} for where, r in zip(self.labels(), self.results) for row in r.to_table()]
+
+    def to_xarray(self) -> xr.Dataset:
+        """Each spectrum's `ZHITResult.to_xarray()` stacked over ``dims`` (bad bands padded with
+        NaN), with each spectrum's rule levels as variables (``point_threshold``, ``run_threshold``:
+        fractions of |Z|, as its own scale s sets them)."""
+        dims, shape = self.dims, self.shape
+        n_band = max(len(r.bad_bands) for r in self.results)
+
+        def stack(get, width=None, dtype=float):
+            rows = [np.asarray(get(r), dtype=dtype) for r in self.results]
+            if width is not None:
+                rows = [np.pad(v, (0, width - v.size), constant_values=np.nan) for v in rows]
+            return np.stack(rows).reshape(*shape, *rows[0].shape)
+
+        per_freq = (*dims, "frequency")
+        first = self.results[0]
+        ds = xr.Dataset(
+            {
+                "Z": (per_freq, stack(lambda r: r.impedance, dtype=complex), {"units": "ohm"}),
+                "modulus_zhit": (per_freq, stack(lambda r: r.modulus), {"units": "ohm", "long_name": "|Z| reconstructed from the phase"}),
+                "residuals": (per_freq, stack(lambda r: r.residuals), {"units": "1", "long_name": "(|Z| - |Z|_ZHIT)/|Z|"}),
+                "flagged": (per_freq, stack(lambda r: r.flagged, dtype=bool)),
+                "end_slope_local": (per_freq, stack(lambda r: r.end_slope_local if r.end_slope_local is not None else np.zeros(r.frequency.size, bool), dtype=bool),
+                                    {"long_name": "end point reconstructed with the local-cubic phase slope"}),
+                "bad_band_f_min": ((*dims, "band"), stack(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
+                "bad_band_f_max": ((*dims, "band"), stack(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"}),
+                "rms_rel": (dims, self.rms_rel, {"units": "1"}),
+                "noise_estimate": (dims, self.per_spectrum("noise_estimate"), {"units": "1"}),
+                "valid": (dims, self.valid),
+                "conclusive": (dims, self.per_spectrum("conclusive", bool)),
+                "point_threshold": (dims, self.per_spectrum("threshold"), {"units": "1"}),
+                "run_threshold": (dims, self.per_spectrum("run_threshold"), {"units": "1"}),
+            },
+            coords={"frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},
+            attrs={"method": first.to_xarray().attrs["method"], "run_length": first.run_length, "noise_floor": first.noise_floor},
+        )
+        return ds.copy(deep=True)
+
+    def report(self, data_path: str | None = None) -> str:
+        """Z-HIT of every spectrum, one line each (verdict, rms_rel, noise estimate, bad bands with
+        the rules that flagged them), the rules once, the spectra with points Re Z < 0 and the
+        first sign hint, and, when a spectrum failed, a ``next:`` line: ``impedax kk DATA_PATH
+        --method zhit --select …`` shows the first failing one alone (``data_path``: the file
+        the run read; "-" or None: save the data to a file first)."""
+        where = self.labels()
+        few, consistent = self._verdict_counts()
+        lines = [f"Z-HIT of {counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: {consistent} valid (|Z| and phase consistent), "
+                 f"{len(self.results) - few - consistent} not" + (f", {few} inconclusive (too few frequencies to tell)" if few else "")]
+        names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
+        width = column_width(names, "spectrum")
+        lines.append(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9}  bad bands [rules that flagged them]")
+        for name, r in zip(names, self.results):
+            bands = "; ".join(f"{band_name(points)} [{', '.join(rules)}]" for points, rules in zip(r.band_frequencies, r.band_rules)) or "none"
+            verdict = ("valid" if r.valid else "NOT valid") if r.conclusive else "too few"
+            lines.append(f"{name:<{width}}  {verdict:<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}%  {bands}")
+        if any(r.bad_bands for r in self.results):
+            r0 = self.results[0]
+            lines.append(f"rules: point = one |residual| > {r0.point_multiple:.3g} s, run = ≥ {r0.run_length} consecutive |residual| > {r0.run_threshold / max(r0.noise_estimate, r0.noise_floor):.3g} s "
+                         f"(residual = (|Z| − |Z| from the phase)/|Z|; s: each spectrum's noise estimate, at least the {r0.noise_floor * 100:.3g} % floor of Z-HIT's own error; the levels: impedax kk --method zhit --select)")
+        passive = [i for i, r in enumerate(self.results) if r.non_passive_note]
+        if passive:
+            listed = ", ".join(names[i] for i in passive[:3]) + (", …" if len(passive) > 3 else "")
+            lines.append(f"note: in {len(passive)} of {counted(len(self.results), 'spectrum', 'spectra')} ({listed}) points have Re Z < 0, which no passive circuit reaches: "
+                         f"{names[passive[0]]}: {self.results[passive[0]].non_passive_note}")
+        hints = [r.sign_hint for r in self.results]
+        with_hint = [i for i, h in enumerate(hints) if h]
+        if with_hint:
+            listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
+            lines.append(f"hint: in {len(with_hint)} of {counted(len(hints), 'spectrum', 'spectra')} ({listed}): {hints[with_hint[0]]}")
+        failed = [i for i, r in enumerate(self.results) if r.conclusive and not r.valid and not r.sign_hint]
+        if failed:
+            import shlex
+
+            selects = " ".join(f"--select {shlex.quote(f'{d}={v}')}" for d, v in where[failed[0]].items())
+            path = shlex.quote(str(data_path)) if data_path not in (None, "-") else "FILE"
+            save = "" if path != "FILE" else " (save the data to FILE first: standard input is read once)"
+            lines.append(f"next: impedax kk {path} --method zhit {selects} --plot FIG.png shows {names[failed[0]]} alone ({len(failed)} of {len(self.results)} not valid){save}")
+        return "\n".join(lines)
+
+
 def _rule_masks(magnitude, threshold, run_threshold, run_length) -> dict[str, np.ndarray]:
     """Each rule's flags from |residual| in frequency order: above ``threshold`` at one point, or
     above ``run_threshold`` at ``run_length`` consecutive points."""
@@ -342,18 +475,44 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
         raise ParameterError(f"run_length must be a positive integer, got {run_length!r}")
     freq, z, dims, _, source = frequency_and_z(data)
     if dims:
-        raise DataError(f"zhit takes one spectrum; these data have extra dimensions {dims}: select one first (data.isel({dims[0]}=0), data.sel({dims[0]}=label)) or average them", path=source)
+        raise DataError(f"zhit takes one spectrum; these data have extra dimensions {dims}: zhit_batch tests each; or select one first (data.isel({dims[0]}=0), data.sel({dims[0]}=label)) or average them", path=source)
+    options = dict(noise_floor=noise_floor, point=point, run=run, run_length=run_length)
+    return _checked_zhit(freq, z, source, data.attrs if isinstance(data, xr.Dataset) else None, options)
+
+
+@checked_arguments(noise_floor=real(positive=True), point=real(positive=True), run=real(positive=True), run_length=count(1, 10_000))
+def zhit_batch(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.0, run_length: int = 3) -> ZHITBatchResult:
+    """`zhit` of every spectrum of a Dataset (or file) with extra dimensions (cycle, trial, ...),
+    with `zhit`'s options, each spectrum judged by its own noise estimate; a `ZHITBatchResult`.
+    A batch dimension named as a variable or dimension of its Dataset (`BATCH_RESULT_NAMES`) is
+    a `DataError` before any test; data of one spectrum give a grid of one."""
+    freq, z, dims, coords, source = frequency_and_z(data)
+    refuse_result_names(dims, BATCH_RESULT_NAMES, "a Z-HIT batch result", source=source)
+    attrs = data.attrs if isinstance(data, xr.Dataset) else None
+    options = dict(noise_floor=float(noise_floor), point=float(point), run=float(run), run_length=int(run_length))
+    shape = z.shape[:-1]
+    results = []
+    for index in np.ndindex(*shape):
+        where = ", ".join(f"{d}={label_value(coords[d][i]) if d in coords else i}" for d, i in zip(dims, index))
+        results.append(_checked_zhit(freq, z[index], source, attrs, options, where=f"spectrum {where}: " if where else ""))
+    return ZHITBatchResult(dims=tuple(dims), shape=tuple(shape), coords=coords, results=tuple(results))
+
+
+def _checked_zhit(freq: np.ndarray, z: np.ndarray, source, attrs, options: dict, where: str = "") -> ZHITResult:
+    """`zhit` of one spectrum's frequencies [Hz] and impedances [Ω] with ``options`` checked:
+    enough points, no zero |Z| (a `DataError` naming ``source`` and, in a batch, ``where``: the
+    spectrum's labels); the sign hint from the data's ``attrs``."""
     if freq.size < 6:
         raise DataError(f"Z-HIT needs at least 6 frequencies, got {freq.size}", path=source)
     if np.any(np.abs(z) == 0):
-        raise DataError(f"{zero_impedance_text(freq, z)}; ln|Z| is undefined there", path=source)
+        raise DataError(f"{where}{zero_impedance_text(freq, z)}; ln|Z| is undefined there", path=source)
     from ..io.sign_check import sign_hint
 
     def test(f, values):
-        return _zhit(f, values, noise_floor=noise_floor, point=point, run=run, run_length=run_length)
+        return _zhit(f, values, **options)
 
     result = test(freq, z)
-    return dataclasses.replace(result, sign_hint=sign_hint(result, test, "Z-HIT", data.attrs if isinstance(data, xr.Dataset) else None))
+    return dataclasses.replace(result, sign_hint=sign_hint(result, test, "Z-HIT", attrs))
 
 
 def _zhit(freq, z, *, noise_floor: float, point: float, run: float, run_length: int) -> ZHITResult:

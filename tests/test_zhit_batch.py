@@ -1,0 +1,100 @@
+"""Z-HIT of every spectrum of a file or Dataset of several (`zhit_batch`, `impedax kk --method
+zhit`), against closed-form SYNTHETIC spectra: a modulus drift where it was put, nothing where
+nothing was; until 2026-12-06 Z-HIT took one spectrum only, where the linear test and the DRT
+took the file's every spectrum."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.errors import DataError
+
+F = np.geomspace(0.01, 1e5, 71)
+W = 2 * np.pi * F
+CYCLES = [3, 17, 40]  # labels, not positions
+
+
+def r_cpe(r1: float) -> np.ndarray:
+    """R0 + R1 ∥ CPE (closed form)."""
+    return 10 + 1 / (1 / r1 + 1e-4 * (1j * W) ** 0.8)
+
+
+def stack() -> tuple[np.ndarray, np.ndarray]:
+    """Three SYNTHETIC cycles with 0.5 % noise; the second's |Z| drifts up to 10 % below
+    0.1 Hz while its phase does not (the signature of drift Z-HIT is for)."""
+    rng = np.random.default_rng(11)
+    rows = []
+    for k, r1 in enumerate((1000.0, 1200.0, 1500.0)):
+        z = r_cpe(r1) * (1 + 0.005 * (rng.standard_normal(F.size) + 1j * rng.standard_normal(F.size)) / math.sqrt(2))
+        if k == 1:
+            low = F < 0.1
+            z[low] *= 1 + 0.1 * np.log10(0.1 / F[low])
+        rows.append(z)
+    return np.stack(rows), F < 0.1
+
+
+def test_the_drifting_cycle_alone_is_flagged_where_it_drifts():
+    z, drifted = stack()
+    data = ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES})
+    batch = ix.zhit_batch(data)
+    assert batch.dims == ("cycle",) and batch.shape == (3,)
+    assert batch.valid.tolist() == [True, False, True]
+    flagged = np.asarray(batch[1].flagged, bool)
+    assert flagged.any() and np.all(F[flagged] < 0.1)  # only where the drift was put
+    assert batch.labels()[1] == {"cycle": 17}
+    text = batch.report("cycles.nc")
+    assert text.splitlines()[0].startswith("Z-HIT of 3 spectra over cycle: 2 valid")
+    assert any(line.split()[:3] == ["cycle=17", "NOT", "valid"] for line in text.splitlines()) and "--method zhit --select cycle=17" in text
+    assert "ZHITBatchResult(3 spectra over cycle: 2 valid, 1 not)" == repr(batch)
+
+
+def test_each_spectrum_of_the_batch_is_its_own_zhit():
+    z, _ = stack()
+    batch = ix.zhit_batch(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES}), noise_floor=0.02)
+    for k in range(3):
+        alone = ix.zhit((F, z[k]), noise_floor=0.02)
+        np.testing.assert_allclose(batch[k].modulus, alone.modulus, rtol=1e-12)
+        assert batch[k].bad_bands == alone.bad_bands and batch[k].threshold == alone.threshold
+    ds = batch.to_xarray()
+    assert ds["residuals"].dims == ("cycle", "frequency") and ds["cycle"].values.tolist() == CYCLES
+    # residual = (|Z| − modulus)/|Z|, recomputed from the stored arrays
+    np.testing.assert_allclose(ds["residuals"].values, (np.abs(z) - ds["modulus_zhit"].values) / np.abs(z), rtol=1e-9, atol=1e-15)
+    assert ds["valid"].values.tolist() == [True, False, True] and ds.sizes["band"] == 1
+
+
+def test_a_batch_dimension_named_as_a_result_variable_is_refused_before_any_test():
+    z, _ = stack()
+    with pytest.raises(DataError, match="'band'.*rename"):
+        ix.zhit_batch(ix.make_spectrum(F, z, dims=("band",)))
+
+
+def test_a_zero_modulus_names_its_spectrum():
+    z, _ = stack()
+    z[2, 5] = 0
+    with pytest.raises(DataError, match="spectrum cycle=40: .*ln|Z| is undefined"):
+        ix.zhit_batch(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES}))
+
+
+def test_the_command_tests_every_spectrum_of_a_file(tmp_path, capsys):
+    z, _ = stack()
+    path = tmp_path / "cycles.nc"
+    ix.save(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES}), path)
+    assert main(["kk", str(path), "--method", "zhit", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["method"] == "zhit" and out["n_spectra"] == 3 and out["n_valid"] == 2 and out["dims"] == ["cycle"]
+    assert [s["labels"] for s in out["spectra"]] == [{"cycle": c} for c in CYCLES]
+    assert [s["valid"] for s in out["spectra"]] == [True, False, True]
+    assert main(["kk", str(path), "--method", "zhit", "--out", str(tmp_path / "z.csv")]) == 0
+    capsys.readouterr()
+    lines = (tmp_path / "z.csv").read_text().splitlines()
+    assert lines[0].startswith("cycle,frequency_hz,z_abs_ohm,modulus_zhit_ohm") and len(lines) == 1 + 3 * F.size
+    # one spectrum picked: the single test's output, as before
+    assert main(["kk", str(path), "--method", "zhit", "--select", "cycle=17", "--json"]) == 0
+    one = json.loads(capsys.readouterr().out)
+    assert one["valid"] is False and "spectra" not in one
