@@ -65,7 +65,6 @@ def test_without_select_a_fit_is_a_batch_and_the_rest_ask_for_a_pick(stacks, tmp
     out = json_out(["fit", stacks["text"], "--model", "R0 + R1 || C1", "--json"], capsys)
     assert out["n_spectra"] == 3
     one_spectrum = {
-        "impedax kk --plot": ["kk", "--plot", str(tmp_path / "kk.png")],
         "impedax diagnose": ["diagnose", "--model", "R0 + R1 || C1"], "impedax refine": ["refine", "--model", "R0 + R1 || C1"],
     }
     for name, args in one_spectrum.items():

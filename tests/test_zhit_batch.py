@@ -98,3 +98,39 @@ def test_the_command_tests_every_spectrum_of_a_file(tmp_path, capsys):
     assert main(["kk", str(path), "--method", "zhit", "--select", "cycle=17", "--json"]) == 0
     one = json.loads(capsys.readouterr().out)
     assert one["valid"] is False and "spectra" not in one
+
+
+@pytest.mark.parametrize("method", ["linear", "zhit"])
+def test_the_plot_of_several_spectra_maps_each_residual_where_it_was_measured(method, tmp_path):
+    """`impedax kk FILE --plot` on a file of several spectra (until 2026-12-06 "takes one
+    spectrum"): a map of every spectrum's residual magnitude over the spectra and frequency,
+    read back from the figure's mesh, and the flagged points of the drifting cycle circled."""
+    import matplotlib.pyplot as plt
+
+    z, _ = stack()
+    data = ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES})
+    if method == "zhit":
+        batch = ix.zhit_batch(data)
+        magnitude = np.stack([np.abs(r.residuals) for r in batch.results])
+    else:
+        batch = ix.kk_test_batch(data)
+        magnitude = np.stack([np.hypot(r.residuals_real, r.residuals_imag) for r in batch.results])
+    fig = batch.plot()
+    try:
+        ax_map, ax_rms = fig.axes[0], fig.axes[1]
+        mesh = ax_map.collections[0]
+        cells = np.asarray(mesh.get_array()).reshape(F.size, 3)  # (frequency ascending) × spectra
+        low, high = mesh.norm.vmin, mesh.norm.vmax
+        np.testing.assert_allclose(cells, np.clip(magnitude.T * 100, low, high), rtol=1e-12)
+        circled = ax_map.collections[1].get_offsets()
+        flagged = np.nonzero(np.asarray(batch[1].flagged, bool))[0]
+        assert set(np.asarray(circled)[:, 0]) == {1.0} and np.allclose(np.sort(circled[:, 1]), np.sort(F[flagged]))
+        assert [t.get_text() for t in ax_rms.get_xticklabels() if t.get_text()] == ["3", "17", "40"]
+        assert "2 " in fig._suptitle.get_text() and "1 not" in fig._suptitle.get_text()
+    finally:
+        plt.close(fig)
+    path = tmp_path / "cycles.nc"
+    ix.save(data, path)
+    png = tmp_path / "map.png"
+    assert main(["kk", str(path), "--method", method, "--plot", str(png)]) == 0
+    assert png.read_bytes()[:4] == b"\x89PNG"

@@ -15,7 +15,7 @@ def register(sub) -> None:
     p.add_argument("data", metavar="DATA", help="spectrum file; a file of several spectra is tested spectrum by spectrum (one line each, by either method), or pick one with --select")
     p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md; --c, --max-rc, --no-inductance and --no-capacitance set the linear test's chain and are refused with it)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    add_plot_option(p, "save data vs KK fit and the residuals with bad bands shaded")
+    add_plot_option(p, "save data vs KK fit and the residuals with bad bands shaded (several spectra: every spectrum's residual mapped over the spectra and frequency)")
     p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save the test, as impedax.write_result does: .csv a row per frequency (data, KK fit, residuals, flagged; "
                    "a column per dimension first for several spectra), .json the --json summary, .nc the full result as netCDF; '-' the JSON to standard output")
     p.add_argument("--c", type=float, default=None, help="µ cut-off (default 0.85; linear test only)")
@@ -55,9 +55,8 @@ def run(args) -> int:
             )
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: every one tested (one table row each), as `fit` fits them
-    # all, by either method (Z-HIT too since 2026-12-06); the plot takes one (--select)
-    single = "impedax kk --plot" if args.plot else None
-    data = exclude_points(load_selected(args.data, args.select, single=single, readers=args.readers), args.exclude)
+    # all, by either method (Z-HIT too since 2026-12-06), and --plot maps their residuals
+    data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 
@@ -78,7 +77,7 @@ def run(args) -> int:
         command += "  (with the data saved to a file, named in place of -: standard input is read once)"
     added = {"skipped_rows": skipped_rows(data)} if options is None else {"skipped_rows": skipped_rows(data), "suggested_options": options}
     read = WithSummaryKeys(result, added)
-    outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(lambda: result.plot(), source, **figure_options(args))})  # (a batch has no plot: --plot takes one spectrum)
+    outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(lambda: result.plot(), source, **figure_options(args))})  # (a batch's: its residuals mapped)
     if outputs.uses_stdout:
         return 0
     if args.json:

@@ -777,6 +777,18 @@ class KKBatchResult(ResultGrid):
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith(("series", "inverse_series"))})
         return ds.copy(deep=True)
 
+    def plot(self, *, title: str | None = None):
+        """Every spectrum's |Δ| as a map over the spectra and frequency, the flagged points
+        circled, and each test's rms_rel and noise estimate below (`plotting.kk.plot_validity_batch`;
+        ``impedax kk FILE --plot`` on a file of several spectra). Returns a matplotlib Figure."""
+        from ..plotting.kk import plot_validity_batch
+
+        few, consistent = self._verdict_counts()
+        magnitudes = [np.hypot(r.residuals_real, r.residuals_imag) for r in self.results]
+        return plot_validity_batch(self, magnitudes, residual="|Δ| = |Z − Z_kk|/|Z|", title=title or (
+            f"linear KK test of {counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: {consistent} KK-consistent, {len(self.results) - few - consistent} not"
+            + (f", {few} inconclusive" if few else "")))
+
     def report(self, data_path: str | None = None) -> str:
         """The KK test of every spectrum, one line per spectrum (each bad band with the rules that
         flagged it), once, the hint of the first spectrum that has one, and, when a spectrum

@@ -364,6 +364,18 @@ class ZHITBatchResult(ResultGrid):
         )
         return ds.copy(deep=True)
 
+    def plot(self, *, title: str | None = None):
+        """Every spectrum's |residual| as a map over the spectra and frequency, the flagged
+        points circled, and each spectrum's rms_rel and noise estimate below
+        (`plotting.kk.plot_validity_batch`; ``impedax kk FILE --method zhit --plot`` on a file
+        of several spectra). Returns a matplotlib Figure."""
+        from ..plotting.kk import plot_validity_batch
+
+        few, consistent = self._verdict_counts()
+        return plot_validity_batch(self, [np.abs(r.residuals) for r in self.results], residual="||Z| − |Z|_ZHIT|/|Z|", title=title or (
+            f"Z-HIT of {counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: {consistent} valid, {len(self.results) - few - consistent} not"
+            + (f", {few} inconclusive" if few else "")))
+
     def report(self, data_path: str | None = None) -> str:
         """Z-HIT of every spectrum, one line each (verdict, rms_rel, noise estimate, bad bands with
         the rules that flagged them), the rules once, the spectra with points Re Z < 0 and the

@@ -127,3 +127,61 @@ def legend_clear_of(ax, texts) -> None:
         if best is None or covered < best[0]:
             best = (covered, place)
     legend.set_loc(best[1] if best else "best")
+
+
+def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
+    """A validity test of every spectrum of a batch (`KKBatchResult`, `ZHITBatchResult`): its
+    residual magnitude ``magnitudes`` (spectra × frequency, fractions of |Z|) as a map over the
+    spectra (x, in batch order, marked with their labels) and frequency (y, log), each flagged
+    point circled, and each spectrum's rms_rel and noise estimate below, the spectra not valid in
+    red; ``residual``: what the magnitudes are, for the colour bar. Where a measurement went wrong across a series (a spike at one frequency in many cycles,
+    a drifting end) shows at a glance, where the text gives a line per spectrum."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+
+    from . import label_spectra_axis, plain_log_ticks
+
+    results = batch.results
+    n = len(results)
+    freq = np.asarray(results[0].frequency, float)
+    order = np.argsort(freq)
+    f = freq[order]
+    values = np.asarray(magnitudes, float)[:, order] * 100
+    # the cells' edges: halfway (geometric) between neighbouring frequencies, and between spectra
+    inner = np.sqrt(f[1:] * f[:-1])
+    f_edges = np.concatenate([[f[0] ** 2 / inner[0]], inner, [f[-1] ** 2 / inner[-1]]]) if f.size > 1 else np.array([f[0] / 1.2, f[0] * 1.2])
+    x_edges = np.arange(n + 1) - 0.5
+    fig, (ax_map, ax_rms) = plt.subplots(2, 1, figsize=(8, 6.5), height_ratios=[3, 1.3], sharex=True, layout="constrained")
+    positive = values[np.isfinite(values) & (values > 0)]
+    low = max(float(positive.min()), 1e-3) if positive.size else 1e-3
+    high = max(float(positive.max()), low * 10) if positive.size else 1.0
+    mesh = ax_map.pcolormesh(x_edges, f_edges, np.clip(values, low, high).T, norm=LogNorm(low, high), cmap="magma_r", shading="flat")
+    bar = fig.colorbar(mesh, ax=ax_map)
+    bar.set_label(f"{residual} [%]")
+    plain_log_ticks(bar.ax.yaxis)
+    flagged = np.array([np.asarray(r.flagged, bool)[order] for r in results])
+    spectra, points = np.nonzero(flagged)
+    if spectra.size:
+        ax_map.scatter(spectra, f[points], s=18, facecolors="none", edgecolors="tab:cyan", linewidths=1.0, label=f"flagged ({spectra.size} points)")
+        ax_map.legend(loc="upper right", fontsize=font_size("legend", 8), framealpha=0.85)
+    ax_map.set_yscale("log")
+    ax_map.set_ylim(f_edges[0], f_edges[-1])
+    ax_map.set_ylabel("frequency [Hz]")
+    plain_log_ticks(ax_map.yaxis)
+    rms = np.array([r.rms_rel for r in results]) * 100
+    noise = np.array([r.noise_estimate for r in results]) * 100
+    bad = np.array([r.conclusive and not r.valid for r in results])
+    x = np.arange(n)
+    ax_rms.plot(x, rms, "-", color="0.5", lw=0.8)
+    ax_rms.plot(x[~bad], rms[~bad], "o", ms=3, color="tab:blue", label="rms_rel, valid")
+    if bad.any():
+        ax_rms.plot(x[bad], rms[bad], "o", ms=4, color="tab:red", label="rms_rel, not valid")
+    ax_rms.plot(x, noise, "--", color="0.3", lw=0.9, label="noise estimate")
+    ax_rms.set_yscale("log")
+    ax_rms.set_ylabel("rms_rel, noise [%]")
+    plain_log_ticks(ax_rms.yaxis)
+    ax_rms.grid(alpha=0.3, which="both")
+    ax_rms.legend(fontsize=font_size("legend", 7), ncols=3, loc="best")
+    label_spectra_axis(ax_rms, [", ".join(str(v) for v in where.values()) for where in batch.labels()], batch.dims)
+    fig.suptitle(title)
+    return fig
