@@ -134,3 +134,30 @@ def test_the_plot_of_several_spectra_maps_each_residual_where_it_was_measured(me
     png = tmp_path / "map.png"
     assert main(["kk", str(path), "--method", method, "--plot", str(png)]) == 0
     assert png.read_bytes()[:4] == b"\x89PNG"
+
+
+def _html_rows(html: str) -> list[list[str]]:
+    """The cells of an HTML table's body, row by row (the test's own reading of the markup)."""
+    import re
+
+    body = html.split("<tbody>")[1].split("</tbody>")[0]
+    return [re.findall(r"<td>(.*?)</td>", row) for row in body.split("</tr>") if "<td>" in row]
+
+
+def test_a_notebook_shows_each_spectrum_of_a_batch_as_a_row():
+    """KK, Z-HIT and DRT batches in a notebook showed their one-line repr only (added 2026-12-06)."""
+    z, _ = stack()
+    data = ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES})
+    for batch in (ix.zhit_batch(data), ix.kk_test_batch(data)):
+        rows = _html_rows(batch._repr_html_())
+        assert [row[0] for row in rows] == ["3", "17", "40"]
+        assert [row[1] for row in rows] == ["valid" if bool(v) else "NOT valid" for v in batch.valid]
+        assert [float(row[2]) for row in rows] == pytest.approx(batch.rms_rel * 100, rel=5e-3)
+    # the DRT of R0 + R1 ∥ CPE(α = 0.8): R_pol = R1 (the DC limit minus R0); not for cycle 17,
+    # whose |Z| was made to drift up to 10 % at the low end
+    drt = ix.drt(data)
+    rows = _html_rows(drt._repr_html_())
+    assert [row[0] for row in rows] == ["3", "17", "40"]
+    assert [float(rows[k][4]) for k in (0, 2)] == pytest.approx([1000.0, 1500.0], rel=0.03)
+    one = ix.zhit((F, z[1]))._repr_html_()
+    assert "<td>valid</td><td>no</td>" in one and "bad band" in one

@@ -777,6 +777,16 @@ class KKBatchResult(ResultGrid):
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith(("series", "inverse_series"))})
         return ds.copy(deep=True)
 
+    def _repr_html_(self) -> str:
+        """In a notebook: the verdict counts and a row per spectrum (its labels, verdict, rms_rel,
+        noise estimate, M and bad bands), as the report's table."""
+        from ..plotting.html import result_html
+
+        rows = [{**where, "verdict": ("valid" if r.valid else "NOT valid") if r.conclusive else "too few", "rms_rel [%]": f"{r.rms_rel * 100:.3g}",
+                 "noise [%]": f"{r.noise_estimate * 100:.3g}", "M": r.n_rc, "bad bands": "; ".join(band_name(points) for points in r.band_frequencies) or "none"}
+                for where, r in zip(self.labels(), self.results)]
+        return result_html("linear Kramers–Kronig test", rows, lines=[self.report().splitlines()[0]])
+
     def plot(self, *, title: str | None = None):
         """Every spectrum's |Δ| as a map over the spectra and frequency, the flagged points
         circled, and each test's rms_rel and noise estimate below (`plotting.kk.plot_validity_batch`;

@@ -261,6 +261,15 @@ class ZHITResult(FrozenResult):
             lines.append(f"hint: {self.sign_hint}")
         return "\n".join(lines)
 
+    def _repr_html_(self) -> str:
+        """In a notebook: rms_rel, the noise estimate, the verdict and the bad bands (the report's numbers)."""
+        from ..plotting.html import result_html
+
+        rows = [{"quantity": k, "value": v} for k, v in (("rms_rel [%]", f"{self.rms_rel * 100:.3g}"), ("noise estimate [%]", f"{self.noise_estimate * 100:.3g}"),
+                                                         ("valid", bool(self.valid)), ("conclusive", bool(self.conclusive)))]
+        rows += [{"quantity": "bad band", "value": band_name(points)} for points in self.band_frequencies]
+        return result_html("Z-HIT (|Z| from the phase)", rows, lines=[*(f"note: {n}" for n in self.notes), *([f"hint: {self.sign_hint}"] if self.sign_hint else [])])
+
     def plot(self, *, title: str | None = None):
         """|Z| measured vs reconstructed, phase, and the residual with both rules' levels and the
         bad bands (`plotting.drt.plot_zhit`, `plotting.kk.add_rule_levels`)."""
@@ -363,6 +372,16 @@ class ZHITBatchResult(ResultGrid):
             attrs={"method": first.to_xarray().attrs["method"], "run_length": first.run_length, "noise_floor": first.noise_floor},
         )
         return ds.copy(deep=True)
+
+    def _repr_html_(self) -> str:
+        """In a notebook: the verdict counts and a row per spectrum (its labels, verdict, rms_rel,
+        noise estimate and bad bands), as the report's table."""
+        from ..plotting.html import result_html
+
+        rows = [{**where, "verdict": ("valid" if r.valid else "NOT valid") if r.conclusive else "too few", "rms_rel [%]": f"{r.rms_rel * 100:.3g}",
+                 "noise [%]": f"{r.noise_estimate * 100:.3g}", "bad bands": "; ".join(band_name(points) for points in r.band_frequencies) or "none"}
+                for where, r in zip(self.labels(), self.results)]
+        return result_html("Z-HIT", rows, lines=[self.report().splitlines()[0]])
 
     def plot(self, *, title: str | None = None):
         """Every spectrum's |residual| as a map over the spectra and frequency, the flagged

@@ -534,6 +534,15 @@ class DRTBatchResult(ResultGrid):
         return (f"DRTBatchResult({counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: "
                 f"{_span(min(peaks), max(peaks), '{}')} counted peak(s){' each' if len(peaks) > 1 else ''}, rms_rel {_span(min(rms), max(rms), '{:.3g}')} %)")
 
+    def _repr_html_(self) -> str:
+        """In a notebook: the report's summary line and a row per spectrum (its labels, counted
+        peaks, rms_rel, R_inf and R_pol)."""
+        from ...plotting.html import result_html
+
+        rows = [{**where, "peaks": len(counted_peaks(r.peaks)), "rms_rel [%]": f"{r.rms_rel * 100:.3g}", "R_inf [Ω]": r.r_inf_ohm, "R_pol [Ω]": r.polarization_resistance}
+                for where, r in zip(self.labels(), self.results)]
+        return result_html("distributions of relaxation times", rows, lines=[self.report().splitlines()[0]])
+
     @property
     def gamma(self) -> np.ndarray:
         return np.stack([r.gamma for r in self.results]).reshape(*self.shape, -1)
