@@ -123,6 +123,8 @@ def register(sub) -> None:
     add_max_steps_option(p, 400, "each fit")
     add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)") + "; .tex a LaTeX table of value ± standard error (one spectrum)", out_metavar="FILE.csv|.json|.nc|.tex")
     p.add_argument("--plot-params", nargs="+", metavar="NAME", help="the parameters --plot draws for several spectra, in that order (default: every free one)")
+    p.add_argument("--residual-map", metavar="FIG.png", help="for several spectra: save every fit's relative residuals (real, imaginary) as maps over the spectra and frequency, "
+                   "where a missing effect shows as one pattern at the same frequencies in spectrum after spectrum (docs/fitting.md)")
     p.add_argument("--plot-x", metavar="DIM", help="for several spectra: --plot draws each parameter against DIM's numeric coordinate (e.g. voltage), with error bars, one series per label of the other dimensions (default: the spectra side by side)")
     p.set_defaults(run=run)
 
@@ -135,7 +137,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
 
-    outputs = plan_outputs([("--out", args.out, "fit"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
+    outputs = plan_outputs([("--out", args.out, "fit"), ("--plot", args.plot, "figure"), ("--residual-map", args.residual_map, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     latex = bool(args.out) and Path(args.out).suffix.lower() == LATEX_SUFFIX
     max_steps = check_max_steps(args.max_steps)
     sharing = shared_arguments(args)
@@ -158,6 +160,8 @@ def run(args) -> int:
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     if latex and n_spectra > 1:
         raise ParameterError(f"--out {args.out}: a LaTeX table holds the fit of one spectrum, and {args.data} holds {n_spectra}: pick one with --select, or write .csv (a row per spectrum and parameter)")
+    if args.residual_map and n_spectra == 1:
+        raise ParameterError(f"--residual-map maps the residuals of several spectra, and {args.data} holds one: --plot FIG.png draws its data against the model with the residuals")
     if plot_params is not None and n_spectra == 1:
         raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
     if args.plot_x is not None:  # (checked before the fit, as every argument: added 2026-12-02)
@@ -173,7 +177,8 @@ def run(args) -> int:
     batch_hints = result.misfit_hints() if isinstance(result, BatchFitResult) else None  # (added 2026-12-03)
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {}),
                                     **({"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
-    outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None and args.plot_x is None else lambda: result.plot(params=plot_params, x=args.plot_x), source, **figure_options(args))})
+    outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None and args.plot_x is None else lambda: result.plot(params=plot_params, x=args.plot_x), source, **figure_options(args)),
+                  "--residual-map": figure_writer(lambda: result.plot_residual_map(), source, **figure_options(args))})
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr, as before 2026-12-02)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once; added 2026-12-02)

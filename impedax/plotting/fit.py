@@ -330,3 +330,54 @@ def _plot_fits(ax, ds, dims, labels, model, phase: bool = False) -> None:
     ax.set_ylabel("−Z'' [Ω]", fontsize=font_size("label", 8))
     ax.set_title(f"data (○) and fits (—), {what}", fontsize=font_size("title", 9))
     nyquist_view(ax, z[drawn], *curves, frequency=np.broadcast_to(freq, z[drawn].shape), frame=nyquist_frame(z[drawn], *curves))
+
+
+def plot_residual_map(batch, *, title: str | None = None):
+    """Where a model fails across a batch: the relative residuals (Z − Z_model)/|Z| of every
+    spectrum, real and imaginary parts [%], as two maps over the spectra (x, in the batch's
+    order, marked with their labels) and frequency (y, log), on one diverging colour scale
+    symmetric about 0 (its ends at the 99th percentile of |residual|, so a few outliers do not
+    pale the rest; beyond it the colour saturates), and each fit's rms_rel below. A model that
+    misses an effect leaves the same sign pattern at the same frequencies in spectrum after
+    spectrum, where noise leaves speckle (`BatchFitResult.plot_residual_map`; ``impedax fit FILE
+    --residual-map FIG.png``). Returns a matplotlib Figure."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import Normalize
+
+    from . import characters_across, label_spectra_axis, plain_log_ticks, wrap_model
+
+    ds = batch.dataset
+    dims = tuple(batch.dims)
+    f = np.asarray(ds["frequency"].values, float)
+    order = np.argsort(f)
+    f = f[order]
+    z = ds["Z"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)[:, order]
+    z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)[:, order]
+    relative = (z - z_model) / np.abs(z) * 100
+    inner = np.sqrt(f[1:] * f[:-1])
+    f_edges = np.concatenate([[f[0] ** 2 / inner[0]], inner, [f[-1] ** 2 / inner[-1]]]) if f.size > 1 else np.array([f[0] / 1.2, f[0] * 1.2])
+    x_edges = np.arange(batch.n_spectra + 1) - 0.5
+    finite = np.abs(np.concatenate([relative.real.ravel(), relative.imag.ravel()]))
+    finite = finite[np.isfinite(finite)]
+    scale = float(np.percentile(finite, 99)) if finite.size else 1.0
+    scale = scale if scale > 0 else 1.0
+    fig, (ax_re, ax_im, ax_rms) = plt.subplots(3, 1, figsize=(8, 8), height_ratios=[2.2, 2.2, 1.1], sharex=True, layout="constrained")
+    norm = Normalize(-scale, scale)
+    for ax, part, name in ((ax_re, relative.real, "Re"), (ax_im, relative.imag, "Im")):
+        mesh = ax.pcolormesh(x_edges, f_edges, part.T, norm=norm, cmap="RdBu_r", shading="flat")
+        ax.set_yscale("log")
+        ax.set_ylim(f_edges[0], f_edges[-1])
+        ax.set_ylabel(f"frequency [Hz]\n({name})", fontsize=font_size("label", 9))
+        plain_log_ticks(ax.yaxis)
+    bar = fig.colorbar(mesh, ax=[ax_re, ax_im], shrink=0.9)
+    bar.set_label(f"(Z − Z_model)/|Z| [%]  (± {scale:.3g} %: the 99th percentile)")
+    places = [coordinate_labels(ds, d) for d in dims]
+    labels = [", ".join(str(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
+    rms = ds["rms_rel"].transpose(*dims).values.reshape(-1) * 100
+    ax_rms.plot(np.arange(batch.n_spectra), rms, "o-", ms=3, lw=0.8)
+    ax_rms.set_ylabel("rms_rel [%]", fontsize=font_size("label", 9))
+    ax_rms.grid(alpha=0.3)
+    label_spectra_axis(ax_rms, labels, dims)
+    fig.suptitle(title or wrap_model(f"{batch.model}: residuals of {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {batch.weighting} weighting",
+                                     characters_across(8, font_size("suptitle", 12))))
+    return fig

@@ -431,6 +431,16 @@ class BatchFitResult(FrozenResult):
 
         return plot_batch(self, title=title, figsize=figsize, params=params, x=x, spectra=spectra)
 
+    def plot_residual_map(self, *, title: str | None = None):
+        """Where the model fails across the spectra: each fit's relative residuals, real and
+        imaginary, as maps over the spectra and frequency, and rms_rel below (matplotlib Figure;
+        `plotting.fit.plot_residual_map`; ``impedax fit FILE --residual-map FIG.png``; added
+        2026-12-06). A missing effect leaves one sign pattern at the same frequencies in every
+        spectrum; noise leaves speckle."""
+        from ...plotting.fit import plot_residual_map
+
+        return plot_residual_map(self, title=title)
+
     def summary(self) -> dict:
         """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""
         ds = self.dataset

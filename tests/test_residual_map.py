@@ -1,0 +1,102 @@
+"""`BatchFitResult.plot_residual_map` and `impedax fit FILE --residual-map`: the relative
+residuals of every fit of a batch as maps over the spectra and frequency (added 2026-12-06).
+Oracles: the residuals recomputed from the fitted values with a numpy closed form of the model,
+and, on SYNTHETIC series, a missing arc showing as one pattern in every spectrum where a
+complete model leaves uncorrelated noise."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+F = np.geomspace(0.1, 1e5, 45)
+W = 2 * np.pi * F
+MODEL = "R0 + R1 || C1"
+
+
+def r_rc(r0, r1, c1):
+    """R0 + R1 ∥ C1 (closed form)."""
+    return r0 + r1 / (1 + 1j * W * r1 * c1)
+
+
+def series(with_second_arc: bool, n: int = 6):
+    """n SYNTHETIC spectra, R1 growing along the series, 0.3 % noise; with a second arc
+    (50 Ω ∥ 1 µF, τ = 50 µs) that MODEL lacks, or without."""
+    rng = np.random.default_rng(5)
+    rows = []
+    for k in range(n):
+        z = r_rc(20.0, 1000.0 * (1 + 0.1 * k), 1e-5)
+        if with_second_arc:
+            z = z + 50.0 / (1 + 1j * W * 50.0 * 1e-6)
+        rows.append(z * (1 + 0.003 * (rng.standard_normal(F.size) + 1j * rng.standard_normal(F.size)) / math.sqrt(2)))
+    return ix.make_spectrum(F, np.stack(rows), dims=("cycle",), coords={"cycle": np.arange(10, 10 + n)})
+
+
+def fitted(data):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return ix.fit(MODEL, data, progress=False)
+
+
+def maps_of(fig):
+    """The two meshes' cells, (frequency ascending) × spectra, read back from the figure."""
+    meshes = [ax.collections[0] for ax in fig.axes[:2]]
+    return [np.asarray(m.get_array()).reshape(F.size, -1) for m in meshes]
+
+
+def test_the_maps_hold_each_fits_relative_residuals():
+    data = series(True)
+    batch = fitted(data)
+    fig = batch.plot_residual_map()
+    try:
+        re_map, im_map = maps_of(fig)
+        for k in range(6):
+            z_model = r_rc(*(float(batch.values(name).isel(cycle=k)) for name in ("R0", "R1", "C1")))
+            z = data["Z"].isel(cycle=k).values
+            expected = (z - z_model) / np.abs(z) * 100  # F is ascending already
+            np.testing.assert_allclose(re_map[:, k], expected.real, atol=1e-6)
+            np.testing.assert_allclose(im_map[:, k], expected.imag, atol=1e-6)
+        assert "modulus weighting" in fig._suptitle.get_text()
+        assert [t.get_text() for t in fig.axes[2].get_xticklabels() if t.get_text()] == [str(c) for c in range(10, 16)]
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
+
+
+@pytest.mark.parametrize("with_second_arc, systematic", [(True, True), (False, False)])
+def test_a_missing_arc_is_one_pattern_across_the_spectra_and_noise_is_not(with_second_arc, systematic):
+    """The imaginary map's columns: correlated spectrum to spectrum (median r > 0.8) when the
+    fitted model lacks the second arc; |median r| < 0.3 when nothing is missing (the case
+    where the map must not suggest an effect)."""
+    import matplotlib.pyplot as plt
+
+    fig = fitted(series(with_second_arc)).plot_residual_map()
+    try:
+        _, im_map = maps_of(fig)
+    finally:
+        plt.close(fig)
+    r = np.corrcoef(im_map.T)
+    median = float(np.median(r[np.triu_indices_from(r, 1)]))
+    assert (median > 0.8) if systematic else (abs(median) < 0.3)
+
+
+def test_the_command_writes_the_map_and_refuses_it_for_one_spectrum(tmp_path, capsys):
+    path = tmp_path / "cycles.nc"
+    ix.save(series(True, 3), path)
+    png = tmp_path / "map.png"
+    assert main(["fit", str(path), "--model", MODEL, "--residual-map", str(png), "--quiet"]) == 0
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    capsys.readouterr()
+    one = tmp_path / "one.png"
+    assert main(["fit", str(path), "--model", MODEL, "--select", "cycle=11", "--residual-map", str(one)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("error:") == 1 and "--residual-map maps the residuals of several spectra" in err and "--plot" in err
+    assert not one.exists()
+
