@@ -196,7 +196,8 @@ def run(args) -> int:
             if batch_hints is not None:  # (the report's hint names the worst spectrum; its diagnosis)
                 from .common import diagnose_command
 
-                print(f"next: {diagnose_command(args, data, batch_hints['worst']['labels'], args.model)} (where the model fails on the worst of those spectra and what it misses)")
+                across = "" if args.residual_map else "; --residual-map FIG.png on this command maps where it fails across all of them"
+                print(f"next: {diagnose_command(args, data, batch_hints['worst']['labels'], args.model)} (where the model fails on the worst of those spectra and what it misses{across})")
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0
