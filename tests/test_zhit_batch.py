@@ -161,3 +161,21 @@ def test_a_notebook_shows_each_spectrum_of_a_batch_as_a_row():
     assert [float(rows[k][4]) for k in (0, 2)] == pytest.approx([1000.0, 1500.0], rel=0.03)
     one = ix.zhit((F, z[1]))._repr_html_()
     assert "<td>valid</td><td>no</td>" in one and "bad band" in one
+
+
+@pytest.mark.parametrize("method", ["linear", "zhit"])
+def test_a_batch_report_names_the_spectra_with_points_below_re_z_0(method):
+    """R0 + R1 ∥ C1 whose two highest points were given Re Z < 0 (−5 % and −8 % of |Z|, an
+    instrument's phase error at its top), in one of three cycles: the report names that cycle and
+    those frequencies, as a single test's note does (the linear test's batch said nothing of
+    them until 2026-12-06)."""
+    rng = np.random.default_rng(3)
+    z = np.stack([(10 + r1 / (1 + 1j * W * r1 * 1e-5)) * (1 + 0.002 * (rng.standard_normal(F.size) + 1j * rng.standard_normal(F.size)) / math.sqrt(2))
+                  for r1 in (1000.0, 1100.0, 1200.0)])
+    top = np.argsort(F)[-2:]
+    z[1, top] = -np.array([0.05, 0.08]) * np.abs(z[1, top]) + 1j * z[1, top].imag
+    data = ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES})
+    batch = ix.zhit_batch(data) if method == "zhit" else ix.kk_test_batch(data)
+    notes = [line for line in batch.report().splitlines() if line.startswith("note: in ")]
+    assert len(notes) == 1 and notes[0].startswith("note: in 1 of 3 spectra (cycle=17) points have Re Z < 0")
+    assert "100 kHz" in notes[0]

@@ -32,7 +32,7 @@ from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
 from .frozen import FrozenResult, freeze_fields
 
-__all__ = ["KKResult", "KKBatchResult", "kk_test", "kk_test_batch", "passing_band", "retested_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
+__all__ = ["KKResult", "KKBatchResult", "ValidityGrid", "kk_test", "kk_test_batch", "passing_band", "retested_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
 # below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
 # misfit is the chain's own and the noise estimate follows it: the test cannot fail
@@ -683,26 +683,17 @@ batch dimension of one of these names (`grid.refuse_result_names`), where ``to_x
 failed with xarray's "conflicting sizes for dimension 'rc'"."""
 
 
-@dataclass(frozen=True, eq=False)
-class KKBatchResult(ResultGrid):
-    """KK tests of every spectrum of a Dataset with extra dimensions (trial, session, ...).
+class ValidityGrid(ResultGrid):
+    """What the batches of the validity tests (`KKBatchResult`, `zhit.ZHITBatchResult`) share:
+    the verdict counts, ``valid`` and ``rms_rel`` over ``dims``, a table row per spectrum (text,
+    notebook, CSV) and the report's last lines, the sign hint and the ``next:`` command for the
+    first failing spectrum. ``_COUNT_COLUMN``: a per-spectrum count the table adds after the
+    noise, as (header, attribute), or None."""
 
-    ``results`` holds one `KKResult` per spectrum in C order over ``dims``; index with
-    ``batch[i, j]`` (integer positions) and see ``valid``/``rms_rel`` as arrays over ``dims``.
-    """
-
-    results: tuple[KKResult, ...]
-
-    def __repr__(self) -> str:
-        """One line: how many spectra over which dimensions, and the verdicts (the generated
-        repr printed every spectrum's arrays)."""
-        few, consistent = self._verdict_counts()
-        inconclusive = f", {few} inconclusive" if few else ""
-        return (f"KKBatchResult({counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: "
-                f"{consistent} KK-consistent, {len(self.results) - few - consistent} not{inconclusive})")
+    _COUNT_COLUMN = None  # (no annotation: a class constant, not a dataclass field of the results)
 
     def _verdict_counts(self) -> tuple[int, int]:
-        """(inconclusive, KK-consistent) spectra: the counts of `report`'s first line and the repr."""
+        """(inconclusive, valid and conclusive) spectra: the counts of the report's first line and the repr."""
         few = sum(not r.conclusive for r in self.results)
         return few, sum(bool(r.valid) and r.conclusive for r in self.results)
 
@@ -713,6 +704,114 @@ class KKBatchResult(ResultGrid):
     @property
     def rms_rel(self) -> np.ndarray:
         return self.per_spectrum("rms_rel")
+
+    def to_table(self) -> list[dict[str, object]]:
+        """Each spectrum's ``to_table`` after a column per dimension (its label)."""
+        return [{**where, **row} for where, r in zip(self.labels(), self.results) for row in r.to_table()]
+
+    def _stacked(self, get, width: int | None = None, dtype=float) -> np.ndarray:
+        """``get(result)`` of every spectrum as one array over ``dims`` (then the per-spectrum
+        shape), each padded with NaN to ``width`` when given (bands, RC elements): `to_xarray`'s."""
+        rows = [np.asarray(get(r), dtype=dtype) for r in self.results]
+        if width is not None:
+            rows = [np.pad(v, (0, width - v.size), constant_values=np.nan) for v in rows]
+        return np.stack(rows).reshape(*self.shape, *rows[0].shape)
+
+    def _band_variables(self, n_band: int) -> dict:
+        """`to_xarray`'s bad bands of every spectrum, (*dims, band) padded with NaN to ``n_band``."""
+        dims = (*self.dims, "band")
+        return {"bad_band_f_min": (dims, self._stacked(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
+                "bad_band_f_max": (dims, self._stacked(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"})}
+
+    def _verdict_variables(self) -> dict:
+        """`to_xarray`'s verdict of every spectrum over ``dims``: rms_rel, noise estimate, valid, conclusive."""
+        return {"rms_rel": (self.dims, self.rms_rel, {"units": "1"}), "noise_estimate": (self.dims, self.per_spectrum("noise_estimate"), {"units": "1"}),
+                "valid": (self.dims, self.valid), "conclusive": (self.dims, self.per_spectrum("conclusive", bool))}
+
+    def _coordinates(self) -> dict:
+        """`to_xarray`'s coordinates: the frequencies [Hz] and the batch's labels."""
+        return {"frequency": ("frequency", self.results[0].frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}}
+
+    def _spectrum_names(self) -> list[str]:
+        """Each spectrum as the report names it: ``cycle=3`` (``trial=2, session=1`` over several dimensions)."""
+        return [", ".join(f"{d}={v}" for d, v in w.items()) for w in self.labels()]
+
+    def _table_lines(self, names: list[str]) -> list[str]:
+        """The report's table: a header and, per spectrum, its name, verdict, rms_rel, noise
+        estimate, `_COUNT_COLUMN` and bad bands with the rules that flagged each."""
+        width = column_width(names, "spectrum")
+        head, attribute = self._COUNT_COLUMN or ("", "")
+        lines = [f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9}{f' {head:>3}' if head else ''}  bad bands [rules that flagged them]"]
+        for name, r in zip(names, self.results):
+            bands = "; ".join(f"{band_name(points)} [{', '.join(rules)}]" for points, rules in zip(r.band_frequencies, r.band_rules)) or "none"
+            count = f" {getattr(r, attribute):>3}" if head else ""
+            lines.append(f"{name:<{width}}  {_verdict_word(r):<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}%{count}  {bands}")
+        return lines
+
+    def _html_rows(self) -> list[dict]:
+        """The notebook table: per spectrum its labels, verdict, rms_rel, noise estimate, `_COUNT_COLUMN` and bad bands."""
+        head, attribute = self._COUNT_COLUMN or ("", "")
+        return [{**where, "verdict": _verdict_word(r), "rms_rel [%]": f"{r.rms_rel * 100:.3g}", "noise [%]": f"{r.noise_estimate * 100:.3g}",
+                 **({head: getattr(r, attribute)} if head else {}), "bad bands": "; ".join(band_name(points) for points in r.band_frequencies) or "none"}
+                for where, r in zip(self.labels(), self.results)]
+
+    def _non_passive_lines(self, names: list[str]) -> list[str]:
+        """The spectra with points Re Z < 0 beyond the noise (up to 3 named) and the first one's note."""
+        passive = [i for i, r in enumerate(self.results) if r.non_passive_note]
+        if not passive:
+            return []
+        listed = ", ".join(names[i] for i in passive[:3]) + (", …" if len(passive) > 3 else "")
+        return [f"note: in {len(passive)} of {counted(len(self.results), 'spectrum', 'spectra')} ({listed}) points have Re Z < 0, which no passive circuit reaches: "
+                f"{names[passive[0]]}: {self.results[passive[0]].non_passive_note}"]
+
+    def _hint_lines(self, names: list[str]) -> list[str]:
+        """The first sign hint, naming the spectra that have one (up to 3)."""
+        hints = [r.sign_hint for r in self.results]
+        with_hint = [i for i, h in enumerate(hints) if h]
+        if not with_hint:
+            return []
+        listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
+        return [f"hint: in {len(with_hint)} of {counted(len(hints), 'spectrum', 'spectra')} ({listed}): {hints[with_hint[0]]}"]
+
+    def _first_failure(self, data_path: str | None) -> tuple[int, str, str, str, str] | None:
+        """For the ``next:`` line: how many spectra failed (conclusively, without a sign hint), the
+        first one's name, the file to name (``data_path``, quoted; "FILE" for "-" or None), the
+        first one's ``--select`` words and what to do for "FILE"; None when none failed."""
+        failed = [i for i, r in enumerate(self.results) if r.conclusive and not r.valid and not r.sign_hint]
+        if not failed:
+            return None
+        import shlex
+
+        where = self.labels()[failed[0]]
+        selects = " ".join(f"--select {shlex.quote(f'{d}={v}')}" for d, v in where.items())
+        path = shlex.quote(str(data_path)) if data_path not in (None, "-") else "FILE"
+        save = "" if path != "FILE" else " (save the data to FILE first: standard input is read once)"
+        return len(failed), self._spectrum_names()[failed[0]], path, selects, save
+
+
+def _verdict_word(result) -> str:
+    """A spectrum's verdict in a batch's table: valid, NOT valid, or too few (inconclusive)."""
+    return ("valid" if result.valid else "NOT valid") if result.conclusive else "too few"
+
+
+@dataclass(frozen=True, eq=False)
+class KKBatchResult(ValidityGrid):
+    """KK tests of every spectrum of a Dataset with extra dimensions (trial, session, ...).
+
+    ``results`` holds one `KKResult` per spectrum in C order over ``dims``; index with
+    ``batch[i, j]`` (integer positions) and see ``valid``/``rms_rel`` as arrays over ``dims``.
+    """
+
+    results: tuple[KKResult, ...]
+    _COUNT_COLUMN = ("M", "n_rc")  # (the table's column of each chain's number of RC elements)
+
+    def __repr__(self) -> str:
+        """One line: how many spectra over which dimensions, and the verdicts (the generated
+        repr printed every spectrum's arrays)."""
+        few, consistent = self._verdict_counts()
+        inconclusive = f", {few} inconclusive" if few else ""
+        return (f"KKBatchResult({counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: "
+                f"{consistent} KK-consistent, {len(self.results) - few - consistent} not{inconclusive})")
 
     @property
     def n_rc(self) -> np.ndarray:
@@ -729,22 +828,13 @@ class KKBatchResult(ResultGrid):
                 "n_conclusive": len(self.results) - few, "n_inconclusive": few, "spectra": spectra,
                 "warnings": sorted({w for row in spectra for w in row["warnings"]})}
 
-    def to_table(self) -> list[dict[str, object]]:
-        """`KKResult.to_table` of every spectrum after a column per dimension (its label)."""
-        return [{**where, **row} for where, r in zip(self.labels(), self.results) for row in r.to_table()]
-
     def to_xarray(self) -> xr.Dataset:
         """Each spectrum's `KKResult.to_xarray()` stacked over ``dims`` (bands and RC elements
         padded with NaN)."""
         shape, dims = self.shape, self.dims
         n_band = max([len(r.bad_bands) for r in self.results] + [0])
         n_rc = max(r.n_rc for r in self.results)
-
-        def stack(get, width=None):
-            rows = [np.asarray(get(r), dtype=float) for r in self.results]
-            if width is not None:
-                rows = [np.pad(v, (0, width - v.size), constant_values=np.nan) for v in rows]
-            return np.stack(rows).reshape(*shape, *rows[0].shape)
+        stack = self._stacked
 
         per_freq = (*dims, "frequency")
         first = self.results[0]
@@ -757,21 +847,17 @@ class KKBatchResult(ResultGrid):
                 "flagged": (per_freq, stack(lambda r: r.flagged).astype(bool)),
                 "point_scale": (per_freq, stack(lambda r: r.scale_per_point), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),  # (added 2026-12-02)
                 "stray": (per_freq, stack(lambda r: r.stray_points).astype(bool), {"long_name": STRAY_LONG_NAME}),  # (added 2026-12-06)
-                "bad_band_f_min": ((*dims, "band"), stack(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
-                "bad_band_f_max": ((*dims, "band"), stack(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"}),
+                **self._band_variables(n_band),
                 "time_constant": ((*dims, "rc"), stack(lambda r: r.time_constants, n_rc), {"units": "s"}),
                 "resistance": ((*dims, "rc"), stack(lambda r: r.resistances, n_rc), {"units": "ohm"}),
                 "n_rc": (dims, self.n_rc),
                 "mu": (dims, self.per_spectrum("mu")),
-                "rms_rel": (dims, self.rms_rel, {"units": "1"}),
-                "noise_estimate": (dims, self.per_spectrum("noise_estimate"), {"units": "1"}),
-                "valid": (dims, self.valid),
-                "conclusive": (dims, self.per_spectrum("conclusive", bool)),
+                **self._verdict_variables(),
                 "series_resistance": (dims, self.per_spectrum("series_resistance"), {"units": "ohm"}),
                 "series_inductance": (dims, self.per_spectrum("series_inductance"), {"units": "H"}),
                 "inverse_series_capacitance": (dims, self.per_spectrum("inverse_series_capacitance"), {"units": "1/F"}),
             },
-            coords={"frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},
+            coords=self._coordinates(),
         )
         # (the settings, shared by every spectrum; each spectrum's series R, L and 1/C are variables)
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith(("series", "inverse_series"))})
@@ -782,10 +868,7 @@ class KKBatchResult(ResultGrid):
         noise estimate, M and bad bands), as the report's table."""
         from ..plotting.html import result_html
 
-        rows = [{**where, "verdict": ("valid" if r.valid else "NOT valid") if r.conclusive else "too few", "rms_rel [%]": f"{r.rms_rel * 100:.3g}",
-                 "noise [%]": f"{r.noise_estimate * 100:.3g}", "M": r.n_rc, "bad bands": "; ".join(band_name(points) for points in r.band_frequencies) or "none"}
-                for where, r in zip(self.labels(), self.results)]
-        return result_html("linear Kramers–Kronig test", rows, lines=[self.report().splitlines()[0]])
+        return result_html("linear Kramers–Kronig test", self._html_rows(), lines=[self.report().splitlines()[0]])
 
     def plot(self, *, title: str | None = None):
         """Every spectrum's |Δ| as a map over the spectra and frequency, the flagged points
@@ -807,17 +890,12 @@ class KKBatchResult(ResultGrid):
         or None: save the data to a file first). What ``impedax kk`` prints for several spectra
         (the JSON: `summary`; a method since 2026-12-02, a Python walkthrough found none)."""
         batch, lines = self, []
-        where = batch.labels()
         few, consistent = batch._verdict_counts()
         lines.append(f"linear KK test of {counted(len(batch.results), 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
                      + (f", {few} inconclusive (too few frequencies to tell)" if few else "")
                      + ("; noise: the data's sigma (each point judged against its σ; --noise residuals for one estimate)" if any(r.noise_from == "sigma" for r in batch.results) else ""))
-        names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
-        width = column_width(names, "spectrum")
-        lines.append(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9} {'M':>3}  bad bands [rules that flagged them]")
-        for name, r in zip(names, batch.results):
-            bands = "; ".join(f"{band_name(points)} [{', '.join(rules)}]" for points, rules in zip(r.band_frequencies, r.band_rules)) or "none"
-            lines.append(f"{name:<{width}}  {('valid' if r.valid else 'NOT valid') if r.conclusive else 'too few':<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}% {r.n_rc:>3}  {bands}")
+        names = batch._spectrum_names()
+        lines += batch._table_lines(names)
         if any(r.bad_bands for r in batch.results):
             t = batch.results[0].thresholds
             by_sigma = sum(r.noise_from == "sigma" for r in batch.results)
@@ -825,20 +903,11 @@ class KKBatchResult(ResultGrid):
                      "s: the largest of the noise estimate, " if not by_sigma else "s: each point's σ/|Z| where the data's sigma was used, else the largest of the noise estimate, ")
             lines.append(f"rules: point = one |Δ| > {t['point']:.3g} s, run = ≥ {int(t['run_length'])} consecutive |Δ| > {t['run']:.3g} s, window = a {int(t['window'])}-point mean "
                          f"of Δ' or Δ'' > {t['window_mean'] / math.sqrt(t['window']):.3g} s ({scale}{t['noise_floor'] * 100:.3g} % and the chain's own error; the levels: impedax kk --select)")
-        hints = [r.sign_hint for r in batch.results]
-        with_hint = [i for i, h in enumerate(hints) if h]
-        if with_hint:
-            listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
-            lines.append(f"hint: in {len(with_hint)} of {counted(len(hints), 'spectrum', 'spectra')} ({listed}): {hints[with_hint[0]]}")
-        failed = [i for i, r in enumerate(batch.results) if r.conclusive and not r.valid and not r.sign_hint]
-        if failed:
-            import shlex
-
-            selects = " ".join(f"--select {shlex.quote(f'{d}={v}')}" for d, v in where[failed[0]].items())
-            path = shlex.quote(str(data_path)) if data_path not in (None, "-") else "FILE"
-            save = "" if path != "FILE" else " (save the data to FILE first: standard input is read once)"
-            name = ", ".join(f"{d}={v}" for d, v in where[failed[0]].items())
-            lines.append(f"next: impedax kk {path} {selects} tests {name} alone ({len(failed)} of {len(batch.results)} not valid) and names the points to leave out{save}; "
+        lines += batch._non_passive_lines(names) + batch._hint_lines(names)
+        failure = batch._first_failure(data_path)
+        if failure:
+            n_failed, name, path, selects, save = failure
+            lines.append(f"next: impedax kk {path} {selects} tests {name} alone ({n_failed} of {len(batch.results)} not valid) and names the points to leave out{save}; "
                          "impedax refine leaves each spectrum's KK-flagged points out by itself")
         return "\n".join(lines)
 

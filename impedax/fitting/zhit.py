@@ -40,10 +40,10 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import checked_arguments, count, real
-from ..data import column_width, concise_repr, counted, format_frequency, label_value, report_text
+from ..data import concise_repr, counted, format_frequency, label_value, report_text
 from ..errors import DataError, ParameterError
-from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
-from .grid import ResultGrid, refuse_result_names
+from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, ValidityGrid, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
+from .grid import refuse_result_names
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, non_passive_words
 from .frozen import FrozenResult, freeze_fields
@@ -291,7 +291,7 @@ BATCH_RESULT_NAMES = frozenset({
 
 
 @dataclass(frozen=True, eq=False)
-class ZHITBatchResult(ResultGrid):
+class ZHITBatchResult(ValidityGrid):
     """Z-HIT of every spectrum of a Dataset with extra dimensions (cycle, trial, ...), as
     `kk.KKBatchResult` holds the linear test's: one `ZHITResult` per spectrum in C order over
     ``dims``; ``batch[i, j]`` (integer positions) gives one, ``valid`` and ``rms_rel`` are arrays
@@ -307,19 +307,6 @@ class ZHITBatchResult(ResultGrid):
 
     __str__ = report_text
 
-    def _verdict_counts(self) -> tuple[int, int]:
-        """(inconclusive, valid and conclusive) spectra."""
-        few = sum(not r.conclusive for r in self.results)
-        return few, sum(bool(r.valid) and r.conclusive for r in self.results)
-
-    @property
-    def valid(self) -> np.ndarray:
-        return self.per_spectrum("valid", bool)
-
-    @property
-    def rms_rel(self) -> np.ndarray:
-        return self.per_spectrum("rms_rel")
-
     def summary(self) -> dict:
         """The JSON of ``impedax kk --method zhit --json`` for several spectra, as the linear
         test's (`KKBatchResult.summary`): ``method`` ("zhit"), ``dims``, ``sizes``, ``n_spectra``,
@@ -332,22 +319,13 @@ class ZHITBatchResult(ResultGrid):
                 "n_valid": sum(bool(r.valid) for r in self.results), "n_conclusive": len(self.results) - few, "n_inconclusive": few, "spectra": spectra,
                 "warnings": sorted({w for row in spectra for w in row["warnings"]})}
 
-    def to_table(self) -> list[dict[str, object]]:
-        """`ZHITResult.to_table` of every spectrum after a column per dimension (its label)."""
-        return [{**where, **row} for where, r in zip(self.labels(), self.results) for row in r.to_table()]
-
     def to_xarray(self) -> xr.Dataset:
         """Each spectrum's `ZHITResult.to_xarray()` stacked over ``dims`` (bad bands padded with
         NaN), with each spectrum's rule levels as variables (``point_threshold``, ``run_threshold``:
         fractions of |Z|, as its own scale s sets them)."""
-        dims, shape = self.dims, self.shape
+        dims = self.dims
         n_band = max(len(r.bad_bands) for r in self.results)
-
-        def stack(get, width=None, dtype=float):
-            rows = [np.asarray(get(r), dtype=dtype) for r in self.results]
-            if width is not None:
-                rows = [np.pad(v, (0, width - v.size), constant_values=np.nan) for v in rows]
-            return np.stack(rows).reshape(*shape, *rows[0].shape)
+        stack = self._stacked
 
         per_freq = (*dims, "frequency")
         first = self.results[0]
@@ -359,16 +337,12 @@ class ZHITBatchResult(ResultGrid):
                 "flagged": (per_freq, stack(lambda r: r.flagged, dtype=bool)),
                 "end_slope_local": (per_freq, stack(lambda r: r.end_slope_local if r.end_slope_local is not None else np.zeros(r.frequency.size, bool), dtype=bool),
                                     {"long_name": "end point reconstructed with the local-cubic phase slope"}),
-                "bad_band_f_min": ((*dims, "band"), stack(lambda r: [b[0] for b in r.bad_bands], n_band), {"units": "Hz"}),
-                "bad_band_f_max": ((*dims, "band"), stack(lambda r: [b[1] for b in r.bad_bands], n_band), {"units": "Hz"}),
-                "rms_rel": (dims, self.rms_rel, {"units": "1"}),
-                "noise_estimate": (dims, self.per_spectrum("noise_estimate"), {"units": "1"}),
-                "valid": (dims, self.valid),
-                "conclusive": (dims, self.per_spectrum("conclusive", bool)),
+                **self._band_variables(n_band),
+                **self._verdict_variables(),
                 "point_threshold": (dims, self.per_spectrum("threshold"), {"units": "1"}),
                 "run_threshold": (dims, self.per_spectrum("run_threshold"), {"units": "1"}),
             },
-            coords={"frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},
+            coords=self._coordinates(),
             attrs={"method": first.to_xarray().attrs["method"], "run_length": first.run_length, "noise_floor": first.noise_floor},
         )
         return ds.copy(deep=True)
@@ -378,10 +352,7 @@ class ZHITBatchResult(ResultGrid):
         noise estimate and bad bands), as the report's table."""
         from ..plotting.html import result_html
 
-        rows = [{**where, "verdict": ("valid" if r.valid else "NOT valid") if r.conclusive else "too few", "rms_rel [%]": f"{r.rms_rel * 100:.3g}",
-                 "noise [%]": f"{r.noise_estimate * 100:.3g}", "bad bands": "; ".join(band_name(points) for points in r.band_frequencies) or "none"}
-                for where, r in zip(self.labels(), self.results)]
-        return result_html("Z-HIT", rows, lines=[self.report().splitlines()[0]])
+        return result_html("Z-HIT", self._html_rows(), lines=[self.report().splitlines()[0]])
 
     def plot(self, *, title: str | None = None):
         """Every spectrum's |residual| as a map over the spectra and frequency, the flagged
@@ -401,39 +372,20 @@ class ZHITBatchResult(ResultGrid):
         first sign hint, and, when a spectrum failed, a ``next:`` line: ``impedax kk DATA_PATH
         --method zhit --select …`` shows the first failing one alone (``data_path``: the file
         the run read; "-" or None: save the data to a file first)."""
-        where = self.labels()
         few, consistent = self._verdict_counts()
         lines = [f"Z-HIT of {counted(len(self.results), 'spectrum', 'spectra')} over {', '.join(self.dims)}: {consistent} valid (|Z| and phase consistent), "
                  f"{len(self.results) - few - consistent} not" + (f", {few} inconclusive (too few frequencies to tell)" if few else "")]
-        names = [", ".join(f"{d}={v}" for d, v in w.items()) for w in where]
-        width = column_width(names, "spectrum")
-        lines.append(f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9}  bad bands [rules that flagged them]")
-        for name, r in zip(names, self.results):
-            bands = "; ".join(f"{band_name(points)} [{', '.join(rules)}]" for points, rules in zip(r.band_frequencies, r.band_rules)) or "none"
-            verdict = ("valid" if r.valid else "NOT valid") if r.conclusive else "too few"
-            lines.append(f"{name:<{width}}  {verdict:<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}%  {bands}")
+        names = self._spectrum_names()
+        lines += self._table_lines(names)
         if any(r.bad_bands for r in self.results):
             r0 = self.results[0]
             lines.append(f"rules: point = one |residual| > {r0.point_multiple:.3g} s, run = ≥ {r0.run_length} consecutive |residual| > {r0.run_threshold / max(r0.noise_estimate, r0.noise_floor):.3g} s "
                          f"(residual = (|Z| − |Z| from the phase)/|Z|; s: each spectrum's noise estimate, at least the {r0.noise_floor * 100:.3g} % floor of Z-HIT's own error; the levels: impedax kk --method zhit --select)")
-        passive = [i for i, r in enumerate(self.results) if r.non_passive_note]
-        if passive:
-            listed = ", ".join(names[i] for i in passive[:3]) + (", …" if len(passive) > 3 else "")
-            lines.append(f"note: in {len(passive)} of {counted(len(self.results), 'spectrum', 'spectra')} ({listed}) points have Re Z < 0, which no passive circuit reaches: "
-                         f"{names[passive[0]]}: {self.results[passive[0]].non_passive_note}")
-        hints = [r.sign_hint for r in self.results]
-        with_hint = [i for i, h in enumerate(hints) if h]
-        if with_hint:
-            listed = ", ".join(names[i] for i in with_hint[:3]) + (", …" if len(with_hint) > 3 else "")
-            lines.append(f"hint: in {len(with_hint)} of {counted(len(hints), 'spectrum', 'spectra')} ({listed}): {hints[with_hint[0]]}")
-        failed = [i for i, r in enumerate(self.results) if r.conclusive and not r.valid and not r.sign_hint]
-        if failed:
-            import shlex
-
-            selects = " ".join(f"--select {shlex.quote(f'{d}={v}')}" for d, v in where[failed[0]].items())
-            path = shlex.quote(str(data_path)) if data_path not in (None, "-") else "FILE"
-            save = "" if path != "FILE" else " (save the data to FILE first: standard input is read once)"
-            lines.append(f"next: impedax kk {path} --method zhit {selects} --plot FIG.png shows {names[failed[0]]} alone ({len(failed)} of {len(self.results)} not valid){save}")
+        lines += self._non_passive_lines(names) + self._hint_lines(names)
+        failure = self._first_failure(data_path)
+        if failure:
+            n_failed, name, path, selects, save = failure
+            lines.append(f"next: impedax kk {path} --method zhit {selects} --plot FIG.png shows {name} alone ({n_failed} of {len(self.results)} not valid){save}")
         return "\n".join(lines)
 
 
