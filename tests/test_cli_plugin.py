@@ -219,6 +219,21 @@ def test_a_plugin_reader_whose_sniff_raises_is_named_with_its_file_and_line(tmp_
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
 
 
+def test_a_plugin_formula_that_fails_under_jax_is_named_with_its_file_and_line(tmp_path, capsys):
+    """An element whose formula calls numpy on the traced ω is refused when the circuit is
+    compiled; the one message names the plugin file and the line of the formula that failed
+    (line 5 of the file written here; the function starts on line 4), as a sniff's fault is
+    named (walkthrough 2026-12-06: the message named the element only, "element Kx: its
+    impedance function failed under JAX", and the user had to find the line alone)."""
+    bad = tmp_path / "np_formula.py"
+    bad.write_text("import numpy as np\nimport impedax as ix\n\ndef kx(omega, r):\n    return r * np.ones_like(omega)\n\n"
+                   "KX = ix.ElementSpec('Kx', 'numpy element', 'Z = R', (ix.ParameterSpec('R', 'Ohm', 1.0),), kx)\n")
+    code, out, err = run(["simulate", "R0 + Kx1", "--plugin", bad, "--points", "3"], capsys)
+    assert code == 2 and out == ""
+    assert f"element Kx: its impedance function ({bad}, line 5) failed under JAX (TracerArrayConversionError" in err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
 def test_a_missing_plugin_and_a_symbol_in_two_plugins_are_refused(lab, tmp_path, capsys):
     plugin, _ = lab
     code, _, err = run(["--plugin", tmp_path / "nothere.py", "info", "R0"], capsys)

@@ -149,17 +149,19 @@ def test_a_clash_between_users_elements_names_the_first():
 @pytest.mark.parametrize(
     "formula, message",
     [
-        (lambda w, r, t: np.asarray(r) / (1 + 1j * np.asarray(w) * t), "element Kb: its impedance function failed under JAX (TracerArrayConversionError: "),
-        (lambda w, r, t: r / (1 + 1j * w * t) if t > 0 else r, "element Kb: its impedance function failed under JAX (TracerBoolConversionError: "),
-        (lambda w, r, t: jnp.full(3, r + 0j), "element Kb: its impedance function returns shape (3,) for 30 frequencies; it must return one value per frequency (shape (30,)) or a scalar"),
-        (lambda w, r, t: (r, t), "element Kb: its impedance function returns tuple, not an array of numbers"),
+        (lambda w, r, t: np.asarray(r) / (1 + 1j * np.asarray(w) * t), "element Kb: its impedance function{at} failed under JAX (TracerArrayConversionError: "),
+        (lambda w, r, t: r / (1 + 1j * w * t) if t > 0 else r, "element Kb: its impedance function{at} failed under JAX (TracerBoolConversionError: "),
+        (lambda w, r, t: jnp.full(3, r + 0j), "element Kb: its impedance function{at} returns shape (3,) for 30 frequencies; it must return one value per frequency (shape (30,)) or a scalar"),
+        (lambda w, r, t: (r, t), "element Kb: its impedance function{at} returns tuple, not an array of numbers"),
     ],
 )
 def test_a_formula_that_cannot_run_under_jax_is_refused_when_compiled(formula, message):
+    """The message names the formula's file and line (each lambda above is on one line: the
+    line it is written on, by Python's own record of it)."""
     registry = ix.DEFAULT_REGISTRY.register(_spec("Kb", impedance=formula))
     with pytest.raises(ix.CircuitError) as caught:
         ix.compile_circuit("R0 + Kb1", registry)
-    assert str(caught.value).startswith(message)
+    assert str(caught.value).startswith(message.format(at=f" ({__file__}, line {formula.__code__.co_firstlineno})"))
     with pytest.raises(ix.CircuitError, match="element Kb: its impedance function"):  # the padded programs evaluate every kind
         CircuitProgram.build("R0 + R1", registry)
 

@@ -10,6 +10,7 @@ the elements' own derivatives. The other compiled forms build on the node functi
 from __future__ import annotations
 
 import functools
+import traceback
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Mapping
 
@@ -53,6 +54,17 @@ def check_user_elements(specs: Iterable[ElementSpec]) -> None:
             _check_user_element(spec)
 
 
+def _formula_at(formula, exc: BaseException | None = None) -> str:
+    """`` (FILE, line N)``: where a user's ``formula`` is — the line of its own file ``exc`` was
+    raised on (its innermost such frame), else the line it is defined on; "" for a formula with
+    no source file (a callable object, one typed at a prompt)."""
+    code = getattr(formula, "__code__", None)
+    if code is None or code.co_filename.startswith("<"):
+        return ""
+    raised = [frame.lineno for frame in traceback.extract_tb(exc.__traceback__) if frame.filename == code.co_filename] if exc is not None else []
+    return f" ({code.co_filename}, line {raised[-1] if raised else code.co_firstlineno})"
+
+
 @functools.lru_cache(maxsize=None)
 def _check_user_element(spec: ElementSpec) -> None:
     omega = jax.ShapeDtypeStruct((TRIAL_FREQUENCIES,), jnp.float64)
@@ -65,19 +77,19 @@ def _check_user_element(spec: ElementSpec) -> None:
         except Exception as exc:  # (whatever a user's formula raises when traced)
             reason = (str(exc).strip().splitlines() or [""])[0][:MAX_MESSAGE // 2]
             raise CircuitError(
-                f"element {spec.symbol}: its {form} function failed under JAX ({type(exc).__name__}: {reason}); "
+                f"element {spec.symbol}: its {form} function{_formula_at(formula, exc)} failed under JAX ({type(exc).__name__}: {reason}); "
                 "write it with jax.numpy (jnp) rather than numpy or math, and with jnp.where rather than a Python if or float() on its arguments"
             ) from None
         shape = getattr(out, "shape", None)
         if not isinstance(out, jax.ShapeDtypeStruct) or not np.issubdtype(out.dtype, np.number):
-            raise CircuitError(f"element {spec.symbol}: its {form} function returns {type(out).__name__}, not an array of numbers")
+            raise CircuitError(f"element {spec.symbol}: its {form} function{_formula_at(formula)} returns {type(out).__name__}, not an array of numbers")
         try:
             fits = np.broadcast_shapes(shape, omega.shape) == omega.shape
         except ValueError:
             fits = False
         if not fits:
             raise CircuitError(
-                f"element {spec.symbol}: its {form} function returns shape {shape} for {TRIAL_FREQUENCIES} frequencies; "
+                f"element {spec.symbol}: its {form} function{_formula_at(formula)} returns shape {shape} for {TRIAL_FREQUENCIES} frequencies; "
                 f"it must return one value per frequency (shape ({TRIAL_FREQUENCIES},)) or a scalar"
             )
 
