@@ -244,6 +244,25 @@ def test_a_missing_plugin_and_a_symbol_in_two_plugins_are_refused(lab, tmp_path,
     assert code == 2 and f"--plugin {other}: element symbol 'Gx' of element 'another Gx' is declared in {plugin} too (Gerischer-like)" in err
 
 
+def test_a_plugin_listed_in_the_environment_is_named_as_such(tmp_path, capsys, monkeypatch):
+    """A bad file listed in $IMPEDAX_PLUGINS is named as the variable's, not as a --plugin the
+    user never typed (walkthrough 2026-12-06: "--plugin pl/nothere.py: no such file" on a
+    command line without --plugin); a file given with --plugin keeps its name."""
+    gone = tmp_path / "nothere.py"
+    monkeypatch.setenv("IMPEDAX_PLUGINS", str(gone))
+    code, out, err = run(["info", "R0"], capsys)
+    assert code == 2 and out == ""
+    assert err.strip() == f"impedax info: error: $IMPEDAX_PLUGINS {gone}: no such file"
+    raising = tmp_path / "raising.py"
+    raising.write_text("import impedax\n\nraise RuntimeError('no licence file')\n")
+    monkeypatch.setenv("IMPEDAX_PLUGINS", str(raising))
+    code, _, err = run(["info", "R0"], capsys)
+    assert code == 2 and f"$IMPEDAX_PLUGINS {raising}, line 3: executing it raised RuntimeError: no licence file" in err
+    monkeypatch.delenv("IMPEDAX_PLUGINS")
+    code, _, err = run(["info", "R0", "--plugin", raising], capsys)
+    assert code == 2 and f"--plugin {raising}, line 3: executing it raised RuntimeError" in err
+
+
 def test_the_command_is_found_after_the_program_option_and_fit_advice_carries_it():
     assert _first_word(["--plugin", "fit.py", "fit", "data.lab"]) == "fit"
     args = SimpleNamespace(data="run 1.lab", weighting="modulus", plugin=["my lab.py"])

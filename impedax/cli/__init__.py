@@ -145,7 +145,7 @@ def _load_plugins(args) -> None:
     from .plugins import PLUGIN_AFTER, load_plugins, plugin_files
 
     files = plugin_files([*(getattr(args, "plugin", None) or ()), *vars(args).pop(PLUGIN_AFTER, ())])
-    plugins = load_plugins(files)
+    plugins = load_plugins(files, from_environment=plugin_files([]))  # (those named as $IMPEDAX_PLUGINS' in messages)
     args.plugin, args.registry, args.readers = files, plugins.registry, plugins.readers
 
 

@@ -22,7 +22,7 @@ import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import ModuleType
-from typing import TYPE_CHECKING, Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Collection, Iterable, Mapping, Sequence
 
 from ..errors import ParameterError
 
@@ -84,8 +84,10 @@ def plugin_files(given: Sequence[str] | None, environ: Mapping[str, str] | None 
 _EXECUTED: dict[tuple[str, int, int], ModuleType] = {}
 
 
-def _where(path: str) -> str:
-    return f"{PLUGIN_OPTION} {path}"
+def _where(path: str, from_environment: Collection[str] = ()) -> str:
+    """How a message names plugin ``path``: ``--plugin FILE``, or ``$IMPEDAX_PLUGINS FILE`` for
+    a file listed there (a variable set long ago was named as an option never typed)."""
+    return f"${PLUGINS_ENV} {path}" if path in from_environment else f"{PLUGIN_OPTION} {path}"
 
 
 def _line_in(exc: BaseException, path: Path) -> int | None:
@@ -95,11 +97,12 @@ def _line_in(exc: BaseException, path: Path) -> int | None:
     return lines[-1] if lines else None
 
 
-def _execute(path_text: str) -> ModuleType:
-    """The module of plugin file ``path_text``, executed (once per content, `_EXECUTED`)."""
+def _execute(path_text: str, where: str) -> ModuleType:
+    """The module of plugin file ``path_text`` (named ``where`` in messages, `_where`), executed
+    (once per content, `_EXECUTED`)."""
     path = Path(path_text)
     if not path.is_file():
-        raise ParameterError(f"{_where(path_text)}: no such file" if not path.exists() else f"{_where(path_text)}: not a file")
+        raise ParameterError(f"{where}: no such file" if not path.exists() else f"{where}: not a file")
     stat = path.stat()
     key = (os.path.realpath(path), stat.st_mtime_ns, stat.st_size)
     if key in _EXECUTED:
@@ -115,12 +118,12 @@ def _execute(path_text: str) -> ModuleType:
     except SyntaxError as exc:
         sys.modules.pop(name, None)
         line = f", line {exc.lineno}" if exc.lineno else ""
-        raise ParameterError(f"{_where(path_text)}{line}: syntax error: {exc.msg}") from None
+        raise ParameterError(f"{where}{line}: syntax error: {exc.msg}") from None
     except (Exception, SystemExit) as exc:
         sys.modules.pop(name, None)
         line = _line_in(exc, path)
         what = f"{type(exc).__name__}: {exc}"
-        raise ParameterError(f"{_where(path_text)}{f', line {line}' if line else ''}: executing it raised {what}") from None
+        raise ParameterError(f"{where}{f', line {line}' if line else ''}: executing it raised {what}") from None
     _EXECUTED[key] = module
     return module
 
@@ -149,7 +152,7 @@ def _claims(spec) -> list[tuple[str, str]]:
     return claims + [(what, s) for what, s in (("CDC letter", spec.cdc), ("impedance.py symbol", spec.impedance_py)) if s is not None]
 
 
-def _guarded(reader, plugin: str):
+def _guarded(reader, plugin: str, where: str):
     """``reader`` whose ``read`` turns an exception other than impedax's own into one
     `DataError` naming the data file, the reader, the plugin and its line (a bug in a user's
     reader printed a traceback)."""
@@ -166,16 +169,17 @@ def _guarded(reader, plugin: str):
             raise
         except Exception as exc:
             line = _line_in(exc, Path(plugin))
-            raise DataError(f"the reader {reader.name!r} of {_where(plugin)}{f' (line {line})' if line else ''} raised {type(exc).__name__}: {exc}", path=path) from None
+            raise DataError(f"the reader {reader.name!r} of {where}{f' (line {line})' if line else ''} raised {type(exc).__name__}: {exc}", path=path) from None
 
     return dataclasses.replace(reader, read=guarded_read)
 
 
-def load_plugins(files: Sequence[str]) -> Plugins:
+def load_plugins(files: Sequence[str], from_environment: Collection[str] = ()) -> Plugins:
     """Execute each plugin file (`_execute`) and collect its element specs and readers
     (`_declared`) into a `Plugins`: the specs registered into `impedax.DEFAULT_REGISTRY` in
     order, the readers tried first (`impedax.io.register_reader`). `ParameterError` naming the
-    file for a symbol, CDC letter or impedance.py symbol declared twice, two readers of one
+    file (as ``$IMPEDAX_PLUGINS FILE`` for those of ``from_environment``, else ``--plugin
+    FILE``) for a symbol, CDC letter or impedance.py symbol declared twice, two readers of one
     name, or a file that declares neither."""
     from ..circuits import DEFAULT_REGISTRY, ElementSpec
     from ..errors import CircuitError
@@ -188,31 +192,32 @@ def load_plugins(files: Sequence[str]) -> Plugins:
     elements: dict[str, str] = {}
     reader_files: dict[str, str] = {}
     for path in files:
-        module = _execute(path)
+        where = _where(path, from_environment)
+        module = _execute(path, where)
         specs = _declared(module, ElementSpec, DEFAULT_REGISTRY.specs)
         own_readers = _declared(module, Reader, READERS)
         if not specs and not own_readers:
-            raise ParameterError(f"{_where(path)}: declares no ElementSpec and no impedax.io.Reader at its top level (docs/circuits.md \"Adding an element\", docs/io.md)")
+            raise ParameterError(f"{where}: declares no ElementSpec and no impedax.io.Reader at its top level (docs/circuits.md \"Adding an element\", docs/io.md)")
         for spec in specs:
             for what, text in _claims(spec):
                 if (what, text) in claimed:
                     owner, name = claimed[(what, text)]
                     raise ParameterError(
-                        f"{_where(path)}: {what} {text!r} of element {spec.name!r} is "
+                        f"{where}: {what} {text!r} of element {spec.name!r} is "
                         + (f"impedax's built-in {name}: choose another" if owner is None else f"declared twice in this file ({name} has it)" if owner == path else f"declared in {owner} too ({name})")
                     )
             try:
                 registry = registry.register(spec)
             except CircuitError as exc:
-                raise ParameterError(f"{_where(path)}: {exc}") from None
+                raise ParameterError(f"{where}: {exc}") from None
             claimed.update({claim: (path, spec.name) for claim in _claims(spec)})
             elements[spec.symbol] = path
         for reader in own_readers:
             if reader.name in reader_files:
-                raise ParameterError(f"{_where(path)}: a reader named {reader.name!r} is declared in {reader_files[reader.name]} too")
+                raise ParameterError(f"{where}: a reader named {reader.name!r} is declared in {reader_files[reader.name]} too")
             reader_files[reader.name] = path
             own.append(reader)
-    own = [_guarded(reader, reader_files[reader.name]) for reader in own]
+    own = [_guarded(reader, reader_files[reader.name], _where(reader_files[reader.name], from_environment)) for reader in own]
     # each plugin's readers before the built-in ones, in the order given (`register_reader`: one
     # named as a built-in replaces it)
     readers = (*own, *(r for r in READERS if r.name not in reader_files)) if own else None
