@@ -6,6 +6,7 @@ good grammar. Every spectrum here is SYNTHETIC: numpy formulas with seeded noise
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -306,3 +307,23 @@ def test_common_frequencies_refuse_files_not_measured_on_one_plan(days, tmp_path
     code, _, err = run(["stack", paths[0], sparse, "--common-frequencies", "--out", out], capsys)
     assert code == 2 and f"error: {paths[0]}: shares only 2 of its 31 frequencies with the other files (within 0.1%): under half" in err, err
     assert "Traceback" not in err and not out.exists()
+
+
+def test_inspect_of_a_stack_along_a_dimension_named_as_an_attribute_keeps_the_files_attribute(tmp_path, capsys):
+    """REAL files of three instruments (tests/fixtures/real, one circuit measured alike) stacked
+    along a dimension named 'instrument': each file's own instrument, from its header, is still
+    reported (walkthrough 2026-12-06: the report left the attribute out, taking it for the
+    labels it lists). A workbook's 'sheet' attribute, which only repeats the labels, stays out."""
+    real = Path(__file__).parent / "fixtures" / "real"
+    out = tmp_path / "by_instrument.nc"
+    code, _, err = run(["stack", real / "data.dfr", real / "data.idf", real / "data.pssession", "--dim", "instrument", "--coords", "dfr", "idf", "ps", "--out", out, "-q"], capsys)
+    assert code == 0, err
+    code, text, err = run(["inspect", out], capsys)
+    assert code == 0, err
+    # the instruments' names as the files' own headers give them
+    assert "PS4A22B003671" in (real / "data.pssession").read_text(encoding="utf-16")
+    assert "  instrument: instrument dfr: Metrohm Autolab (FRA); instrument idf: Ivium; instrument ps: PalmSens PS4A22B003671\n" in text
+    assert "  instrument: 3 spectra (dfr, idf, ps)" in text
+    code, text, err = run(["inspect", real / "data.xlsx"], capsys)
+    assert code == 0, err
+    assert [line for line in text.splitlines() if line.startswith("  sheet:")] == ["  sheet: 4 spectra (header-variant-1, header-variant-2, header-variant-3, header-variant-4); pick one with --select sheet=LABEL"]

@@ -125,7 +125,7 @@ def run(args) -> int:
         print(f"  left out of {path} by the stack (not in every file): {labels_text([format_frequency(f) for f in frequencies])}")
     for key, value in summary["attrs"].items():
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
-        if key not in ("format", "data_format", "source", "path", *_HOW_KEYS, *extra):
+        if key not in ("format", "data_format", "source", "path", *_HOW_KEYS) and not (key in extra and _repeats_labels(str(value), key, summary["labels"][key])):
             print(f"  {key}: {str(value).splitlines()[0] if str(value) else ''}")
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
@@ -137,6 +137,15 @@ def run(args) -> int:
         run = argparse.Namespace(**{**vars(args), "data": args.file})  # (the file, --select and --plugin of this run)
         print(_next_line(run, ds))
     return 0
+
+
+def _repeats_labels(text: str, dim: str, labels) -> bool:
+    """Whether the attribute ``dim`` says no more than the labels along ``dim`` (a workbook's
+    ``sheet A: A; sheet B: B``), which the report lists already. Files stacked along a dimension
+    named as one of their attributes (``impedax stack --dim instrument``) keep theirs: ``instrument
+    dfr: Metrohm Autolab (FRA); ...`` was left out of the report (2026-12-06)."""
+    parts = {f"{dim} {label}: {label}" for label in labels}
+    return text in {str(label) for label in labels} or all(part in parts for part in text.split("; "))
 
 
 def _columns(ds) -> dict[str, dict]:
