@@ -23,6 +23,12 @@ __all__ = ["draw_circuit", "save_circuit_diagram"]
 _UNIT = 3.0  # length of one element, schemdraw units
 _ROW = 2.6  # vertical pitch of stacked parallel branches (room for the labels above and below)
 _STUB = 0.75  # wire between a rail and a branch
+_INCHES_PER_UNIT = 0.5  # the drawing's scale (schemdraw's), whatever the circuit's size: labels keep their size beside the parts
+# widths of a label's characters at the drawing's font sizes (11 pt names, 9 pt values), in
+# drawing units, with room to spare (DejaVu Sans averages about 0.6 em a character)
+_NAME_CHAR = 11 / 72 * 0.65 / _INCHES_PER_UNIT
+_VALUE_CHAR = 9 / 72 * 0.65 / _INCHES_PER_UNIT
+_LABEL_MARGIN = 0.6  # free space between the labels of two neighbours
 _SI = {"Ohm": "Ω", "F": "F", "H": "H"}
 _GREEK = {"alpha": "α", "beta": "β", "tau": "τ", "sigma": "σ"}
 
@@ -48,10 +54,21 @@ def _gap_after(node: Circuit, following: Circuit) -> float:
     return _STUB if _rail_at(node, -1) and _rail_at(following, 0) else 0.0
 
 
-def _size(node: Circuit) -> tuple[float, float]:
+def _element_widths(circuit: Circuit, values: Mapping[str, float], registry: Registry) -> dict[str, float]:
+    """Each element's length in the drawing: `_UNIT`, or more where its name or its values
+    would be wider (a long name such as ``R_charge_transfer`` ran into its neighbour's)."""
+    widths = {}
+    for e in circuit.elements():
+        lines = _value_text(e, values, registry).splitlines() if values else []
+        needed = max([len(e.name) * _NAME_CHAR, *(len(line) * _VALUE_CHAR for line in lines)]) + _LABEL_MARGIN
+        widths[e.name] = max(_UNIT, needed)
+    return widths
+
+
+def _size(node: Circuit, widths: Mapping[str, float]) -> tuple[float, float]:
     if isinstance(node, Element):
-        return _UNIT, _ROW
-    sizes = [_size(c) for c in node.children]
+        return widths[node.name], _ROW
+    sizes = [_size(c, widths) for c in node.children]
     if isinstance(node, Series):
         gaps = sum(_gap_after(a, b) for a, b in zip(node.children[:-1], node.children[1:]))
         return sum(w for w, _ in sizes) + gaps, max(h for _, h in sizes)
@@ -94,9 +111,9 @@ def _element(elm, element: Element, registry: Registry):
     return maker()
 
 
-def _place(d, elm, node: Circuit, x: float, y: float, values, registry) -> None:
+def _place(d, elm, node: Circuit, x: float, y: float, values, registry, widths) -> None:
     if isinstance(node, Element):
-        part = _element(elm, node, registry).at((x, y)).to((x + _UNIT, y)).label(node.name, loc="top")
+        part = _element(elm, node, registry).at((x, y)).to((x + widths[node.name], y)).label(node.name, loc="top")
         if values:
             text = _value_text(node, values, registry)
             if text:
@@ -105,20 +122,20 @@ def _place(d, elm, node: Circuit, x: float, y: float, values, registry) -> None:
         return
     if isinstance(node, Series):
         for child, following in zip(node.children, [*node.children[1:], None]):
-            _place(d, elm, child, x, y, values, registry)
-            x += _size(child)[0]
+            _place(d, elm, child, x, y, values, registry, widths)
+            x += _size(child, widths)[0]
             gap = 0.0 if following is None else _gap_after(child, following)
             if gap:
                 d.add(elm.Line().at((x, y)).to((x + gap, y)))
                 x += gap
         return
-    width = _size(node)[0]
+    width = _size(node, widths)[0]
     left, right = x, x + width
     yi = y
     for i, child in enumerate(node.children):
-        cw, ch = _size(child)
+        cw, ch = _size(child, widths)
         d.add(elm.Line().at((left, yi)).to((left + _STUB, yi)))
-        _place(d, elm, child, left + _STUB, yi, values, registry)
+        _place(d, elm, child, left + _STUB, yi, values, registry, widths)
         d.add(elm.Line().at((left + _STUB + cw, yi)).to((right, yi)))
         if i < len(node.children) - 1:  # a junction (the last branch turns the rails' corners)
             d.add(elm.Dot(radius=0.1).at((left, yi)))
@@ -144,14 +161,18 @@ def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = No
         raise ParameterError(f"unknown parameter(s) {unknown} for {circuit}; parameters: {', '.join(known)}")
     schemdraw, elm = _schemdraw()
     d = schemdraw.Drawing(canvas="matplotlib", show=False)
-    d.config(fontsize=11, lw=1.4)
-    width = _size(circuit)[0]
+    d.config(fontsize=11, lw=1.4, inches_per_unit=_INCHES_PER_UNIT)
+    widths = _element_widths(circuit, values, registry)
+    width = _size(circuit, widths)[0]
     d.add(elm.Dot(open=True).at((0.0, 0.0)))
     d.add(elm.Line().at((0.0, 0.0)).to((_STUB, 0.0)))
-    _place(d, elm, circuit, _STUB, 0.0, values, registry)
+    _place(d, elm, circuit, _STUB, 0.0, values, registry, widths)
     d.add(elm.Line().at((_STUB + width, 0.0)).to((2 * _STUB + width, 0.0)))
     d.add(elm.Dot(open=True).at((2 * _STUB + width, 0.0)))
-    return d.draw(show=False).fig
+    # (the figure sized by the drawing's scale, `getfig`: the bare ``.fig`` kept matplotlib's
+    # default 6.4 × 4.8 in, so a wide circuit was shrunk into it under labels of full size, which
+    # ran into each other, and a small one was blown up around small labels; until 2026-12-06)
+    return d.draw(show=False).getfig()
 
 
 def save_circuit_diagram(circuit: Circuit | str, path: str | os.PathLike, values: Mapping[str, float] | None = None, *, registry: Registry = DEFAULT_REGISTRY) -> None:

@@ -113,3 +113,71 @@ def test_every_wire_junction_carries_a_dot(model):
         assert _wire_junctions_without_dot(fig) == []
     finally:
         plt.close(fig)
+
+
+def _label_boxes(fig):
+    """Each text of the figure with its box in data units, measured by matplotlib's renderer
+    (not by the layout code)."""
+    ax = fig.axes[0]
+    fig.canvas.draw()  # (limits and aspect as drawn, as a saved file has them)
+    renderer = fig.canvas.get_renderer()
+    to_data = ax.transData.inverted()
+    return [(t.get_text(), t.get_window_extent(renderer).transformed(to_data)) for t in ax.texts if t.get_text().strip()]
+
+
+def _vertical_wires(fig):
+    """The vertical wires (rails) of the figure as (x, y_low, y_high), from its lines."""
+    import numpy as np
+
+    wires = []
+    for line in fig.axes[0].lines:
+        xy = line.get_xydata()
+        if len(xy) >= 2 and not np.isnan(xy).any() and np.ptp(xy[:, 0]) < 1e-9 and np.ptp(xy[:, 1]) > 1e-9:
+            wires.append((float(xy[0, 0]), float(xy[:, 1].min()), float(xy[:, 1].max())))
+    return wires
+
+
+LONG_NAMES = [
+    ("R_electrolyte + R_charge_transfer || CPE_double_layer + (R_a + R_b || C_b) || (R_c + R_d || C_d)",
+     {"R_electrolyte": 12.3, "R_charge_transfer": 1234567.0, "CPE_double_layer.Q": 1.5e-5, "CPE_double_layer.alpha": 0.87}),
+    ("R_electrolyte_solution_bulk + R_charge_transfer_anode || CPE_double_layer_anode + Ws_diffusion_in_particles", {"Ws_diffusion_in_particles.tau": 12.5}),
+    ("R0 + L0 + (R1 + W1) || CPE1 + R2 || (C2 + R3 || CPE3) + R4 || C4 + G1 + Ws1", {}),
+]
+
+
+@pytest.mark.parametrize("model, values", LONG_NAMES)
+def test_labels_neither_overlap_nor_cross_a_wire(model, values):
+    """Walkthrough 2026-12-06: a circuit of 10 elements was drawn shrunk into matplotlib's
+    default 6.4 × 4.8 in under labels of full size, so 'R_electrolyte' and 'R_charge_transfer'
+    ran into one another and 'CPE_double_layer' over both rails of its group. Every label's
+    box, as matplotlib measures it, is now clear of every other and of every vertical wire."""
+    import matplotlib.pyplot as plt
+
+    fig = draw_circuit(model, values)
+    try:
+        boxes = _label_boxes(fig)
+        assert {text for text, _ in boxes} >= set(ix.parse(model).element_names)
+        for i, (a, box_a) in enumerate(boxes):
+            for b, box_b in boxes[i + 1:]:
+                assert not box_a.overlaps(box_b), f"{a!r} overlaps {b!r}"
+            for x, low, high in _vertical_wires(fig):
+                crosses = box_a.x0 < x < box_a.x1 and box_a.y0 < high and low < box_a.y1
+                assert not crosses, f"{a!r} crosses the wire at x = {x:g}"
+    finally:
+        plt.close(fig)
+
+
+def test_labels_keep_their_size_beside_the_parts_in_a_small_and_a_wide_circuit():
+    """The name of a resistor is as tall, against the resistor's own length, in 'R1' alone as in
+    a circuit of 10 elements: the drawing has one scale (before 2026-12-06 the figure kept
+    matplotlib's default size, so a small circuit was blown up and a wide one shrunk)."""
+    import matplotlib.pyplot as plt
+
+    heights = []
+    for model in ("R1", LONG_NAMES[2][0]):
+        fig = draw_circuit(model)
+        try:
+            heights.append(dict(_label_boxes(fig))["R1"].height)
+        finally:
+            plt.close(fig)
+    assert heights[1] == pytest.approx(heights[0], rel=0.02)
