@@ -263,6 +263,36 @@ def test_a_plugin_listed_in_the_environment_is_named_as_such(tmp_path, capsys, m
     assert code == 2 and f"--plugin {raising}, line 3: executing it raised RuntimeError" in err
 
 
+def test_a_plugin_imports_the_modules_beside_it_from_any_folder(tmp_path, capsys, monkeypatch):
+    """A plugin whose formula lives in a module beside it (``from sibling_dc import dc``) is
+    read from any working folder, as Python runs a script (walkthrough 2026-12-06: outside the
+    plugin's own folder it was "executing it raised ModuleNotFoundError"). The formula is
+    Davidson–Cole, Z = R/(1 + jωτ)^β, checked at 1 kHz against numpy. A syntax error in the
+    module beside it names that module and its line."""
+    folder = tmp_path / "plugins"
+    folder.mkdir()
+    (folder / "sibling_dc.py").write_text("def dc(omega, r, tau, beta):\n    return r / (1 + 1j * omega * tau) ** beta\n")
+    (folder / "lab_dc.py").write_text("import impedax as ix\nfrom sibling_dc import dc\n\nDCX = ix.ElementSpec('Dcx', 'Davidson-Cole', 'Z = R/(1 + jωτ)^β', "
+                                      "(ix.ParameterSpec('R', 'Ohm', 100.0), ix.ParameterSpec('tau', 's', 1e-3), ix.ParameterSpec('beta', '1', 0.8, upper=1.0, upper_inclusive=True)), dc)\n")
+    elsewhere = tmp_path / "work"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    monkeypatch.syspath_prepend(str(elsewhere))  # (the working folder on the path, as `python -m impedax` has it)
+    code, out, err = run(["simulate", "Dcx1", "--plugin", folder / "lab_dc.py", "--param", "Dcx1.R=500", "Dcx1.tau=1e-3", "Dcx1.beta=0.7", "--fmin", "1000", "--fmax", "1000"], capsys)
+    assert code == 0, err
+    f, z_real, z_imag = (float(x) for x in out.splitlines()[1].split(","))
+    expected = 500 / (1 + 2j * np.pi * 1000 * 1e-3) ** 0.7
+    assert f == 1000 and complex(z_real, z_imag) == pytest.approx(expected, rel=1e-12)
+    assert str(folder) not in __import__("sys").path  # (on the path only while the plugin runs)
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / "broken_sibling.py").write_text("def dc(omega, r\n")
+    (broken / "lab_broken.py").write_text("import impedax as ix\nfrom broken_sibling import dc\n")
+    code, out, err = run(["info", "R0", "--plugin", broken / "lab_broken.py"], capsys)
+    assert code == 2 and out == ""
+    assert f"--plugin {broken / 'lab_broken.py'}, line 2: it imports {broken / 'broken_sibling.py'}, which has a syntax error, line 1: " in err
+
+
 def test_the_command_is_found_after_the_program_option_and_fit_advice_carries_it():
     assert _first_word(["--plugin", "fit.py", "fit", "data.lab"]) == "fit"
     args = SimpleNamespace(data="run 1.lab", weighting="modulus", plugin=["my lab.py"])

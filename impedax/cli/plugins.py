@@ -113,17 +113,26 @@ def _execute(path_text: str, where: str) -> ModuleType:
     spec = importlib.util.spec_from_loader(name, loader)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module  # (dataclasses and pickling look their module up by name)
+    # its folder first on the import path while it runs, as Python puts a script's: a plugin
+    # imports the modules beside it (``from formulas import dc``) from any working folder (until
+    # 2026-12-06 only when run from its own folder, else ModuleNotFoundError)
+    folder = os.path.dirname(os.path.abspath(path))
+    sys.path.insert(0, folder)
     try:
         loader.exec_module(module)
     except SyntaxError as exc:
         sys.modules.pop(name, None)
         line = f", line {exc.lineno}" if exc.lineno else ""
+        if exc.filename and os.path.realpath(exc.filename) != os.path.realpath(path):  # (a module it imports)
+            raise ParameterError(f"{where}, line {_line_in(exc, path) or '?'}: it imports {exc.filename}, which has a syntax error{line}: {exc.msg}") from None
         raise ParameterError(f"{where}{line}: syntax error: {exc.msg}") from None
     except (Exception, SystemExit) as exc:
         sys.modules.pop(name, None)
         line = _line_in(exc, path)
         what = f"{type(exc).__name__}: {exc}"
         raise ParameterError(f"{where}{f', line {line}' if line else ''}: executing it raised {what}") from None
+    finally:
+        sys.path.remove(folder)  # (the first entry equal to it: the one put there)
     _EXECUTED[key] = module
     return module
 
