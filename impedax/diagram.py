@@ -14,7 +14,7 @@ import os
 from typing import Mapping
 
 from .circuits import DEFAULT_REGISTRY, Circuit, Element, Registry, Series, parse
-from .data import SI_PREFIXES, si_prefix
+from .data import SI_PREFIXES, format_quantity, si_prefix
 from .errors import DataError, ImpedaxError, ParameterError
 from .io.atomic import atomic_path, check_writable
 
@@ -94,8 +94,8 @@ def _value_text(element: Element, values: Mapping[str, float], registry: Registr
         v = float(values[name])
         if p.suffix is None and p.unit in _SI:
             parts.append(_si(v, p.unit))
-        else:
-            parts.append(f"{_GREEK.get(p.suffix, p.suffix or element.name)}={v:.3g}")
+        else:  # (with its unit, as a fit's report writes it: τ=1 ms, Q=15 µF s^(α-1); until 2026-12-06 τ=0.001, Q=1.5e-05)
+            parts.append(f"{_GREEK.get(p.suffix, p.suffix or element.name)}={format_quantity(v, p.unit)}")
     return "\n".join(parts)
 
 

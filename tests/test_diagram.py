@@ -181,3 +181,14 @@ def test_labels_keep_their_size_beside_the_parts_in_a_small_and_a_wide_circuit()
         finally:
             plt.close(fig)
     assert heights[1] == pytest.approx(heights[0], rel=0.02)
+
+
+def test_values_of_named_parameters_carry_their_units(tmp_path):
+    """A parameter written with its name (an element of several) carries its unit with an SI
+    prefix, as a fit's report writes it (walkthrough 2026-12-06: 'τ=0.001', 'Q=2e-05', 'σ=3',
+    a unit for the resistances only): τ = 1e-3 s is 1 ms, Q = 2e-5 F s^(α-1) is 20 µF s^(α-1)."""
+    path = tmp_path / "u.svg"
+    save_circuit_diagram("R_s + (R_ct + W_d) || CPE_dl + G1", path, values={"CPE_dl.Q": 2e-5, "CPE_dl.alpha": 0.85, "W_d.sigma": 3.0, "G1.R": 50.0, "G1.tau": 1e-3})
+    texts = "\n".join(re.findall(r"<text[^>]*>([^<]*)", path.read_text()))
+    for shown in ("Q=20 µF s^(α-1)", "α=0.85", "σ=3 Ω s^-1/2", "R=50 Ω", "τ=1 ms"):
+        assert shown in texts
