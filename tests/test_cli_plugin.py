@@ -293,6 +293,23 @@ def test_a_plugin_imports_the_modules_beside_it_from_any_folder(tmp_path, capsys
     assert f"--plugin {broken / 'lab_broken.py'}, line 2: it imports {broken / 'broken_sibling.py'}, which has a syntax error, line 1: " in err
 
 
+def test_a_user_reader_returning_a_dataset_that_is_no_spectrum_is_named(tmp_path, capsys):
+    """A reader that builds its own xarray Dataset (Z called 'impedance', over 'f') is named
+    with the fault and the way to build a spectrum (walkthrough 2026-12-06: only "dataset has
+    no variable 'Z'", which named neither the reader nor make_spectrum)."""
+    plugin = tmp_path / "raw_reader.py"
+    plugin.write_text("import numpy as np\nimport xarray as xr\nfrom impedax.io import Reader\n\n"
+                      "def sniff(path, head):\n    return None if head.startswith(b'RAWDS') else 'no RAWDS'\n\n"
+                      "def read(path):\n    return xr.Dataset({'impedance': ('f', np.array([1 + 1j, 2 + 2j]))}, coords={'f': [1.0, 10.0]})\n\n"
+                      "READER = Reader('Raw', '.raw', sniff, read)\n")
+    data = tmp_path / "x.raw"
+    data.write_text("RAWDS\n")
+    code, out, err = run(["inspect", data, "--plugin", plugin], capsys)
+    assert code == 2 and out == ""
+    assert err.strip() == (f"impedax inspect: error: {data}: reader 'Raw' returned a Dataset that is not a spectrum: dataset has no variable 'Z' "
+                           "(its data variables: 'impedance') (build it with impedax.make_spectrum(frequency_hz, Z))")
+
+
 def test_the_command_is_found_after_the_program_option_and_fit_advice_carries_it():
     assert _first_word(["--plugin", "fit.py", "fit", "data.lab"]) == "fit"
     args = SimpleNamespace(data="run 1.lab", weighting="modulus", plugin=["my lab.py"])

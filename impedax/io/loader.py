@@ -141,7 +141,15 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
             # a saved result's data: errors name this file; the data's own file stays as ``saved_from``
             ds.attrs["saved_from"] = ds.attrs["source"]
             ds.attrs["source"] = str(path)
-        return _checked(ds, path)
+        from .formats import READERS as built_in
+
+        if any(reader is r for r in built_in):
+            return _checked(ds, path)
+        try:  # a user's reader: its Dataset's fault is named as the reader's (2026-12-06: "dataset has no variable 'Z'" alone)
+            return _checked(ds, path)
+        except DataError as exc:
+            raise DataError(f"reader {reader.name!r} returned a Dataset that is not a spectrum: {exc.detail} (build it with impedax.make_spectrum(frequency_hz, Z))",
+                            path=path, line=exc.line) from None
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
         if head.strip(b" \t\r\n"):
