@@ -35,6 +35,29 @@ def test_simulate_to_file_and_plot(tmp_path):
     assert ds.sizes["frequency"] == 61 and png.stat().st_size > 1000
 
 
+def test_simulate_at_the_frequencies_of_a_real_file(tmp_path, capsys):
+    """--frequencies FILE: the model at the REAL Gamry file's own frequencies, in its order
+    (200015.6 Hz down to 0.0158898 Hz), each as the file writes it, read back with numpy; Z by
+    the closed form R0 + R1/(1 + jωR1C1). Walkthrough 2026-12-06: a model could be simulated
+    on a log grid only, never on a measurement's frequencies."""
+    from pathlib import Path
+
+    gamry = Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA"
+    lines = gamry.read_text(encoding="latin-1").splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("ZCURVE")) + 3  # (the table, its column and units rows, then the points)
+    measured = np.array([float(line.split("\t")[3]) for line in lines[start:] if line.strip()])  # the Freq column
+    out = tmp_path / "sim.csv"
+    code = main(["simulate", "R0 + R1 || C1", "--param", "R0=10", "R1=1000", "C1=1e-6", "--frequencies", str(gamry), "--out", str(out), "-q"])
+    assert code == 0
+    rows = np.loadtxt(out, delimiter=",", skiprows=1, usecols=(0, 1, 2))
+    assert measured.size == 72 and rows[:, 0].tolist() == measured.tolist()
+    z = 10 + 1000 / (1 + 2j * np.pi * measured * 1000 * 1e-6)
+    np.testing.assert_allclose(rows[:, 1] + 1j * rows[:, 2], z, rtol=1e-13)
+    capsys.readouterr()
+    assert main(["simulate", "R1", "--frequencies", str(gamry), "--points", "5"]) == 2
+    assert "--points: give either --frequencies FILE (its frequencies) or --fmin/--fmax/--points (a log-spaced band), not both" in capsys.readouterr().err
+
+
 LONG_CIRCUIT = "R0 + L1 + R1 || (C1 + R2 || CPE2) + R3 || (W3 + C3) || (R4 + Wo4) + Ws5 || CC5 + HN6 + G7"  # (89 characters)
 
 

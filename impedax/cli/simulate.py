@@ -7,7 +7,9 @@ import sys
 import numpy as np
 
 from .common import (JSON_SUMMARY_HELP, add_model_argument, append_title_line, check_band_options, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
-                     model_and_values, number_option, plan_outputs, spectrum_summary, spectrum_writer)
+                     load_selected, model_and_values, number_option, plan_outputs, spectrum_summary, spectrum_writer)
+
+DEFAULT_FMIN, DEFAULT_FMAX = 1.0, 1e6  # Hz: the band without --fmin, --fmax (or --frequencies)
 
 # memory per frequency while simulating and writing CSV: the frequencies, the complex impedance
 # and JAX's intermediates, and the CSV text with its line list (measured about 0.4 kB)
@@ -26,9 +28,12 @@ def register(sub) -> None:
                                 "impedax reads the file back as a spectrum."))
     add_model_argument(p, positional=True)
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="parameter value; several after one --param (--param R0=10 C1=1u) or --param repeated; unspecified ones take their defaults")
-    p.add_argument("--fmin", type=number_option, default=1.0, help="lowest frequency [Hz] (default 1)")
-    p.add_argument("--fmax", type=number_option, default=1e6, help="highest frequency [Hz] (default 1e6)")
+    p.add_argument("--fmin", type=number_option, default=None, help=f"lowest frequency [Hz] (default {DEFAULT_FMIN:g})")
+    p.add_argument("--fmax", type=number_option, default=None, help=f"highest frequency [Hz] (default {DEFAULT_FMAX:g})")
     p.add_argument("--points", type=int, default=None, help="number of frequencies (default 61; 1 when --fmin equals --fmax)")
+    p.add_argument("--frequencies", metavar="FILE", default=None,
+                   help="evaluate at the frequencies of spectrum FILE (any format impedax reads, e.g. a measurement; in its order, "
+                        "each value as read) in place of --fmin/--fmax/--points")
     add_output_options(p, json=JSON_SUMMARY_HELP + " (needs --out FILE): written, model, parameters, parameter_units, defaulted, frequencies, ...", plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted or '-'", out_metavar="FILE.csv")
     add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
@@ -43,13 +48,23 @@ def run(args) -> int:
 
     circuit, specs, given = model_and_values(args.model, args.param, "--param", args.registry)
     check_json_with_spectrum_out(args.json, args.out, "simulate")
-    outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], stdout="--json" if args.json else None)
-    check_band_options(args.fmin, args.fmax)  # (the option named: log_frequencies' message named none)
-    points = check_points(args.points, args.fmin, args.fmax, default=61)
-    check_memory("--points", points * POINT_BYTES, f"a spectrum of {points} frequencies")
+    outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.frequencies] if args.frequencies else (),
+                           stdout="--json" if args.json else None)
+    if args.frequencies is not None:
+        band = [flag for flag, value in (("--fmin", args.fmin), ("--fmax", args.fmax), ("--points", args.points)) if value is not None]
+        if band:
+            raise ParameterError(f"{', '.join(band)}: give either --frequencies FILE (its frequencies) or --fmin/--fmax/--points (a log-spaced band), not both")
+        freq = load_selected(args.frequencies, None, readers=args.readers)["frequency"].values.astype(float)
+        points = freq.size
+    else:
+        args.fmin = DEFAULT_FMIN if args.fmin is None else args.fmin
+        args.fmax = DEFAULT_FMAX if args.fmax is None else args.fmax
+        check_band_options(args.fmin, args.fmax)  # (the option named: log_frequencies' message named none)
+        points = check_points(args.points, args.fmin, args.fmax, default=61)
+        check_memory("--points", points * POINT_BYTES, f"a spectrum of {points} frequencies")
+        freq = log_frequencies(args.fmin, args.fmax, points)
     params = {**circuit.defaults(args.registry), **given}
     defaulted = [n for n in specs if n not in given]
-    freq = log_frequencies(args.fmin, args.fmax, points)
     z = np.asarray(compile_circuit(circuit, args.registry)(params, freq))
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
@@ -65,7 +80,8 @@ def run(args) -> int:
         append_title_line(fig, text, wrap_model)  # (the title: the circuit, wrapped to the figure's width)
         return fig
 
-    record = command_provenance(args, points_used=points, params_used=params)  # (no data file: the model and its values made it)
+    # (no data file made it but --frequencies', whose frequencies it takes)
+    record = command_provenance(args, points_used=points, params_used=params, **({"data_files": [args.frequencies]} if args.frequencies else {}))
     # (a --title in place of the circuit keeps it on the next line when no legend names it: 2026-12-06)
     plot = figure_writer(figure, **figure_options(args), subtitle=None if in_legend else text)
     written = outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": plot})
