@@ -290,3 +290,19 @@ def test_simulate_with_an_empty_title_has_none(tmp_path, monkeypatch):
     """``--title ''`` leaves the title out, the circuit's line with it (as for every figure)."""
     figure, _ = _saved_simulate_figure(tmp_path, monkeypatch, "--title", "")
     assert not any(t.get_text() for t in figure.texts)
+
+
+def test_info_lists_each_element_kind_with_its_equation(capsys):
+    """Walkthrough 2026-12-06: `impedax info` named a Gerischer or a Havriliak–Negami element
+    but not its formula; each kind in the circuit is now listed once, in order, with its
+    equation (the textbook forms: Gerischer Z = R/√(1 + jωτ), Havriliak–Negami
+    Z = R/(1 + (jωτ)^α)^β), and JSON holds them under the added key "elements"."""
+    assert main(["info", "R0 + G1 + R1 || HN1"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    table = lines[lines.index(next(line for line in lines if line.startswith("element "))):]
+    assert [line.split()[0] for line in table[1:]] == ["R", "G", "HN"]
+    assert table[2].endswith("Z = R/√(1 + jωτ)") and table[3].endswith("Z = R/(1 + (jωτ)^α)^β")
+    assert main(["info", "R0 + G1 + R1 || HN1", "--json"]) == 0
+    shown = json.loads(capsys.readouterr().out)
+    assert shown["elements"][1] == {"symbol": "G", "element_kind": "Gerischer", "equation": "Z = R/√(1 + jωτ)"}
+    assert [r["name"] for r in shown["parameters"]] == ["R0", "G1.R", "G1.tau", "R1", "HN1.R", "HN1.tau", "HN1.alpha", "HN1.beta"]

@@ -31,8 +31,12 @@ def run(args) -> int:
                 "unit": p.unit, "default": p.default, "lower": p.lower, "upper": p.upper,
                 "upper_inclusive": p.upper_inclusive, "description": p.description,
             })
+    # each kind of element in the circuit, once, in order, with its formula (added 2026-12-06: a
+    # user's element and a built-in Gerischer or Havriliak–Negami were listed by name only)
+    kinds = list({e.symbol: registry[e.symbol] for e in circuit.elements()}.values())
+    elements = [{"symbol": spec.symbol, "element_kind": spec.name, "equation": spec.equation} for spec in kinds]
     if args.json:
-        emit_json({"model": str(circuit), "parameters": rows})
+        emit_json({"model": str(circuit), "parameters": rows, "elements": elements})
         return 0
     print(f"model: {circuit}")
     width = column_width((r["name"] for r in rows), "parameter")
@@ -40,4 +44,9 @@ def run(args) -> int:
     for r, p in zip(rows, (p for e in circuit.elements() for p in registry[e.symbol].parameters)):
         described = f"{r['element_kind']}: {r['description']}" if r["description"].strip() else r["element_kind"]  # (a user's element may declare none)
         print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {r['default']:>10.4g}  {p.bounds_text():<15} {described}")
+    symbol_width = column_width((k["symbol"] for k in elements), "element")
+    kind_width = column_width((k["element_kind"] for k in elements), "kind")
+    print(f"{'element':<{symbol_width}}  {'kind':<{kind_width}}  equation (ω = 2πf)")
+    for k in elements:
+        print(f"{k['symbol']:<{symbol_width}}  {k['element_kind']:<{kind_width}}  {k['equation']}")
     return 0
