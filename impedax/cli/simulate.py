@@ -22,7 +22,7 @@ LEGEND_MODEL_CHARS = 40
 
 
 def register(sub) -> None:
-    p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description=("Evaluate MODEL at log-spaced frequencies (both ends included) and write frequency_hz,z_real_ohm,z_imag_ohm: "
+    p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description=("Evaluate MODEL at log-spaced frequencies (both ends included; or at a spectrum file's own, --frequencies FILE) and write frequency_hz,z_real_ohm,z_imag_ohm: "
                                 "those three columns on standard output; a --out FILE.csv adds the provenance columns after them (impedax_version, "
                                 "written_utc, command, source, data_files, then setting_* for each option: docs/io.md, \"Provenance\"); "
                                 "impedax reads the file back as a spectrum."))
