@@ -107,7 +107,13 @@ def _element(elm, element: Element, registry: Registry):
         return elm.RBox()
     maker = getattr(elm, spec.draw, None)
     if maker is None:
-        raise ImpedaxError(f"element {spec.symbol} ({spec.name}) is drawn as {spec.draw!r}, which schemdraw does not have")
+        import difflib
+
+        parts = [name for name in dir(elm) if name[:1].isupper() and isinstance(getattr(elm, name), type)]
+        close = difflib.get_close_matches(spec.draw, parts, n=1, cutoff=0.6)  # (2026-12-06: a misspelt part was named without the one meant)
+        hint = f": did you mean {close[0]!r}?" if close else ""
+        raise ImpedaxError(f"element {spec.symbol} ({spec.name}) is drawn as {spec.draw!r} (its ElementSpec's draw=), which schemdraw does not have{hint} "
+                           "(a name of schemdraw.elements, e.g. 'Resistor', 'Capacitor', 'Inductor2', 'CPE'; none draws a labelled box)")
     return maker()
 
 

@@ -192,3 +192,17 @@ def test_values_of_named_parameters_carry_their_units(tmp_path):
     texts = "\n".join(re.findall(r"<text[^>]*>([^<]*)", path.read_text()))
     for shown in ("Q=20 µF s^(α-1)", "α=0.85", "σ=3 Ω s^-1/2", "R=50 Ω", "τ=1 ms"):
         assert shown in texts
+
+
+def test_an_element_drawn_as_a_part_schemdraw_lacks_is_told_the_part_meant():
+    """A user's element declared with draw='Resistr' (a typo): the message names the field and
+    the schemdraw part it most likely meant, which schemdraw has (walkthrough 2026-12-06: only
+    "which schemdraw does not have")."""
+    import schemdraw.elements as elm
+
+    spec = ix.ElementSpec("Kd", "drawn element", "Z = R", (ix.ParameterSpec("R", "Ohm", 1.0),), lambda w, r: r + 0 * w, draw="Resistr")
+    registry = ix.DEFAULT_REGISTRY.register(spec)
+    assert hasattr(elm, "Resistor")
+    with pytest.raises(ix.ImpedaxError) as caught:
+        draw_circuit("R0 + Kd1", registry=registry)
+    assert str(caught.value).startswith("element Kd (drawn element) is drawn as 'Resistr' (its ElementSpec's draw=), which schemdraw does not have: did you mean 'Resistor'?")
