@@ -306,3 +306,19 @@ def test_info_lists_each_element_kind_with_its_equation(capsys):
     shown = json.loads(capsys.readouterr().out)
     assert shown["elements"][1] == {"symbol": "G", "element_kind": "Gerischer", "equation": "Z = R/√(1 + jωτ)"}
     assert [r["name"] for r in shown["parameters"]] == ["R0", "G1.R", "G1.tau", "R1", "HN1.R", "HN1.tau", "HN1.alpha", "HN1.beta"]
+
+
+def test_simulate_at_the_frequencies_of_one_sweep_of_a_file_of_two_grids(tmp_path, capsys):
+    """SYNTHETIC table of two sweeps on grids 2.3 % apart: --frequencies alone is refused with
+    the advice to pick one with --select, which simulate now takes (it named an option simulate
+    did not have); --select sweep=1 gives the second sweep's 30 frequencies as written."""
+    first, second = np.geomspace(1e5, 1e-2, 30), np.geomspace(10**5.01, 10**-1.99, 30)
+    path = tmp_path / "two.csv"
+    path.write_text("freq,Zreal,Zimag\n" + "".join(f"{float(f)!r},100.0,-1.0\n" for f in [*first, *second]))
+    assert main(["simulate", "R1", "--frequencies", str(path), "-q"]) == 2
+    assert "read one alone with --select sweep=0" in capsys.readouterr().err
+    assert main(["simulate", "R1", "--param", "R1=5", "--frequencies", str(path), "--select", "sweep=1", "-q"]) == 0
+    rows = np.array([[float(v) for v in line.split(",")] for line in capsys.readouterr().out.splitlines()[1:]])
+    assert rows[:, 0].tolist() == [float(f) for f in second] and (rows[:, 1] == 5).all() and (rows[:, 2] == 0).all()
+    assert main(["simulate", "R1", "--select", "sweep=1"]) == 2
+    assert "--select picks spectra of the --frequencies FILE" in capsys.readouterr().err
