@@ -327,3 +327,25 @@ def test_inspect_of_a_stack_along_a_dimension_named_as_an_attribute_keeps_the_fi
     code, text, err = run(["inspect", real / "data.xlsx"], capsys)
     assert code == 0, err
     assert [line for line in text.splitlines() if line.startswith("  sheet:")] == ["  sheet: 4 spectra (header-variant-1, header-variant-2, header-variant-3, header-variant-4); pick one with --select sheet=LABEL"]
+
+
+def test_inspect_shows_a_saved_files_provenance_as_text(tmp_path, capsys):
+    """The provenance of a stack of REAL files, read with xarray from the netCDF file itself,
+    is shown by `impedax inspect` as one line to read (walkthrough 2026-12-06: the JSON record
+    itself, "source": "... \\u2026 ..." and nulls); --json keeps the record as it is."""
+    import xarray as xr
+
+    real = Path(__file__).parent / "fixtures" / "real"
+    out = tmp_path / "st.nc"
+    files = [real / "data.dfr", real / "data.pssession"]
+    code, _, err = run(["stack", *files, "--coords", "dfr", "ps", "--out", out, "-q"], capsys)
+    assert code == 0, err
+    with xr.open_dataset(out, engine="scipy") as raw:
+        record = json.loads(raw.attrs["provenance"])
+    code, text, err = run(["inspect", out], capsys)
+    assert code == 0, err
+    line = next(line for line in text.splitlines() if line.startswith("  provenance: "))
+    assert line == (f"  provenance: impedax stack, {record['written_utc']} (impedax {record['impedax_version']}); settings dim=file, coords=dfr ps; "
+                    f"data {', '.join(str(f.resolve()) for f in files)}")
+    code, text, err = run(["inspect", out, "--json"], capsys)
+    assert json.loads(json.loads(text)["attrs"]["provenance"]) == record

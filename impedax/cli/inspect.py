@@ -126,7 +126,7 @@ def run(args) -> int:
     for key, value in summary["attrs"].items():
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
         if key not in ("format", "data_format", "source", "path", *_HOW_KEYS) and not (key in extra and _repeats_labels(str(value), key, summary["labels"][key])):
-            print(f"  {key}: {str(value).splitlines()[0] if str(value) else ''}")
+            print(f"  {key}: {_provenance_text(value) if key == 'provenance' else str(value).splitlines()[0] if str(value) else ''}")
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
     if not kind and args.file != "-":
@@ -146,6 +146,35 @@ def _repeats_labels(text: str, dim: str, labels) -> bool:
     dfr: Metrohm Autolab (FRA); ...`` was left out of the report (2026-12-06)."""
     parts = {f"{dim} {label}: {label}" for label in labels}
     return text in {str(label) for label in labels} or all(part in parts for part in text.split("; "))
+
+
+def _provenance_text(value) -> str:
+    """A saved file's provenance record (JSON text, `impedax.io.provenance`) as one line to read:
+    the command, when and by which impedax, its settings given, the data files; the text as it
+    is when it is not such a record. (Until 2026-12-06 the JSON itself, ``\\u2026`` escapes and
+    nulls included; ``--json`` keeps it so.)"""
+    import json
+
+    try:
+        record = json.loads(str(value))
+    except ValueError:
+        return str(value).splitlines()[0] if str(value) else ""
+    if not isinstance(record, dict):
+        return str(value)
+    made = ", ".join(str(record[k]) for k in ("command", "written_utc") if record.get(k))
+    version = f"impedax {record['impedax_version']}" if record.get("impedax_version") else ""
+    settings = record.get("settings") if isinstance(record.get("settings"), dict) else {}
+    def shown(v) -> str:
+        if isinstance(v, dict):
+            return "(" + " ".join(f"{k}={shown(x)}" for k, x in v.items()) + ")"
+        if isinstance(v, (list, tuple)):
+            return " ".join(shown(x) for x in v)
+        return f"{v:g}" if isinstance(v, float) else str(v)
+
+    given = ", ".join(f"{k}={shown(v)}" for k, v in settings.items() if v not in (None, False, [], {}, ""))
+    files = record.get("data_files") or []
+    parts = [f"{made or 'impedax'}{f' ({version})' if version else ''}", f"settings {given}" if given else "", f"data {', '.join(map(str, files))}" if files else ""]
+    return "; ".join(p for p in parts if p)
 
 
 def _columns(ds) -> dict[str, dict]:
