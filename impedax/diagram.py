@@ -178,7 +178,10 @@ def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = No
     # (the figure sized by the drawing's scale, `getfig`: the bare ``.fig`` kept matplotlib's
     # default 6.4 × 4.8 in, so a wide circuit was shrunk into it under labels of full size, which
     # ran into each other, and a small one was blown up around small labels; until 2026-12-06)
-    return d.draw(show=False).getfig()
+    fig = d.draw(show=False).getfig()
+    for line in fig.axes[0].lines:  # (no snapping to the pixel grid: a straight wire snapped, the parts' leads did not, and met them a pixel off)
+        line.set_snap(False)
+    return fig
 
 
 def save_circuit_diagram(circuit: Circuit | str, path: str | os.PathLike, values: Mapping[str, float] | None = None, *, registry: Registry = DEFAULT_REGISTRY) -> None:

@@ -206,3 +206,28 @@ def test_an_element_drawn_as_a_part_schemdraw_lacks_is_told_the_part_meant():
     with pytest.raises(ix.ImpedaxError) as caught:
         draw_circuit("R0 + Kd1", registry=registry)
     assert str(caught.value).startswith("element Kd (drawn element) is drawn as 'Resistr' (its ElementSpec's draw=), which schemdraw does not have: did you mean 'Resistor'?")
+
+
+def test_a_wire_and_the_lead_of_a_part_meet_on_one_pixel_row():
+    """The terminal's wire and the resistor's lead lie on one line (y = 0); rendered at 150 dpi,
+    they cover the same pixel rows (walkthrough 2026-12-06: straight wires were snapped to the
+    pixel grid and the parts' leads were not, a visible one-pixel step at every joint)."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    fig = draw_circuit("R1 + R2")
+    try:
+        fig.set_dpi(150)
+        fig.canvas.draw()
+        image = np.asarray(fig.canvas.buffer_rgba())[:, :, :3].mean(axis=2)
+        ax = fig.axes[0]
+
+        def dark_rows(x):  # the dark pixel rows of the column at data x, near y = 0
+            px, py = ax.transData.transform((x, 0.0))
+            column, y0 = image[:, int(round(px))], int(round(image.shape[0] - py))
+            return [i for i in range(y0 - 6, y0 + 7) if column[i] < 128]
+
+        wire, lead = dark_rows(0.3), dark_rows(1.2)  # the terminal's wire (0 to 0.75), R1's lead (from 0.75)
+        assert wire and wire == lead
+    finally:
+        plt.close(fig)
