@@ -262,3 +262,18 @@ def test_a_spreadsheet_cut_short_says_so(tmp_path, name, kept):
     with pytest.raises(ix.DataError) as info:
         ix.load(tmp_path / f"damaged{cut.suffix}")
     assert "cut short" not in str(info.value)
+
+
+def test_files_without_column_names_say_which_position_holds_what_in_which_unit():
+    """REAL data.idf (Ivium) and data.dfr (Autolab FRA) name no columns; their `units` said
+    "ohm, ohm, Hz" and "Hz, ohm" (walkthrough 2026-12-06), which `impedax inspect` printed
+    without saying which value was which. The files' own layout, parsed here: Ivium's rows are
+    Z', Z'', f (the first row ends in 1.00000E+04, the highest frequency); a FRA record is f,
+    Z', −Z'' (its first record starts 10000.0)."""
+    ivium_lines = (REAL / "data.idf").read_bytes().decode("latin-1").splitlines()
+    first_row = ivium_lines[ivium_lines.index(next(line for line in ivium_lines if line.startswith("primary_data"))) + 3].split()
+    assert float(first_row[2]) == 1e4 and float(first_row[1]) < 0
+    assert ix.load(REAL / "data.idf").attrs["units"] == "column 1 (Z') and column 2 (Z'') in ohm, column 3 (f) in Hz"
+    fra_lines = (REAL / "data.dfr").read_text().splitlines()
+    assert float(fra_lines[3]) == 1e4 and float(fra_lines[5]) > 0  # f, then Z', then −Z'' (positive for this capacitive point)
+    assert ix.load(REAL / "data.dfr").attrs["units"] == "record line 1 (f) in Hz, lines 2 (Z') and 3 (-Z'') in ohm"

@@ -52,7 +52,7 @@ def read_dfr(path: str | Path) -> xr.Dataset:
         neg_imag.append(number(lines[start + 2], path, start + 3, "-Z''"))
         where.append(start + 1)
     attrs = {"format": "Autolab FRA dfr", "instrument": "Metrohm Autolab (FRA)", "version": lines[0].strip(),
-             "sign_convention": "third value of each record holds -Z''; negated to Z''", "units": "Hz, ohm",
+             "sign_convention": "third value of each record holds -Z''; negated to Z''", "units": "record line 1 (f) in Hz, lines 2 (Z') and 3 (-Z'') in ohm",
              # (a record names no columns: its values are lines 1–3 of each record)
              "columns": {"frequency": column_entry("frequency", "record line 1"), "z_real": column_entry("z_real", "record line 2"),
                          "z_imag": column_entry("z_imag", "record line 3", negated=True)}}

@@ -72,7 +72,7 @@ def read_ivium(path: str | Path) -> xr.Dataset:
                 check_last_field_digits(last_fields, path, j + 1, name="f")
         technique = re.search(rb"Technique=([^\r\n]*)", raw)
         attrs = {"format": "IviumSoft idf/ids", "instrument": "Ivium", "technique": technique.group(1).decode("latin-1").strip() if technique else "",
-                 "sign_convention": "Z'' stored as is (negative for capacitive data)", "units": "ohm, ohm, Hz",
+                 "sign_convention": "Z'' stored as is (negative for capacitive data)", "units": "column 1 (Z') and column 2 (Z'') in ohm, column 3 (f) in Hz",
                  # (the table names no columns: they are its positions, Z', Z'', f)
                  "columns": {"frequency": column_entry("frequency", "column 3"), "z_real": column_entry("z_real", "column 1"),
                              "z_imag": column_entry("z_imag", "column 2")}}
