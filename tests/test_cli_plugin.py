@@ -310,6 +310,22 @@ def test_a_user_reader_returning_a_dataset_that_is_no_spectrum_is_named(tmp_path
                            "(its data variables: 'impedance') (build it with impedax.make_spectrum(frequency_hz, Z))")
 
 
+def test_what_a_plugin_prints_goes_to_stderr_and_stdout_stays_json(lab, tmp_path, capsys):
+    """A plugin that prints when loaded and when its reader reads (a user's debugging lines):
+    standard output is the command's JSON alone, which json.loads reads, and the lines are on
+    stderr (walkthrough 2026-12-06: "lab plugin loaded" came before the JSON of impedax info
+    --json and the CSV of simulate, and a pipeline's reader failed)."""
+    plugin, data = lab
+    noisy = tmp_path / "noisy_lab.py"
+    noisy.write_text('print("lab plugin loaded")\n' + PLUGIN.replace("    values = []\n", "    print('reading', path)\n    values = []\n", 1), encoding="utf-8")
+    code, out, err = run(["inspect", data, "--plugin", noisy, "--json"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["format"] == "LAB text"
+    assert "lab plugin loaded" in err and f"reading {data}" in err
+    code, out, err = run(["simulate", "R0 + Gx1", "--plugin", noisy, "--points", "2", "-q"], capsys)
+    assert code == 0 and out.splitlines()[0] == "frequency_hz,z_real_ohm,z_imag_ohm" and len(out.splitlines()) == 3
+
+
 def test_the_command_is_found_after_the_program_option_and_fit_advice_carries_it():
     assert _first_word(["--plugin", "fit.py", "fit", "data.lab"]) == "fit"
     args = SimpleNamespace(data="run 1.lab", weighting="modulus", plugin=["my lab.py"])

@@ -13,6 +13,7 @@ exception while executing it, a symbol declared twice, a file declaring nothing)
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.machinery
 import importlib.util
@@ -119,7 +120,10 @@ def _execute(path_text: str, where: str) -> ModuleType:
     folder = os.path.dirname(os.path.abspath(path))
     sys.path.insert(0, folder)
     try:
-        loader.exec_module(module)
+        # what it prints goes to stderr: standard output carries the command's JSON or CSV (a
+        # plugin's print("loaded") came before them, and a pipe's reader failed; until 2026-12-06)
+        with contextlib.redirect_stdout(sys.stderr):
+            loader.exec_module(module)
     except SyntaxError as exc:
         sys.modules.pop(name, None)
         line = f", line {exc.lineno}" if exc.lineno else ""
@@ -173,7 +177,8 @@ def _guarded(reader, plugin: str, where: str):
 
     def guarded_read(path):
         try:
-            return read(path)
+            with contextlib.redirect_stdout(sys.stderr):  # (as while the plugin runs, `_execute`)
+                return read(path)
         except ImpedaxError:
             raise
         except Exception as exc:
