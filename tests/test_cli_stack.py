@@ -349,3 +349,18 @@ def test_inspect_shows_a_saved_files_provenance_as_text(tmp_path, capsys):
                     f"data {', '.join(str(f.resolve()) for f in files)}")
     code, text, err = run(["inspect", out, "--json"], capsys)
     assert json.loads(json.loads(text)["attrs"]["provenance"]) == record
+
+
+def test_inspect_says_a_file_was_saved_from_data_built_in_python(capsys):
+    """The REAL battery cycles (benchmarks/data/autoeis_battery_130.nc) were saved from data built
+    in Python: its stored source is impedax's in-memory marker 'memory' (read here with xarray),
+    which `impedax inspect` printed as "saved_from: memory" (walkthrough 2026-12-06)."""
+    import xarray as xr
+
+    path = Path(__file__).parent.parent / "benchmarks" / "data" / "autoeis_battery_130.nc"
+    with xr.open_dataset(path, engine="scipy") as raw:
+        assert raw.attrs["source"] == "memory"
+    code, text, err = run(["inspect", path], capsys)
+    assert code == 0, err
+    assert "  saved_from: data built in a Python session (impedax.make_spectrum), not read from a file\n" in text
+    assert "saved_from: memory" not in text

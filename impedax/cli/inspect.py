@@ -5,6 +5,11 @@ preview."""
 
 from __future__ import annotations
 
+# what a file saved from data built in Python (``attrs["saved_from"]`` the marker `IN_MEMORY`,
+# "memory") is said to come from (2026-12-06: the REAL benchmarks/data/autoeis_battery_130.nc
+# showed "saved_from: memory")
+_SAVED_IN_SESSION = "data built in a Python session (impedax.make_spectrum), not read from a file"
+
 _HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit_note", "decimal_mark", "point_count_note")
 
 
@@ -30,7 +35,7 @@ def run(args) -> int:
     import numpy as np
 
     from ..data import format_frequency
-    from ..errors import DataError
+    from ..errors import IN_MEMORY, DataError
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.netcdf import RESULT_KINDS, result_kind
     from .common import Output, command_provenance, data_source, dimension_labels, emit_json, figure_options, figure_writer, labels_text, load_selected, plan_outputs, spectrum_writer, with_source
@@ -126,7 +131,7 @@ def run(args) -> int:
     for key, value in summary["attrs"].items():
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
         if key not in ("format", "data_format", "source", "path", *_HOW_KEYS) and not (key in extra and _repeats_labels(str(value), key, summary["labels"][key])):
-            print(f"  {key}: {_provenance_text(value) if key == 'provenance' else str(value).splitlines()[0] if str(value) else ''}")
+            print(f"  {key}: {_provenance_text(value) if key == 'provenance' else _SAVED_IN_SESSION if key == 'saved_from' and value == IN_MEMORY else str(value).splitlines()[0] if str(value) else ''}")
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
     if not kind and args.file != "-":
