@@ -306,6 +306,8 @@ def test_info_lists_each_element_kind_with_its_equation(capsys):
     shown = json.loads(capsys.readouterr().out)
     assert shown["elements"][1] == {"symbol": "G", "element_kind": "Gerischer", "equation": "Z = R/√(1 + jωτ)"}
     assert [r["name"] for r in shown["parameters"]] == ["R0", "G1.R", "G1.tau", "R1", "HN1.R", "HN1.tau", "HN1.alpha", "HN1.beta"]
+    assert main(["info", "Q1 + CPE2", "--json"]) == 0  # (Q is the CPE's alias: one kind)
+    assert [k["symbol"] for k in json.loads(capsys.readouterr().out)["elements"]] == ["CPE"]
 
 
 def test_simulate_at_the_frequencies_of_one_sweep_of_a_file_of_two_grids(tmp_path, capsys):

@@ -33,7 +33,7 @@ def run(args) -> int:
             })
     # each kind of element in the circuit, once, in order, with its formula (added 2026-12-06: a
     # user's element and a built-in Gerischer or Havriliak–Negami were listed by name only)
-    kinds = list({e.symbol: registry[e.symbol] for e in circuit.elements()}.values())
+    kinds = list({registry[e.symbol].symbol: registry[e.symbol] for e in circuit.elements()}.values())  # (an alias, Q1 beside CPE2, is its element's kind)
     elements = [{"symbol": spec.symbol, "element_kind": spec.name, "equation": spec.equation} for spec in kinds]
     if args.json:
         emit_json({"model": str(circuit), "parameters": rows, "elements": elements})
