@@ -250,12 +250,19 @@ def flag(value, name):
 
 
 def progress_line_flag(value, name):
-    """`flag` for a run whose progress is its own line on stderr (`sample`): a callback, which
-    `fit`, `diagnose` and `refine` take (``progress=print``, README), is named as theirs."""
+    """The ``progress`` of a run that draws its own progress line (`sample`), as `fit`,
+    `diagnose` and `refine` take it: None (the default) or True, the lines on stderr; False, none;
+    a function of one line of text (``progress=print``), called with each line instead (a log
+    file's lines, never rewritten in place). Until 2026-12-06 None and a function were refused,
+    so that code passing ``progress=None`` to every call failed at sample alone."""
+    if value is None:
+        return True
     if callable(value):
-        raise ParameterError(f"{name} must be True or False here: sample's progress is its own line on stderr (steps, time left); "
-                             f"a callback such as progress=print is taken by fit, diagnose and refine")
-    return flag(value, name)
+        return value
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} must be True or False (None, the default: lines on stderr), or a function of one line of text such as print, "
+                             f"as fit, diagnose and refine take it; got {shown(value)} ({type(value).__name__})")
+    return bool(value)
 
 
 def reads_as_number(value) -> bool:

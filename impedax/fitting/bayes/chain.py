@@ -140,7 +140,7 @@ class ChainLength:
         return long_enough and stable
 
 
-def run_emcee(p0: np.ndarray, log_prob: Callable[[np.ndarray], np.ndarray], *, steps: int | str, burn: int | None, thin: int, seed: int, progress: bool) -> Chain:
+def run_emcee(p0: np.ndarray, log_prob: Callable[[np.ndarray], np.ndarray], *, steps: int | str, burn: int | None, thin: int, seed: int, progress) -> Chain:
     """emcee's stretch move from ``p0`` (walkers, parameters) with ``log_prob`` (all walkers'
     coordinates → their log-probabilities, one vectorised call) over ``steps`` (or, ``"auto"``,
     until `ChainLength` says the chain is long enough, `auto_step_cap` steps at most); the chain

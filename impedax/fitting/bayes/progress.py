@@ -18,10 +18,13 @@ so that their number grows with the logarithm of the run's length: a 400 s run (
 with its long chains) wrote 400 lines at one a second, and writes 45 so."""
 
 
-def announce(text: str, enabled: bool) -> None:
-    """One line on stderr saying what a run does before its first step (a start fit, a
-    compilation: seconds without a progress line), when ``enabled``."""
-    if enabled:
+def announce(text: str, enabled) -> None:
+    """One line saying what a run does before its first step (a start fit, a compilation:
+    seconds without a progress line): on stderr when ``enabled`` is true, to ``enabled`` when it
+    is a function of one line of text (``progress=print``, as `fit` takes it)."""
+    if callable(enabled):
+        enabled(text)
+    elif enabled:
         sys.stderr.write(f"{text}\n")
         sys.stderr.flush()
 
@@ -32,7 +35,8 @@ class ProgressLine:
     log file or a pipe) a full line every `LOG_INTERVAL` (1) seconds, or every `LOG_SPACING` of
     the time since the first step when that is longer, and one at the end. A step
     costs one clock reading and two comparisons.
-    ``interactive`` None: whether stderr is a terminal.
+    ``interactive`` None: whether stderr is a terminal. ``enabled`` a function of one line of
+    text (``progress=print``): each report is handed to it as a log's line would be written.
 
     A run of unknown length (``total`` the most steps it may take, ``open_ended`` true: emcee's
     ``steps="auto"``) shows the steps so far and the current estimate of the steps it needs
@@ -47,10 +51,11 @@ class ProgressLine:
     step ``settle`` alone (on the demo: "~43 s left" at step 152, 30 s before the end, where the
     rate since step 1 said ~146 s)."""
 
-    def __init__(self, total: int, enabled: bool, label: str = "impedax sample", interactive: bool | None = None, *, open_ended: bool = False, settle: int = 0):
-        self.total, self.enabled, self.label, self.open_ended, self.settle = total, enabled, label, open_ended, settle
+    def __init__(self, total: int, enabled, label: str = "impedax sample", interactive: bool | None = None, *, open_ended: bool = False, settle: int = 0):
+        self.total, self.enabled, self.label, self.open_ended, self.settle = total, bool(enabled), label, open_ended, settle
+        self.callback = enabled if callable(enabled) else None
         self.settled: tuple[float, int] | None = None  # (time, steps) when ``settle`` steps were first done
-        self.interactive = _is_terminal(sys.stderr) if interactive is None else interactive
+        self.interactive = False if self.callback is not None else (_is_terminal(sys.stderr) if interactive is None else interactive)
         self.done = 0
         self.target: int | None = None  # (open-ended runs) the steps the run needs, as last estimated
         self.target_note = ""
@@ -79,8 +84,11 @@ class ProgressLine:
         if now < 1.0 or (self.last is not None and now - self.last < interval and not last_step):
             return
         self.last = now
-        sys.stderr.write(f"\r{self.text(done, now)} " if self.interactive else self.text(done, now) + "\n")
-        sys.stderr.flush()
+        if self.callback is not None:
+            self.callback(self.text(done, now))
+        else:
+            sys.stderr.write(f"\r{self.text(done, now)} " if self.interactive else self.text(done, now) + "\n")
+            sys.stderr.flush()
         self.shown = True
 
     def text(self, done: int, now: float) -> str:

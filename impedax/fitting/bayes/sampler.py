@@ -435,7 +435,7 @@ def sample(
     reparametrization: Reparametrization | None = None,
     fmin: float | None = None,
     fmax: float | None = None,
-    progress: bool = True,
+    progress=None,
     registry: Registry | None = None,
     shared: Sequence[str] | str | None = None,
     over: Sequence[str] | str | None = None,
@@ -464,14 +464,16 @@ def sample(
     (then the chain-length warning says the cap was reached; docs/bayesian.md, "Chain length").
     ``burn`` (default a quarter of the steps run) steps are discarded and every ``thin``-th kept;
     ``settings`` records the steps that ran. Returns a `Posterior` with diagnostics, Laplace log
-    evidence and WAIC. ``progress``: lines on stderr for the start fit, the compilation and the
-    sampling. ``registry`` None: the default one.
+    evidence and WAIC. ``progress``: lines for the start fit, the compilation and the
+    sampling, on stderr (None, the default, or True), none (False), or each handed to a function
+    of one line of text (``progress=print``), as `fit` takes it. ``registry`` None: the default one.
     ``shared`` with ``over`` (as `fit`) samples the joint posterior of a global fit instead:
     shared parameters once, the others per spectrum, started from the global least-squares fit
     (`shared_posterior`; at most `MAX_JOINT_PARAMETERS` sampled parameters; the same chain-length
     rule), and returns a `SharedPosterior`.
     """
     check_argument_order("sample", circuit, data)
+    progress = progress_line_flag(progress, "progress")  # (the default None is not checked by the decorator: lines on stderr)
     registry = DEFAULT_REGISTRY if registry is None else registry
     noise, burn = _check_settings(noise, steps, burn, thin)
     circuit = parse(circuit, registry)

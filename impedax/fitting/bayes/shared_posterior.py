@@ -609,7 +609,7 @@ def spectrum_labels(ds: xr.Dataset, over: Sequence[str]) -> list[str]:
 
 def sample_shared(
     circuit: Circuit, data, *, shared, over, priors: Mapping | None, noise: NoiseModel, walkers: int | None, steps: int | str, burn: int | None, thin: int, seed: int,
-    fixed: Mapping[str, float] | None, fmin, fmax, progress: bool, registry: Registry,
+    fixed: Mapping[str, float] | None, fmin, fmax, progress, registry: Registry,
 ) -> SharedPosterior:
     """The joint posterior (module docstring); settings already checked by `sample`."""
     spectrum = open_spectrum(data, fmin=fmin, fmax=fmax)
