@@ -886,7 +886,7 @@ def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True) 
     return f"{x / scale:g}{prefix}"
 
 
-def plain_log_ticks(axis, *, nyquist=None) -> None:
+def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True) -> None:
     """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40,
     10k, 1M) instead of 2×10⁻¹ or 1e+06 (`_plain_number`): percentages read as they are
     printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
@@ -899,12 +899,15 @@ def plain_log_ticks(axis, *, nyquist=None) -> None:
     counts in that panel's prefix (`view_prefix` of its two axes, as `equal_aspect` counts it),
     named in its label (``|Z| [mΩ]``, ticks 20, 30, 40), and writes no prefix of its own on a
     tick (``1e-4`` of MΩ): REAL exampleData.csv's comparison had a Nyquist panel in mΩ beside
-    |Z| in Ω ticked 0.02, 0.03, 0.04 (2026-12-06)."""
+    |Z| in Ω ticked 0.02, 0.03, 0.04 (2026-12-06).
+
+    ``prefixes`` False: no SI prefix on any tick (``1e-5``, ``1e5``), for a dimensionless
+    quantity, which a prefix misreads: a corner plot's CPE exponent α read "10µ" (2026-12-06)."""
     from matplotlib.ticker import LogFormatter
 
     def scaled(formatter, x, prefix_from=1e4):
         scale = getattr(axis.get_major_formatter(), "scale", 1.0)
-        return _plain_number(x / scale, prefix_from, prefixes=scale == 1.0 and not percent_axis(formatter.axis))
+        return _plain_number(x / scale, prefix_from, prefixes=prefixes and scale == 1.0 and not percent_axis(formatter.axis))
 
     class _Plain(LogFormatter):
         def __init__(self):

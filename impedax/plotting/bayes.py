@@ -109,6 +109,10 @@ def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
 # 1.7975 to 1.81 hid 63.6 Ω
 LOG_AXIS_SPAN = 10.0
 
+# the units of a dimensionless parameter (a CPE's α, sigma_rel), whose log axis writes no SI
+# prefix on a tick: α over decades was ticked "1µ, 10µ, 100µ, 0.001"
+DIMENSIONLESS = ("", "1")
+
 # a corner plot's panel side [in] (`corner_figure_size`): 2 in up to 7 parameters; more share
 # 16 in down to 1.5 in each, and beyond 10 the figure grows, 1.5 in a panel (20 parameters on
 # 16 in left 0.8 in a panel, their labels overprinted and run together)
@@ -195,7 +199,7 @@ def plot_corner(
                 ax.axvline(truths[names[j]], color="tab:red", lw=0.8)
             for axis, is_log, n in ((ax.xaxis, logs[j], j), (ax.yaxis, logs[i], i)):
                 if is_log:
-                    plain_log_ticks(axis)
+                    plain_log_ticks(axis, prefixes=units[n] not in DIMENSIONLESS)  # (α's ticks read "10µ")
                 elif axis is ax.xaxis or i != j:
                     axis.set_label_text(labels[n])  # (the formatter's prefix goes into the label)
                     prefixed_axis(axis, max_bins=4)  # (five-digit ticks of a narrow panel ran together: at most 4 intervals, fewer where they do not fit)
