@@ -21,7 +21,7 @@ from ..reductions import reducing_bounds
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
     "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "circuit_name", "PiledUp",
-    "acceptance_warnings", "interval_warnings", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
+    "acceptance_warnings", "interval_warnings", "tied_to_bound", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
 CHAIN_TAU_MULTIPLE = 50
@@ -42,6 +42,11 @@ INTERVAL_RATIO_WARNING = 2.0
 """A linearised standard error more than this factor from the posterior's 68 % half-width (or
 less than its inverse): the two disagree beyond what a well-sampled, locally Gaussian posterior
 shows (0.97–1.05 on the BioLogic example; docs/bayesian.md, "Which interval to trust")."""
+TIED_TO_BOUND_CORRELATION = 0.8
+"""|r| in the least-squares fit's covariance from which a parameter counts as tied to one whose
+fit is at a bound (`tied_to_bound`): the linearisation lets that one pass its bound and drags
+this one's standard error along (REAL Gamry, R0 + R1 ∥ CPE1: R1 at r = −0.98 with R0 at 0;
+REAL battery cycle 0: R1 at 0.90, R2 at −0.94 with CPE2.alpha at 1)."""
 
 STRAGGLER_LOG_PROB_GAP = 20.0
 """A walker whose median log-probability over the kept draws lies more than this many nats below
@@ -496,6 +501,28 @@ class PiledUp:
         edges = self._prior_edges
         return tuple(n for n in self.names if n in edges.piled_up and n not in edges.at_reduction)
 
+def tied_to_bound(names: Sequence[str], covariance, at_bound: Sequence[str]) -> dict[str, tuple[str, float]]:
+    """{parameter: (the parameter at a bound it is most correlated with, r)} for each of ``names``
+    (the fit's free parameters, the order of ``covariance``) not itself in ``at_bound`` whose
+    correlation with one in ``at_bound`` reaches `TIED_TO_BOUND_CORRELATION` in magnitude."""
+    cov = np.asarray(covariance, float)
+    if cov.shape != (len(names), len(names)):
+        return {}
+    sd = np.sqrt(np.diag(cov))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(sd, sd)
+    out = {}
+    for i, n in enumerate(names):
+        if n in at_bound:
+            continue
+        candidates = [(abs(corr[i, j]), names[j], float(corr[i, j])) for j, b in enumerate(names) if b in at_bound and np.isfinite(corr[i, j])]
+        if candidates:
+            strength, other, r = max(candidates)
+            if strength >= TIED_TO_BOUND_CORRELATION:
+                out[n] = (other, r)
+    return out
+
+
 def interval_warnings(
     linearised: Mapping[str, float],
     half_widths: Mapping[str, float],
@@ -503,6 +530,7 @@ def interval_warnings(
     chain_converged: bool,
     at_bound: Sequence[str] = (),
     piled_up: Sequence[str] = (),
+    tied: Mapping[str, tuple[str, float]] | None = None,
 ) -> list[str]:
     """One warning naming the parameters whose least-squares ``linearised`` standard error and
     posterior 68 % half-width ((q84 − q16)/2, ``half_widths``) differ by more than
@@ -510,7 +538,11 @@ def interval_warnings(
     model's non-linearity, the parameters' bounds (``at_bound``: the fit sits at one) and the
     priors (``piled_up``: the draws pile up against a prior's or a bound's edge), where the linearised
     error is a local approximation at the fit — unless the chain has not converged
-    (``chain_converged`` false), when neither is to be trusted yet."""
+    (``chain_converged`` false), when neither is to be trusted yet. ``tied`` (`tied_to_bound`):
+    a parameter with no reason of its own is named with the one at a bound it is correlated with,
+    whose linearised error, passing the bound, widens its own (REAL Gamry's R1 at 3.9× was named
+    with no reason before 2026-12-06)."""
+    tied = tied or {}
     flagged = []
     for n, lin in linearised.items():
         half = half_widths.get(n, math.nan)
@@ -519,6 +551,9 @@ def interval_warnings(
         ratio = lin / half
         if ratio > INTERVAL_RATIO_WARNING or ratio < 1 / INTERVAL_RATIO_WARNING:
             why = [w for w, where in (("its fit is at a bound", at_bound), ("its draws pile up against an edge", piled_up)) if n in where]
+            if not why and n in tied:
+                other, r = tied[n]
+                why = [f"correlated with {other} (r = {r:+.2f} in the least-squares fit), whose fit is at a bound"]
             flagged.append(f"{n} ({format_factor(ratio)}×{'; ' + ', '.join(why) if why else ''})")
     if not flagged:
         return []

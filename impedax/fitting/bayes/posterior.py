@@ -28,7 +28,7 @@ from ..least_squares.branches import left_to_priors
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
 from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
-from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, walkers_text
+from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, tied_to_bound, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, implausible_gap_notes, rebuild
@@ -232,6 +232,7 @@ class Posterior(PiledUp, FrozenResult):
             chain_converged=self.chain_converged,
             at_bound=self.fit.at_bound,
             piled_up=[n for n in names if n in self._prior_edges.piled_up],
+            tied=tied_to_bound(self.fit.free_names, self.fit.covariance, self.fit.at_bound),
         )
 
     # -- parameter draws ------------------------------------------------------------------

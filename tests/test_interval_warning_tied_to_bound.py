@@ -1,0 +1,44 @@
+"""The warning that the least-squares start's linearised standard errors differ from the
+posterior's 68 % half-widths says why for a parameter tied to one at a bound: on REAL Gamry with
+R0 + R1 ∥ CPE1 it read "R0 (10×; its fit is at a bound, …), R1 (3.9×)", R1 with no reason,
+where R1's linearised error is wide because the linearisation lets R0 (at 0, r = −0.98 with R1
+in the fit) pass its bound. Oracle: the correlation computed here with numpy from the fit's
+covariance; the ratio from numpy's quantiles of the draws."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.fitting.bayes.diagnostics import interval_warnings, tied_to_bound
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+
+
+def test_a_parameter_correlated_with_one_at_a_bound_is_named_with_it():
+    sd = np.array([600.0, 650.0, 1e-8])
+    corr = np.array([[1.0, -0.978, 0.3], [-0.978, 1.0, 0.5], [0.3, 0.5, 1.0]])  # (by hand: R1 tied to R0, Q not)
+    tied = tied_to_bound(("R0", "R1", "Q"), corr * np.outer(sd, sd), ("R0",))
+    assert set(tied) == {"R1"} and tied["R1"][0] == "R0" and tied["R1"][1] == pytest.approx(-0.978)
+    (text,) = interval_warnings({"R0": 600.0, "R1": 650.0, "Q": 3e-8}, {"R0": 60.0, "R1": 165.0, "Q": 1e-8}, chain_converged=True, at_bound=("R0",), tied=tied)
+    assert "R1 (3.9×; correlated with R0 (r = -0.98 in the least-squares fit), whose fit is at a bound)" in text, text
+    assert "Q (3×)" in text  # (no reason known: none given)
+    assert tied_to_bound(("R0", "R1"), np.eye(3), ("R0",)) == {}  # (a covariance of other parameters: nothing)
+
+
+@pytest.mark.slow
+def test_real_gamry_names_r1_with_r0_at_its_bound():
+    data = ix.load(REAL / "exampleDataGamry.DTA")
+    start = ix.fit("R0 + R1 || CPE1", data, weighting="modulus", progress=False)
+    assert start.at_bound == ("R0",)
+    names = list(start.free_names)
+    cov = np.asarray(start.covariance, float)
+    r = cov[names.index("R0"), names.index("R1")] / np.sqrt(cov[names.index("R0"), names.index("R0")] * cov[names.index("R1"), names.index("R1")])
+    assert r < -0.9  # (the case: R1 tied to R0)
+    post = ix.sample("R0 + R1 || CPE1", data, init=start, seed=1, steps=1200, progress=False)
+    draws = post.samples["R1"]
+    ratio = start.linearised_stderr["R1"] / (0.5 * (np.quantile(draws, 0.84) - np.quantile(draws, 0.16)))
+    assert ratio > 2.0  # (numpy's quantiles: R1 is beyond the warning's 2×)
+    (text,) = [w for w in post.warnings if "linearised standard errors differ" in w]
+    assert f"R1 ({ix.data.format_factor(ratio)}×; correlated with R0 (r = {r:+.2f} in the least-squares fit), whose fit is at a bound)" in text, text
