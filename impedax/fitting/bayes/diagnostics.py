@@ -318,10 +318,12 @@ def chain_warnings(
     mean_acceptance: float,
     *,
     step_cap: int | None = None,
+    steps: int | None = None,
 ) -> list[str]:
     """Warnings about a chain ``chain_y`` (walker, draw, param; sampled space): shorter than
     `CHAIN_TAU_MULTIPLE` autocorrelation times (``autocorr_steps`` in sampler steps; with
-    ``step_cap``, the cap at which the automatic chain length stopped, the warning says so),
+    ``step_cap``, the cap at which the automatic chain length stopped, the warning says so;
+    with ``steps``, the steps the run took, it says about how many would do: `steps_needed`),
     mean acceptance below `ACCEPTANCE_STUCK` or above `acceptance_ceiling`, pairs of
     parameters of different elements correlated beyond `CORRELATION_WARNING`
     (`strong_correlations`, each `StrongCorrelation.warning`)."""
@@ -349,10 +351,29 @@ def chain_warnings(
             out.append(
                 f"the chain ({n_draws} draws per walker after burn-in) is shorter than {CHAIN_TAU_MULTIPLE} autocorrelation times "
                 f"(τ = {finite[worst] * thin:.3g} steps for {worst}){capped}: run more steps before trusting the intervals"
+                + (steps_advice(steps_needed(steps, n_draws, finite[worst]), capped=bool(step_cap)) if steps else "")
             )
     out.extend(acceptance_warnings(mean_acceptance, len(names)))
     out.extend(c.warning for c in strong_correlations(names, log_scale, chain_y))
     return out
+
+
+def steps_needed(steps: int, n_draws: int, tau_draws: float) -> int:
+    """About the steps a run like this one (``steps`` steps, ``n_draws`` kept per walker) needs
+    for a kept chain of `CHAIN_TAU_MULTIPLE` τ (``tau_draws``, in kept draws): its steps scaled by
+    50 τ over the draws kept, burn-in and thinning in proportion (exact for the default burn of a
+    quarter; a fixed burn needs fewer), rounded up to 500. τ estimated on a short chain runs low
+    (docs/bayesian.md, "Why 1 %"), so this is a least."""
+    return int(math.ceil(steps * CHAIN_TAU_MULTIPLE * tau_draws / max(n_draws, 1) / 500.0) * 500)
+
+
+def steps_advice(needed: int, *, capped: bool) -> str:
+    """The chain-length warning's advice, a number of steps to run: a fixed length (beyond the
+    automatic one's cap, when it stopped there), or the automatic length, which stops at 50 τ."""
+    if capped:
+        return f" — a fixed length beyond the automatic cap, at least about {needed} (steps={needed}, --steps {needed}; τ estimated on a short chain runs low)"
+    return (f" — steps='auto' (the default, --steps auto), which runs until the chain is {CHAIN_TAU_MULTIPLE} τ long, or a fixed length of at least about {needed} "
+            f"(steps={needed}, --steps {needed}; τ estimated on a short chain runs low)")
 
 
 class PriorEdges(NamedTuple):

@@ -205,7 +205,7 @@ class Posterior(PiledUp, FrozenResult):
         correlations, draws piled up against a prior's edge, linearised standard errors far from
         the posterior's widths, fit notes)."""
         out = straggler_warnings(self.stragglers, self.n_walkers + len(self.stragglers.walkers))
-        out += chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
+        out += chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings), steps=self.settings.get("steps"))
         out.extend(self._prior_edges.warnings)
         out.extend(self._interval_warnings())
         out.extend(implausible_gap_notes(self.reparametrization, {n: float(np.median(self.draws[..., i])) for i, n in enumerate(self.names)}))

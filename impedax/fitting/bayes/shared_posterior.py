@@ -200,7 +200,7 @@ class SharedPosterior(PiledUp, FrozenResult):
         one line per kind with the spectra it applies to, as a batch's report groups them
         (`_start_fit_warnings`)."""
         out = straggler_warnings(self.stragglers, self.n_walkers + len(self.stragglers.walkers))
-        out += chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings))
+        out += chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings), steps=self.settings.get("steps"))
         out.extend(self._prior_edges.warnings)
         out.extend(self._interval_warnings())
         out.extend(self.notes)
