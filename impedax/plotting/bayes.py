@@ -109,6 +109,15 @@ def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
 # 1.7975 to 1.81 hid 63.6 Ω
 LOG_AXIS_SPAN = 10.0
 
+# a column's view: the central `TAIL_VIEW_MASS` of its draws (in log where its axis is log),
+# widened by `TAIL_VIEW_MARGIN` of that span each side, where every draw would span more than
+# `TAIL_VIEW_FACTOR` times it: a few far draws squeezed REAL exampleData.csv's CPE2.Q (R0 + R1 ∥ CPE1
+# + R2 ∥ CPE2, 72 000 draws, 90 % within 0.20–0.55 kF s^(α-1)) into the quarter of an axis to 1.95;
+# a Gaussian's extremes (±4.4 sd in 72 000 draws) span 1.7× its central 99 % (±2.58 sd): not cut
+TAIL_VIEW_MASS = 0.99
+TAIL_VIEW_FACTOR = 2.0
+TAIL_VIEW_MARGIN = 0.1
+
 # the units of a dimensionless parameter (a CPE's α, sigma_rel), whose log axis writes no SI
 # prefix on a tick: α over decades was ticked "1µ, 10µ, 100µ, 0.001"
 DIMENSIONLESS = ("", "1")
@@ -163,6 +172,7 @@ def plot_corner(
     units = [unit_text(u) for u in units] if units is not None else [""] * k
     lo, hi = np.nanquantile(every, [0.01, 0.99], axis=0)
     logs = [bool(ls) and low > 0 and high > LOG_AXIS_SPAN * low for ls, low, high in zip(log_scale, lo, hi)]
+    views = [_column_view(every[:, i], logs[i], truths.get(n)) for i, n in enumerate(names)]
     size = corner_figure_size(k)
     label_chars = characters_across(0.95 * (size - 1) / k, font_size("label", 8))  # (a label along its panel: its length, the margins aside)
     labels = [(f"{n} [{u}]" if len(f"{n} [{u}]") <= label_chars else f"{n}\n[{u}]") if u else n for n, u in zip(names, units)]
@@ -182,8 +192,11 @@ def plot_corner(
                 ax.set_xscale("log")
             if i == j:
                 column = every[np.isfinite(every[:, i]), i]  # (a draw that overflowed is left out)
-                edges = np.geomspace(column.min(), column.max(), bins + 1) if logs[i] and column.size else bins
+                view, tail = views[i]
+                edges = (np.geomspace if logs[i] else np.linspace)(*view, bins + 1) if tail or (logs[i] and column.size) else bins
                 ax.hist(column, bins=edges, color="tab:blue", histtype="stepfilled", alpha=0.6)
+                if tail:
+                    ax.set_xlim(*view)  # (the column's scatter would widen it to its own far draws)
                 q05, q50, q95 = np.nanquantile(every[:, i], [0.05, 0.5, 0.95])
                 for qv, style in ((q05, "--"), (q50, "-"), (q95, "--")):
                     ax.axvline(qv, color="k", lw=0.8, ls=style)
@@ -223,9 +236,32 @@ def plot_corner(
         shown_top = None if logs[i] else max(abs(v) for v in axes[k - 1, i].get_xlim())
         text = f"{names[i]} = {interval_text(q50, q05, q95, units[i], significant=logs[i], top=shown_top)}"
         axes[i, i].set_title(text if len(text) <= title_chars else text.replace(" = ", " =\n", 1), fontsize=font_size("title", 7))  # (a long one on two lines, within its panel)
+    cut = [n for n, (_, tail) in zip(names, views) if tail]
     shown = f"{subset}{every.shape[0]} draws" + (f"; {flat.shape[0]} in the scatter" if flat.shape[0] < every.shape[0] else "")
+    shown += f"; {', '.join(cut)}: central {100 * TAIL_VIEW_MASS:g} % shown" if cut else ""
     fig.suptitle(f"{title} ({shown})", fontsize=font_size("suptitle", 9))
     return fig
+
+
+def _column_view(values: np.ndarray, log: bool, truth: float | None = None) -> tuple[tuple[float, float], bool]:
+    """The x range of a corner column of draws ``values`` (on a log axis where ``log``) and
+    whether it cuts a long tail: every finite draw, or the central `TAIL_VIEW_MASS` widened by
+    `TAIL_VIEW_MARGIN` where every draw would span more than `TAIL_VIEW_FACTOR` times that,
+    reaching a known value ``truth`` (a truth line past the view was not drawn)."""
+    column = values[np.isfinite(values) & ((values > 0) if log else True)]
+    if column.size < 2:
+        return (float(column.min()), float(column.max())) if column.size else (0.0, 1.0), False
+    t = np.log(column) if log else column
+    low, high = float(t.min()), float(t.max())
+    q_low, q_high = (float(q) for q in np.quantile(t, [(1 - TAIL_VIEW_MASS) / 2, (1 + TAIL_VIEW_MASS) / 2]))
+    tail = q_high > q_low and high - low > TAIL_VIEW_FACTOR * (q_high - q_low)
+    if tail:
+        margin = TAIL_VIEW_MARGIN * (q_high - q_low)
+        low, high = max(low, q_low - margin), min(high, q_high + margin)
+        if truth is not None and (truth > 0 or not log):
+            at = math.log(truth) if log else truth
+            low, high = min(low, at - margin), max(high, at + margin)
+    return ((math.exp(low), math.exp(high)) if log else (low, high)), bool(tail)
 
 
 def corner_figure_size(k: int) -> float:
