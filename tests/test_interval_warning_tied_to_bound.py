@@ -42,3 +42,16 @@ def test_real_gamry_names_r1_with_r0_at_its_bound():
     assert ratio > 2.0  # (numpy's quantiles: R1 is beyond the warning's 2×)
     (text,) = [w for w in post.warnings if "linearised standard errors differ" in w]
     assert f"R1 ({ix.data.format_factor(ratio)}×; correlated with R0 (r = {r:+.2f} in the least-squares fit), whose fit is at a bound)" in text, text
+
+
+@pytest.mark.slow
+def test_real_battery_joint_posterior_names_r2_with_cpe2_alpha_of_its_cycle():
+    """REAL battery cycles, ``shared=["CPE1.alpha"]`` over cycle (800 steps): R2[cycle=64] was named
+    "(2.2×)" bare beside CPE2.alpha[cycle=64] at 1; r read here from the global fit's covariance."""
+    data = ix.load(Path(__file__).parent.parent / "examples" / "data" / "autoeis_battery_cycles.nc")
+    post = ix.sample("R0 + R1 || CPE1 + R2 || CPE2 + W1", data, shared=["CPE1.alpha"], over="cycle", steps=800, seed=1, progress=False)
+    cov = post.fit.dataset["covariance"].sel(cycle=64)
+    r = float(cov.sel(free_param="R2", free_param_2="CPE2.alpha") / np.sqrt(cov.sel(free_param="R2", free_param_2="R2") * cov.sel(free_param="CPE2.alpha", free_param_2="CPE2.alpha")))
+    assert r < -0.8
+    (text,) = [w for w in post.warnings if "linearised standard errors differ" in w]
+    assert f"R2[cycle=64] (" in text and f"correlated with CPE2.alpha[cycle=64] (r = {r:+.2f} in the least-squares fit), whose fit is at a bound)" in text, text

@@ -41,7 +41,7 @@ from ..least_squares.result import parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
 from ..frozen import FrozenResult, freeze_fields
-from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, walkers_text
+from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, tied_to_bound, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
 from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, Posterior, undetermined_rows, chain_figures, checked_copies, sigma_between, with_noise
@@ -213,12 +213,14 @@ class SharedPosterior(PiledUp, FrozenResult):
         q = self.quantiles()
         start = _start_of(self.fit.dataset, self.over, self.spectra, self.names)
         names = [n for n in self.names if n in start]
+        at_bound = [n for n in names if start[n].at_bound]
         return interval_warnings(
             {n: start[n].stderr for n in names},
             {n: 0.5 * float(q["q84"].sel(param=n) - q["q16"].sel(param=n)) for n in names},
             chain_converged=self.chain_converged,
-            at_bound=[n for n in names if start[n].at_bound],
+            at_bound=at_bound,
             piled_up=[n for n in names if n in self._prior_edges.piled_up],
+            tied=tied_to_bound(names, _start_covariance(self.fit.dataset, self.over, self.spectra, names), at_bound),  # (within a spectrum)
         )
 
     @functools.cached_property
