@@ -38,6 +38,7 @@ def register(sub) -> None:
     p.add_argument("--max-steps", type=int, default=None, metavar="N", help="Levenberg–Marquardt step limit of the least-squares start fit (default 400; --steps is the sampler's)")
     add_quiet_option(p)
     add_plot_option(p, "save a corner plot of the draws", flag="--corner")
+    add_plot_option(p, "save a trace plot: each parameter's draws of every walker against the step, with their median; drift or a stuck walker shows a chain that has not converged; with --shared beyond 10 parameters those --corner draws by default", flag="--trace")
     p.add_argument("--corner-params", action="append", metavar="NAME[,NAME]", help="the parameters --corner draws, in that order (R1,CPE1.Q; with --shared R1[cycle=64]; repeatable; default every one, with --shared beyond 10 the shared ones, the first spectrum's and sigma_rel)")
     add_output_options(p, json="print the result as JSON (progress lines still go to stderr: --quiet drops them)", plot="save data with posterior bands (Nyquist, Bode)", out=result_out_help("the posterior (.nc: draws, diagnostics, start fit, data; .csv: quantiles per parameter)"))
     p.set_defaults(run=run)
@@ -194,7 +195,7 @@ def run(args) -> int:
     if corner_names == []:
         raise ParameterError("--corner-params: no parameter names given")
     outputs = plan_outputs(
-        [("--out", args.out, "result"), ("--corner", args.corner, "figure"), ("--plot", args.plot, "figure")],
+        [("--out", args.out, "result"), ("--corner", args.corner, "figure"), ("--plot", args.plot, "figure"), ("--trace", args.trace, "figure")],
         inputs=[args.data], stdout="--json" if args.json else None,
     )
     check_sample_size(circuit, args.walkers, args.steps, priors, args.registry)
@@ -236,7 +237,8 @@ def run(args) -> int:
         from ..plotting.bayes import corner_params
 
         corner_params(corner_names, list(posterior.names), "--corner-params")
-    outputs.save({"--out": result_writer(read, source, record), "--corner": figure_writer(lambda: posterior.corner(params=corner_names), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args))})
+    outputs.save({"--out": result_writer(read, source, record), "--corner": figure_writer(lambda: posterior.corner(params=corner_names), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args)),
+                  "--trace": figure_writer(lambda: posterior.trace(), source, **figure_options(args))})
     if not outputs.uses_stdout:
         print_result(read, args.json, source, record, command="sample")
         if not args.json:

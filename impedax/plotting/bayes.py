@@ -17,7 +17,7 @@ from ..data import format_quantity, si_prefix, unit_text
 from ..errors import ParameterError
 from . import characters_across, font_size, legends_off_data, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
-__all__ = ["plot_posterior_bands", "plot_joint_posterior_bands", "plot_corner"]
+__all__ = ["plot_posterior_bands", "plot_joint_posterior_bands", "plot_corner", "plot_trace"]
 
 BAND_QUANTILES = (0.05, 0.16, 0.5, 0.84, 0.95)
 
@@ -262,6 +262,60 @@ def _column_view(values: np.ndarray, log: bool, truth: float | None = None) -> t
             at = math.log(truth) if log else truth
             low, high = min(low, at - margin), max(high, at + margin)
     return ((math.exp(low), math.exp(high)) if log else (low, high)), bool(tail)
+
+
+TRACE_ROW_IN = 1.4  # a trace plot's row height [in]
+
+
+def plot_trace(
+    draws,
+    names: Sequence[str],
+    log_scale: Sequence[bool],
+    *,
+    units: Sequence[str] | None = None,
+    first_step: int = 0,
+    thin: int = 1,
+    autocorr: Mapping[str, float] | None = None,
+    title: str = "posterior",
+    params: Sequence[str] | None = None,
+):
+    """Trace plot of the kept draws ``draws`` (walker, draw, param) named ``names``: one row per
+    parameter, every walker's draws against the sampler's step (``first_step`` + d·``thin``, d
+    from 1: ``first_step`` is the burn-in, left out) as thin lines, and the walkers' median at each step, in the parameter's unit
+    (Ω, F, H and m in an SI prefix; a log axis for a log-sampled parameter over decades, as the
+    corner plot's, `LOG_AXIS_SPAN`). A walker stuck apart, a drift or a median still moving say
+    the chain has not converged, which τ and ESS alone may not show. ``autocorr`` (name → τ in
+    steps) is written beside each row's label. ``params``: the names to draw, in that order."""
+    draws = np.asarray(draws, float)
+    names = list(names)
+    picked = corner_params(params, names)
+    k = len(picked)
+    units = [unit_text(units[i]) for i in picked] if units is not None else [""] * k
+    steps = first_step + thin * np.arange(1, draws.shape[1] + 1)  # (emcee's kept steps, counted from 1: burn + thin, burn + 2·thin, …)
+    fig, axes = plt.subplots(k, 1, figsize=(8.0, 0.8 + TRACE_ROW_IN * k), sharex=True, squeeze=False, layout="constrained")
+    for row, i in enumerate(picked):
+        ax, values = axes[row, 0], draws[:, :, i]
+        finite = values[np.isfinite(values)]
+        low, high = (np.quantile(finite, [0.01, 0.99]) if finite.size else (np.nan, np.nan))
+        log = bool(log_scale[i]) and low > 0 and high > LOG_AXIS_SPAN * low
+        ax.plot(steps, values.T, "-", color="tab:blue", lw=0.4, alpha=max(0.03, min(0.3, 8.0 / values.shape[0])))
+        ax.plot(steps, np.nanmedian(values, axis=0), "-", color="k", lw=1.0, label="median of the walkers")
+        label = f"{names[i]} [{units[row]}]" if units[row] else names[i]
+        ax.set_ylabel(label, fontsize=font_size("label", 8))
+        if log:
+            ax.set_yscale("log")
+            plain_log_ticks(ax.yaxis, prefixes=units[row] not in DIMENSIONLESS)
+        else:
+            prefixed_axis(ax.yaxis, max_bins=4)
+        tau = (autocorr or {}).get(names[i])
+        if tau is not None and np.isfinite(tau):
+            ax.set_title(f"τ = {tau:.3g} steps", loc="right", fontsize=font_size("title", 7))
+        ax.tick_params(labelsize=font_size("tick", 7))
+        ax.grid(alpha=0.3)
+    axes[0, 0].legend(loc="upper left", fontsize=font_size("legend", 7))
+    axes[-1, 0].set_xlabel(f"step (burn-in of {first_step} left out)" if first_step else "step", fontsize=font_size("label", 8))
+    fig.suptitle(f"{title} ({draws.shape[0]} walkers × {draws.shape[1]} draws)", fontsize=font_size("suptitle", 9))
+    return fig
 
 
 def corner_figure_size(k: int) -> float:

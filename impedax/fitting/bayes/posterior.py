@@ -468,6 +468,18 @@ class Posterior(PiledUp, FrozenResult):
 
         return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=f"{self.model}: posterior ({NOISE_TITLES[self.noise]})", params=params)
 
+    def trace(self, *, params: Sequence[str] | None = None):
+        """Trace plot: each parameter's kept draws of every walker against the step, with the
+        walkers' median (`impedax.plotting.bayes.plot_trace`; matplotlib Figure): drift, a stuck
+        walker or a median still moving show a chain that has not converged. ``params``: the
+        parameters to draw, in that order (default every one)."""
+        from ...plotting.bayes import plot_trace
+
+        return plot_trace(
+            self.draws, self.names, self.log_scale, units=self.units, first_step=self.settings.get("burn", 0), thin=self.settings.get("thin", 1),
+            autocorr=self.autocorr, title=f"{self.model}: posterior draws ({NOISE_TITLES[self.noise]})", params=params,
+        )
+
     # -- storage --------------------------------------------------------------------------
     def to_xarray(self) -> xr.Dataset:
         """Draws (walker, draw, param), log_prob, diagnostics, summaries, the least-squares

@@ -399,6 +399,20 @@ class SharedPosterior(PiledUp, FrozenResult):
             title += f", the shared parameters, {self.spectra[0]}'s and the noise (others: params=, --corner-params)"
         return plot_corner(self.draws, self.names, self.log_scale, units=self.units, truths=truths, bins=bins, max_points=max_points, title=title, params=params)
 
+    def trace(self, *, params: Sequence[str] | None = None):
+        """Trace plot of the sampled parameters (`Posterior.trace`; matplotlib Figure); default
+        every one up to `CORNER_MAX_PARAMS`, beyond that those `corner` draws by default."""
+        from ...plotting.bayes import CORNER_MAX_PARAMS, plot_trace
+
+        title = f"{self.model}: joint posterior draws ({NOISE_TITLES[self.noise]})"
+        if params is None and len(self.names) > CORNER_MAX_PARAMS:
+            params = self.default_corner_params()
+            title += f", the shared parameters, {self.spectra[0]}'s and the noise (others: params=)"
+        return plot_trace(
+            self.draws, self.names, self.log_scale, units=self.units, first_step=self.settings.get("burn", 0), thin=self.settings.get("thin", 1),
+            autocorr=self.autocorr, title=title, params=params,
+        )
+
     def default_corner_params(self) -> list[str]:
         """The parameters `corner` draws by default beyond `CORNER_MAX_PARAMS`: the shared ones,
         the first spectrum's own (``R1[cycle=0]``) and the noise's (``sigma_rel``), as ``names``

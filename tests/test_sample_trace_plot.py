@@ -1,0 +1,61 @@
+"""`Posterior.trace()` and ``impedax sample --trace FILE``: each parameter's kept draws of every
+walker against the sampler's step, with the walkers' median. There was no trace plot: a user
+checking convergence by eye (drift, a stuck walker) had to rebuild one from ``to_xarray()``.
+Oracle: the posterior's own draws array, its settings (burn, thin) and emcee's step counting
+(kept steps burn + thin, burn + 2·thin, …), matplotlib's line data; the data are SYNTHETIC."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+import impedax as ix
+from cli_run import run as run_cli
+
+
+@pytest.fixture(scope="module")
+def posterior():
+    """SYNTHETIC R0 + R1 ∥ C1 (20 Ω, 500 Ω, 10 µF), 1 % noise, 30 points 10 kHz–0.1 Hz, 400 steps, thin 2."""
+    f = np.logspace(4, -1, 30)
+    z = 20.0 + 1.0 / (1.0 / 500.0 + 1j * 2 * np.pi * f * 1e-5)
+    data = ix.make_spectrum(f, z * (1 + 0.01 * np.random.default_rng(0).standard_normal(f.size)))
+    return ix.sample("R0 + R1 || C1", data, steps=400, thin=2, seed=1, progress=False)
+
+
+def test_each_row_holds_every_walker_s_draws_against_the_step(posterior):
+    fig = posterior.trace()
+    try:
+        axes = fig.axes
+        assert len(axes) == len(posterior.names)
+        walkers, draws = posterior.draws.shape[:2]
+        burn, thin = posterior.settings["burn"], posterior.settings["thin"]
+        for i, (ax, name) in enumerate(zip(axes, posterior.names)):
+            lines = ax.get_lines()
+            assert len(lines) == walkers + 1  # (every walker and their median)
+            np.testing.assert_array_equal(lines[0].get_xdata(), burn + thin * np.arange(1, draws + 1))
+            np.testing.assert_array_equal(np.array([line.get_ydata() for line in lines[:walkers]]), posterior.draws[:, :, i])
+            np.testing.assert_allclose(lines[-1].get_ydata(), np.median(posterior.draws[:, :, i], axis=0))
+            assert ax.get_ylabel().startswith(name)
+        assert [ax.get_ylabel() for ax in axes][:2] == ["R0 [Ω]", "R1 [Ω]"]
+    finally:
+        plt.close(fig)
+    fig = posterior.trace(params=["C1"])
+    try:
+        assert len(fig.axes) == 1 and fig.axes[0].get_ylabel().startswith("C1 [")
+    finally:
+        plt.close(fig)
+    with pytest.raises(ix.ParameterError, match="R7"):
+        posterior.trace(params=["R7"])
+
+
+def test_cli_trace_writes_the_figure(tmp_path, capsys):
+    f = np.logspace(4, -1, 30)
+    z = 20.0 + 1.0 / (1.0 / 500.0 + 1j * 2 * np.pi * f * 1e-5)
+    path = tmp_path / "rc.csv"
+    np.savetxt(path, np.c_[f, z.real, z.imag], delimiter=",")
+    code, out, err = run_cli(["sample", str(path), "--model", "R0 + R1 || C1", "--steps", "200", "--quiet", "--trace", str(tmp_path / "trace.png")], capsys)
+    assert code == 0, err
+    assert (tmp_path / "trace.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
