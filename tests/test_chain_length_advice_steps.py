@@ -34,5 +34,17 @@ def test_a_short_chain_warning_names_the_steps_to_run():
     kept = post.n_draws
     assert kept == 450
     by_hand = int(math.ceil(600 * 50 * tau / kept / 500) * 500)
-    assert f"or a fixed length of at least about {by_hand} (steps={by_hand}, --steps {by_hand};" in text, (text, tau)
-    assert "steps='auto' (the default, --steps auto)" in text
+    assert f"or a fixed length of at least about {by_hand} (steps={by_hand};" in text, (text, tau)
+    assert "steps='auto' (the default)" in text
+
+
+def test_the_command_line_says_the_advice_as_steps_options():
+    """The command line says Python's steps='auto' and steps=4500 as --steps auto, --steps 4500
+    (it read "--steps auto (the default, --steps auto)" and kept "steps=4500")."""
+    from impedax.cli.common import command_line_words as _phrased
+    from impedax.fitting.bayes.diagnostics import steps_advice
+
+    said = _phrased(steps_advice(4500, capped=False), "sample")
+    assert said == " — --steps auto (the default), which runs until the chain is 50 τ long, or a fixed length of at least about 4500 (--steps 4500; τ estimated on a short chain runs low)"
+    assert "(--steps 31000;" in _phrased(steps_advice(31000, capped=True), "sample")
+    assert _phrased("raise max_steps=400", "sample") == "raise --max-steps=400"  # (another keyword's number is left to its own rule)

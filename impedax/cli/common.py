@@ -1632,6 +1632,11 @@ _VALUED_KEYWORDS = ("weighting", "noise", "over", "steps")
 _VALUED_KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(_VALUED_KEYWORDS) + r")=(?:(['\"])([\w.-]+)\2|\[((?:'[\w.-]+'(?:, )?)+)\])")
 
 
+# a chain length in Python's words (``steps=4500``: the sampler's chain-length advice,
+# `fitting.bayes.diagnostics.steps_advice`), which the command line sets with --steps 4500
+_STEPS_NUMBER = re.compile(r"(?<![\w.-])steps=(\d+)(?![\w.])")
+
+
 def _valued_option(match: re.Match) -> str:
     """``--KEYWORD VALUE`` of a `_VALUED_KEYWORD` match: a list's values joined by commas."""
     keyword, value, listed = match.group(1), match.group(3), match.group(4)
@@ -1673,6 +1678,8 @@ def _phrased(text: str, command: str | None = None) -> str:
         text = text.replace(*_INIT_PHRASE)
     if has("--fix"):
         text = _FIXED_KEYWORD.sub(r"--fix \1=VALUE", text)
+    if has("--steps"):
+        text = _STEPS_NUMBER.sub(r"--steps \1", text)
     return _VALUED_KEYWORD.sub(lambda m: _valued_option(m) if has(f"--{m.group(1)}") else m.group(0), text)
 
 

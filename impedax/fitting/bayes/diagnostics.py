@@ -369,11 +369,12 @@ def steps_needed(steps: int, n_draws: int, tau_draws: float) -> int:
 
 def steps_advice(needed: int, *, capped: bool) -> str:
     """The chain-length warning's advice, a number of steps to run: a fixed length (beyond the
-    automatic one's cap, when it stopped there), or the automatic length, which stops at 50 τ."""
+    automatic one's cap, when it stopped there), or the automatic length, which stops at 50 τ; in
+    Python's words, which the command line says as --steps (`cli.common._phrased`)."""
     if capped:
-        return f" — a fixed length beyond the automatic cap, at least about {needed} (steps={needed}, --steps {needed}; τ estimated on a short chain runs low)"
-    return (f" — steps='auto' (the default, --steps auto), which runs until the chain is {CHAIN_TAU_MULTIPLE} τ long, or a fixed length of at least about {needed} "
-            f"(steps={needed}, --steps {needed}; τ estimated on a short chain runs low)")
+        return f" — a fixed length beyond the automatic cap, at least about {needed} (steps={needed}; τ estimated on a short chain runs low)"
+    return (f" — steps='auto' (the default), which runs until the chain is {CHAIN_TAU_MULTIPLE} τ long, or a fixed length of at least about {needed} "
+            f"(steps={needed}; τ estimated on a short chain runs low)")
 
 
 class PriorEdges(NamedTuple):
