@@ -20,7 +20,7 @@ def test_a_parameter_correlated_with_one_at_a_bound_is_named_with_it():
     sd = np.array([600.0, 650.0, 1e-8])
     corr = np.array([[1.0, -0.978, 0.3], [-0.978, 1.0, 0.5], [0.3, 0.5, 1.0]])  # (by hand: R1 tied to R0, Q not)
     tied = tied_to_bound(("R0", "R1", "Q"), corr * np.outer(sd, sd), ("R0",))
-    assert set(tied) == {"R1"} and tied["R1"][0] == "R0" and tied["R1"][1] == pytest.approx(-0.978)
+    assert set(tied) == {"R1"} and tied["R1"][0] == "R0" and tied["R1"][1] == pytest.approx(-0.978) and tied["R1"][2] == "whose fit is at a bound"
     (text,) = interval_warnings({"R0": 600.0, "R1": 650.0, "Q": 3e-8}, {"R0": 60.0, "R1": 165.0, "Q": 1e-8}, chain_converged=True, at_bound=("R0",), tied=tied)
     assert "R1 (3.9×; correlated with R0 (r = -0.98 in the least-squares fit), whose fit is at a bound)" in text, text
     assert "Q (3×)" in text  # (no reason known: none given)
@@ -55,3 +55,27 @@ def test_real_battery_joint_posterior_names_r2_with_cpe2_alpha_of_its_cycle():
     assert r < -0.8
     (text,) = [w for w in post.warnings if "linearised standard errors differ" in w]
     assert f"R2[cycle=64] (" in text and f"correlated with CPE2.alpha[cycle=64] (r = {r:+.2f} in the least-squares fit), whose fit is at a bound)" in text, text
+
+
+def test_a_parameter_correlated_with_an_undetermined_one_is_named_with_it():
+    """REAL exampleData.csv, R0 + R1 ∥ CPE1 + R2 ∥ CPE2 (1500 steps): "CPE2.alpha (2.6×)" stood
+    bare beside R2, whose relative standard error is 9.2e5 % (r = −0.93 in the fit); by hand here."""
+    sd = np.array([5.3e6, 0.2, 170.0])
+    corr = np.array([[1.0, -0.93, -0.84], [-0.93, 1.0, 0.97], [-0.84, 0.97, 1.0]])
+    tied = tied_to_bound(("R2", "CPE2.alpha", "CPE2.Q"), corr * np.outer(sd, sd), (), ("R2",))
+    assert tied == {"CPE2.alpha": ("R2", pytest.approx(-0.93), "which the data do not determine"), "CPE2.Q": ("R2", pytest.approx(-0.84), "which the data do not determine")}
+    (text,) = interval_warnings({"R2": 5.3e6, "CPE2.alpha": 0.2}, {"R2": 2e4, "CPE2.alpha": 0.077}, chain_converged=True, piled_up=("R2",), tied=tied)
+    assert "CPE2.alpha (2.6×; correlated with R2 (r = -0.93 in the least-squares fit), which the data do not determine)" in text, text
+
+
+@pytest.mark.slow
+def test_real_example_data_names_cpe2_alpha_with_the_undetermined_r2():
+    data = ix.load(REAL / "exampleData.csv")
+    post = ix.sample("R0 + R1 || CPE1 + R2 || CPE2", data, seed=1, steps=1500, progress=False)
+    assert post.undetermined == ("R2",)
+    names = list(post.fit.free_names)
+    cov = np.asarray(post.fit.covariance, float)
+    i, j = names.index("CPE2.alpha"), names.index("R2")
+    r = cov[i, j] / np.sqrt(cov[i, i] * cov[j, j])
+    (text,) = [w for w in post.warnings if "linearised standard errors differ" in w]
+    assert f"CPE2.alpha (" in text and f"correlated with R2 (r = {r:+.2f} in the least-squares fit), which the data do not determine)" in text, text

@@ -523,25 +523,36 @@ class PiledUp:
         edges = self._prior_edges
         return tuple(n for n in self.names if n in edges.piled_up and n not in edges.at_reduction)
 
-def tied_to_bound(names: Sequence[str], covariance, at_bound: Sequence[str]) -> dict[str, tuple[str, float]]:
-    """{parameter: (the parameter at a bound it is most correlated with, r)} for each of ``names``
-    (the fit's free parameters, the order of ``covariance``) not itself in ``at_bound`` whose
-    correlation with one in ``at_bound`` reaches `TIED_TO_BOUND_CORRELATION` in magnitude."""
+AT_BOUND = "whose fit is at a bound"
+NOT_DETERMINED = "which the data do not determine"
+"""`tied_to_bound`'s reasons for a parameter another is tied to."""
+
+
+def tied_to_bound(names: Sequence[str], covariance, at_bound: Sequence[str], undetermined: Sequence[str] = ()) -> dict[str, tuple[str, float, str]]:
+    """{parameter: (the parameter it is most correlated with among those at a bound or left
+    undetermined by the fit, r, why that one: `AT_BOUND` or `NOT_DETERMINED`)} for each of
+    ``names`` (the fit's free parameters, the order of ``covariance``) not itself among them
+    whose correlation with one reaches `TIED_TO_BOUND_CORRELATION` in magnitude: the
+    linearisation lets that one pass its bound or run over decades, and drags this one's error
+    along (REAL exampleData.csv, R0 + R1 ∥ CPE1 + R2 ∥ CPE2: CPE2.alpha at r = −0.93 with R2,
+    whose relative standard error is 9.2e5 %)."""
     cov = np.asarray(covariance, float)
     if cov.shape != (len(names), len(names)):
         return {}
+    anchors = {n: AT_BOUND for n in at_bound}
+    anchors.update({n: NOT_DETERMINED for n in undetermined if n not in anchors})
     sd = np.sqrt(np.diag(cov))
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(sd, sd)
     out = {}
     for i, n in enumerate(names):
-        if n in at_bound:
+        if n in anchors:
             continue
-        candidates = [(abs(corr[i, j]), names[j], float(corr[i, j])) for j, b in enumerate(names) if b in at_bound and np.isfinite(corr[i, j])]
+        candidates = [(abs(corr[i, j]), names[j], float(corr[i, j])) for j, b in enumerate(names) if b in anchors and np.isfinite(corr[i, j])]
         if candidates:
             strength, other, r = max(candidates)
             if strength >= TIED_TO_BOUND_CORRELATION:
-                out[n] = (other, r)
+                out[n] = (other, r, anchors[other])
     return out
 
 
@@ -552,7 +563,7 @@ def interval_warnings(
     chain_converged: bool,
     at_bound: Sequence[str] = (),
     piled_up: Sequence[str] = (),
-    tied: Mapping[str, tuple[str, float]] | None = None,
+    tied: Mapping[str, tuple[str, float, str]] | None = None,
 ) -> list[str]:
     """One warning naming the parameters whose least-squares ``linearised`` standard error and
     posterior 68 % half-width ((q84 − q16)/2, ``half_widths``) differ by more than
@@ -574,8 +585,8 @@ def interval_warnings(
         if ratio > INTERVAL_RATIO_WARNING or ratio < 1 / INTERVAL_RATIO_WARNING:
             why = [w for w, where in (("its fit is at a bound", at_bound), ("its draws pile up against an edge", piled_up)) if n in where]
             if not why and n in tied:
-                other, r = tied[n]
-                why = [f"correlated with {other} (r = {r:+.2f} in the least-squares fit), whose fit is at a bound"]
+                other, r, because = tied[n]
+                why = [f"correlated with {other} (r = {r:+.2f} in the least-squares fit), {because}"]
             flagged.append(f"{n} ({format_factor(ratio)}×{'; ' + ', '.join(why) if why else ''})")
     if not flagged:
         return []

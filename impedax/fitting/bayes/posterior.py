@@ -232,7 +232,7 @@ class Posterior(PiledUp, FrozenResult):
             chain_converged=self.chain_converged,
             at_bound=self.fit.at_bound,
             piled_up=[n for n in names if n in self._prior_edges.piled_up],
-            tied=tied_to_bound(self.fit.free_names, self.fit.covariance, self.fit.at_bound),
+            tied=tied_to_bound(self.fit.free_names, self.fit.covariance, self.fit.at_bound, self.undetermined),
         )
 
     # -- parameter draws ------------------------------------------------------------------

@@ -220,7 +220,7 @@ class SharedPosterior(PiledUp, FrozenResult):
             chain_converged=self.chain_converged,
             at_bound=at_bound,
             piled_up=[n for n in names if n in self._prior_edges.piled_up],
-            tied=tied_to_bound(names, _start_covariance(self.fit.dataset, self.over, self.spectra, names), at_bound),  # (within a spectrum)
+            tied=tied_to_bound(names, _start_covariance(self.fit.dataset, self.over, self.spectra, names), at_bound, self.undetermined),  # (within a spectrum)
         )
 
     @functools.cached_property
