@@ -38,6 +38,8 @@ CORRELATION_ADVICE = "fix one or give it an informative prior"
 EDGE_BAND = 0.02  # the outer 2 % of a prior's range (in its own coordinate) ...
 EDGE_DENSITY = 0.5  # ... holding draws at least half as dense as over their central 90 %: piled up
 EDGE_MIN_DRAWS = 20  # fewer draws in the band than this say nothing
+EDGE_FLAT = 0.8  # ... or at least 0.8 times as dense as over the next 4 bands inward: the draws run flat to the edge ...
+EDGE_FLAT_SHARE = 0.005  # ... with at least 0.5 % of the draws in the band, so that a wider prior would move the 5 % quantile
 INTERVAL_RATIO_WARNING = 2.0
 """A linearised standard error more than this factor from the posterior's 68 % half-width (or
 less than its inverse): the two disagree beyond what a well-sampled, locally Gaussian posterior
@@ -423,8 +425,10 @@ def prior_edges(
     proportional to the likelihood. Draws are piled up against an edge when the band of
     `EDGE_BAND` of t next to it (or a tenth of the draws' central 90 % interval in t, when that
     is narrower) holds them at least `EDGE_DENSITY` times as densely as that central interval
-    does: the likelihood has not fallen off by the edge, so the prior (or, where the edge is the
-    parameter's own bound, the bound) and not the data sets that side of the interval.
+    does, or (a flat tail) holds at least `EDGE_FLAT_SHARE` of them at least `EDGE_FLAT` times as
+    densely as the four bands next to it: the likelihood has not fallen off by the edge, so the
+    prior (or, where the edge is the parameter's own bound, the bound) and not the data sets that
+    side of the interval.
     ``draws`` are flat natural values (sample, param); ``lower``/``upper`` the parameters' bounds.
     ``reductions`` (`reducing_bounds`): parameters whose bound makes their element a simpler
     one; piled up there, the data are consistent with that simpler element (a CPE's alpha at 1
@@ -452,14 +456,22 @@ def prior_edges(
             continue
         band = min(EDGE_BAND, central / 10)
         lo, hi = prior.support(lower[i], upper[i])
-        for side, share, end, bound, q, beyond in (
-            ("lower", np.mean(t <= band), lo, lower[i], np.quantile(x, 0.05), "smaller"),
-            ("upper", np.mean(t >= 1 - band), hi, upper[i], np.quantile(x, 0.95), "larger"),
+        for side, share, inward, end, bound, q, beyond in (
+            ("lower", np.mean(t <= band), np.mean((t > band) & (t <= 5 * band)), lo, lower[i], np.quantile(x, 0.05), "smaller"),
+            ("upper", np.mean(t >= 1 - band), np.mean((t < 1 - band) & (t >= 1 - 5 * band)), hi, upper[i], np.quantile(x, 0.95), "larger"),
         ):
-            if share * t.size < EDGE_MIN_DRAWS or (share / band) < EDGE_DENSITY * (0.9 / central):
+            if share * t.size < EDGE_MIN_DRAWS:
+                continue
+            dense = (share / band) >= EDGE_DENSITY * (0.9 / central)
+            # (a flat tail to the edge: REAL Autolab's W1.sigma of R0 + CPE1 ∥ (R1 + W1), 2.9 % of its draws in the lowest 2 % of its
+            # log-uniform prior as densely as in the next 8 %, just below the dense rule, its q05 = 5.8 µΩ s^-1/2 the prior's)
+            flat = share >= EDGE_FLAT_SHARE and inward > 0 and (share / band) >= EDGE_FLAT * (inward / (4 * band))
+            if not (dense or flat):
                 continue
             piled_up[n] = "both" if n in piled_up else side
-            where = f"{100 * share:.0f} % of the draws lie in the {'lowest' if side == 'lower' else 'highest'} {100 * band:.2g} % of its prior's range" + (" (log scale)" if prior.kind == "loguniform" else "" if prior.bounded else " (by prior mass)")
+            where = f"{100 * share:{'.0f' if dense else '.2g'}} % of the draws lie in the {'lowest' if side == 'lower' else 'highest'} {100 * band:.2g} % of its prior's range" + (" (log scale)" if prior.kind == "loguniform" else "" if prior.bounded else " (by prior mass)")
+            if not dense:
+                where += f", as densely as in the {100 * 4 * band:.2g} % next to them: the draws run flat to the edge"
             at = format_bound(end, units[i])  # (the bound and q as the report writes quantities: 10 kΩ, not 10000 Ω; until 2026-12-06 :g)
             interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {format_quantity(q, units[i])})"
             if not prior.bounded:
