@@ -59,3 +59,22 @@ def test_cli_trace_writes_the_figure(tmp_path, capsys):
     code, out, err = run_cli(["sample", str(path), "--model", "R0 + R1 || C1", "--steps", "200", "--quiet", "--trace", str(tmp_path / "trace.png")], capsys)
     assert code == 0, err
     assert (tmp_path / "trace.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.slow
+def test_a_joint_posterior_draws_its_trace_named_per_spectrum():
+    """SYNTHETIC R0 + R1 ∥ C1 at two trials (R1 500 and 800 Ω), R0 shared, 150 steps: a row per
+    sampled parameter, named as the joint posterior names them (R1[trial=1])."""
+    f = np.logspace(4, -1, 25)
+    z = np.array([20.0 + 1.0 / (1.0 / r1 + 1j * 2 * np.pi * f * 1e-5) for r1 in (500.0, 800.0)])
+    z = z * (1 + 0.01 * np.random.default_rng(2).standard_normal(z.shape))
+    data = ix.make_spectrum(f, z, dims="trial")
+    post = ix.sample("R0 + R1 || C1", data, shared=["R0"], over="trial", steps=150, seed=1, progress=False)
+    fig = post.trace()
+    try:
+        labels = [ax.get_ylabel() for ax in fig.axes]
+        assert len(labels) == len(post.names) and labels[0].startswith("R0 [") and any(label.startswith("R1[trial=1] [") for label in labels), labels
+        i = list(post.names).index("R1[trial=1]")
+        np.testing.assert_array_equal(fig.axes[i].get_lines()[0].get_ydata(), post.draws[0, :, i])
+    finally:
+        plt.close(fig)
