@@ -651,7 +651,7 @@ def test_u_piled_at_its_bound_points_at_the_area_not_the_model():
     draws = np.geomspace(0.9e-3, 0.99999e-3, 400)[:, None]  # every draw just below the upper bound
     prior = {"u": Prior(PriorKind.LOGUNIFORM, 1e-9, 1e-3)}
     with_cause = prior_edges(["u"], ["m"], draws, prior, [1e-9], [1e-3], None, dict(rp.bound_causes)).warnings
-    assert len(with_cause) == 1 and "piles up against its upper bound 0.001" in with_cause[0]
+    assert len(with_cause) == 1 and "piles up against its upper bound 1 mm" in with_cause[0]
     assert "A = 200 m² (2e+08 mm²)" in with_cause[0] and "check the area's unit first" in with_cause[0] and "is the model missing" not in with_cause[0]
     plain = prior_edges(["u"], ["m"], draws, prior, [1e-9], [1e-3]).warnings
     assert len(plain) == 1 and "(is the model missing something?)" in plain[0]
