@@ -102,13 +102,42 @@ def test_trial_remainders_carry_the_error_of_the_subtracted_means_and_of_each_tr
 def test_subtraction_bad_input():
     a = ix.make_spectrum(F61, np.stack([SKIN, SKIN]), dims=("trial",))
     b = ix.make_spectrum(F61[:-1], np.stack([SKIN[:-1], SKIN[:-1]]), dims=("trial",))
-    with pytest.raises(DataError, match="skin: frequencies differ"):
+    with pytest.raises(DataError, match="skin: its frequencies differ from the total spectrum's"):
         sirin.remaining_impedance(a, b, a)
     with pytest.raises(DataError, match="expected a spectrum Dataset"):
         sirin.remaining_impedance(a, SKIN, a)
     single = ix.make_spectrum(F61, SKIN)
     out = sirin.remaining_impedance(single, a, a)
     assert "sigma" not in out and "not available" in out.attrs["sigma_method"]
+
+
+def test_python_api_takes_the_grids_impedax_gap_takes():
+    """SYNTHETIC: a descending skin sweep and a touchscreen whose frequencies were exported to 4
+    significant digits (≤ 1.3e-4 off) are the total's grid, as `impedax gap` and `impedax remaining`
+    read them (within 1e-3, the readers' sweep tolerance). The Python functions refused both with
+    "frequencies differ from the total spectrum's (61 vs 61 points)". Oracle: eq 5 and the paper's
+    C_gap = mean over f ≥ 30 Hz of 1/(2πf|Z_R|) written out with numpy on the ascending arrays."""
+    zr = edl(F61, **EDL)
+    total = ix.make_spectrum(F61, np.stack([SKIN + TS + zr, 1.01 * (SKIN + TS + zr)]), dims=("trial",))
+    skin_z, ts_z = np.stack([SKIN, 0.99 * SKIN]), np.stack([TS, 1.02 * TS])
+    skin = ix.make_spectrum(F61, skin_z, dims=("trial",)).isel(frequency=slice(None, None, -1))
+    rounded = np.array([float(f"{f:.4g}") for f in F61])
+    assert 0 < np.max(np.abs(rounded / F61 - 1)) < 1e-3
+    ts = ix.make_spectrum(rounded, ts_z, dims=("trial",))
+    expected = (total["Z"].values.mean(0) - skin_z.mean(0) - ts_z.mean(0))
+    out = sirin.remaining_impedance(total, skin, ts)
+    np.testing.assert_allclose(out["Z"].values, expected, rtol=1e-12)
+    np.testing.assert_array_equal(out["frequency"].values, F61)
+    np.testing.assert_allclose(sirin.trial_remainders(total, skin, ts)["Z"].values, total["Z"].values - skin_z.mean(0) - ts_z.mean(0), rtol=1e-12)
+    keep = F61 >= 30.0
+    c_gap = np.mean(1.0 / (2 * np.pi * F61[keep] * np.abs(expected[keep])))
+    assert sirin.paper_gap_estimate(total, skin, ts).c_gap == pytest.approx(c_gap, rel=1e-12)
+    mr = sirin.impedance_contributions(total, skin, ts)["magnitude_ratio"].sel(component="skin").values
+    np.testing.assert_allclose(mr, np.abs(skin_z.mean(0)) / np.abs(total["Z"].values.mean(0)), rtol=1e-12)
+    # a grid that does differ names the first point, not "61 vs 61 points"
+    shifted = ix.make_spectrum(F61 * 1.01, skin_z, dims=("trial",))
+    with pytest.raises(DataError, match=r"skin: its frequencies differ .*first differing at point 1: 1\.01 Hz where the total has 1 Hz"):
+        sirin.remaining_impedance(total, shifted, ts)
 
 
 def _conditions_data(seed=5):

@@ -30,6 +30,7 @@ from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import label_value, make_spectrum, validate_spectrum
 from ..arguments import checked_arguments, numeric_array, relative_permittivity, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
+from ..io.table import SWEEP_RTOL
 from ..constants import EPSILON_0, EPSILON_AIR
 
 __all__ = [
@@ -102,9 +103,26 @@ def trial_mean(ds: xr.Dataset, *, over: Sequence[str] | None = None) -> xr.Datas
     return out
 
 
-def _same_frequencies(reference: np.ndarray, other: np.ndarray, name: str) -> None:
-    if other.shape != reference.shape or not np.allclose(other, reference, rtol=1e-9, atol=0.0):
-        raise DataError(f"{name}: frequencies differ from the total spectrum's ({other.size} vs {reference.size} points); measure all three on one frequency grid")
+def _on_total_grid(total: xr.Dataset, part: xr.Dataset, name: str) -> xr.Dataset:
+    """``part`` sorted by frequency and given the (sorted) total's frequencies, when the two
+    grids agree within `SWEEP_RTOL` (the tolerance the readers merge sweeps with, and that of
+    `impedax gap`'s checks: a descending sweep, or frequencies an instrument exported to a few
+    digits, are the same grid); else a `DataError` naming ``name`` and the first point that
+    differs."""
+    part = part.sortby("frequency")
+    ref = np.asarray(total["frequency"].values, float)
+    own = np.asarray(part["frequency"].values, float)
+    n = min(own.size, ref.size)
+    bad = np.flatnonzero(np.abs(own[:n] / ref[:n] - 1.0) > SWEEP_RTOL)
+    if own.size == ref.size and not bad.size:
+        return part.assign_coords(frequency=total["frequency"])
+    where = (f"first differing at point {bad[0] + 1}: {own[bad[0]]:.6g} Hz where the total has {ref[bad[0]]:.6g} Hz" if bad.size
+             else f"the first {n} frequencies agree, then {'it goes' if own.size > ref.size else 'the total goes'} on")
+    raise DataError(
+        f"{name}: its frequencies differ from the total spectrum's ({name}: {own.size} points, {own[0]:.6g}–{own[-1]:.6g} Hz; "
+        f"total: {ref.size} points, {ref[0]:.6g}–{ref[-1]:.6g} Hz; {where}); measure all three on one frequency grid "
+        f"(within {SWEEP_RTOL:g} relative, the tolerance within which sweeps of one file merge)"
+    )
 
 
 SINGLE_CONTACT_QUANTITY = "impedance of a single contact Z_R = Z_total (no skin or touchscreen subtracted)"
@@ -114,11 +132,14 @@ SINGLE_CONTACT_QUANTITY = "impedance of a single contact Z_R = Z_total (no skin 
 def _present_parts(total, skin, touchscreen) -> dict[str, xr.Dataset]:
     """The inputs given, checked as spectra, by name: skin and touchscreen both None are a
     single contact, nothing to subtract; exactly one None is a `ParameterError` (the chain has
-    both in series; `gap_inputs.is_single_contact` says it for the gap analysis)."""
+    both in series; `gap_inputs.is_single_contact` says it for the gap analysis). Each is sorted
+    by frequency, skin and screen on the total's frequencies (`_on_total_grid`)."""
     if (skin is None) != (touchscreen is None):
         raise ParameterError("give both skin and touchscreen spectra, or neither (None, None: a single contact, nothing subtracted)")
     given = {"total": total, "skin": skin, "touchscreen": touchscreen}
-    return {name: _spectrum(ds, name) for name, ds in given.items() if ds is not None or name == "total"}
+    parts = {name: _spectrum(ds, name) for name, ds in given.items() if ds is not None or name == "total"}
+    parts["total"] = parts["total"].sortby("frequency")
+    return {name: ds if name == "total" else _on_total_grid(parts["total"], ds, name) for name, ds in parts.items()}
 
 
 def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None, *, over: Sequence[str] | None = None) -> xr.Dataset:
@@ -144,8 +165,6 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
     parts = _present_parts(total, skin, touchscreen)
     subtracted = [name for name in parts if name != "total"]
     freq = parts["total"]["frequency"].values
-    for name in subtracted:
-        _same_frequencies(freq, parts[name]["frequency"].values, name)
     means = {"total": trial_mean(parts["total"], over=over)}
     kept = tuple(d for d in means["total"]["Z"].dims if d != "frequency")
     for name in subtracted:
@@ -232,7 +251,6 @@ def trial_remainders(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr
     means = {}
     for name in parts:
         if name != "total":
-            _same_frequencies(freq, parts[name]["frequency"].values, name)
             means[name] = trial_mean(parts[name])
     z = parts["total"]["Z"] - sum((m["Z"].values for m in means.values()), 0.0)
     dims = tuple(d for d in z.dims if d != "frequency")
@@ -372,6 +390,8 @@ def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: 
     paper's bounds"). ``gap_trial_min``/``gap_trial_max``: u of each total trial minus the mean
     skin and screen (as `trial_remainders`), the trials' own spread, NaN with one total.
     ``skin`` and ``touchscreen`` None: a single contact, the total's trials as they are."""
+    parts = _present_parts(total, skin, touchscreen)  # (sorted, on the total's grid: the extreme trials pair point by point)
+    total, skin, touchscreen = parts["total"], parts.get("skin"), parts.get("touchscreen")
     z_r = remaining_impedance(total, skin, touchscreen)
     freq = z_r["frequency"].values
     c_gap = gap_capacitance_paper(z_r, cutoff_hz=cutoff_hz, fmax_hz=fmax_hz)
@@ -587,6 +607,8 @@ def phase_synchronization(z_i, z_total):
 def impedance_contributions(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
     """MR and PPS of skin, touchscreen and remaining against the total (trial means), over
     ``component`` × ``frequency`` (Sirin Fig 4c, 4d)."""
+    parts = _present_parts(total, skin, touchscreen)  # (sorted, on the total's grid)
+    total, skin, touchscreen = parts["total"], parts["skin"], parts["touchscreen"]
     z_r = remaining_impedance(total, skin, touchscreen)
     z_tot = trial_mean(total)["Z"].values
     comps = {"skin": trial_mean(skin)["Z"].values, "touchscreen": trial_mean(touchscreen)["Z"].values, "remaining": z_r["Z"].values}
