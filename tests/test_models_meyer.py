@@ -53,6 +53,20 @@ def test_physical_parametrization_matches_eq_3_13():
     assert f[np.argmax(force)] == pytest.approx(37e3, rel=0.05)
 
 
+@pytest.mark.parametrize("field, value, said", [
+    ("area", 0.0, r"MeyerPhysical\.area \[m²\] must be positive, got 0\.0"),  # was ZeroDivisionError in R_sc = ρ d/A
+    ("d_sc", 0.0, r"MeyerPhysical\.d_sc \[m\] must be positive"),  # was ZeroDivisionError in C_sc = ε0 ε A/d
+    ("d_i", -1e-6, r"MeyerPhysical\.d_i \[m\] must be positive, got -1e-06"),  # was a negative C_i, refused later as params['C_i']
+    ("rho_sc", float("nan"), r"MeyerPhysical\.rho_sc \[Ω·m\] must be finite"),
+    ("c_s", -140e-12, r"MeyerPhysical\.c_s \[F\] must be positive"),
+])
+def test_physical_description_refuses_non_positive_values_naming_the_field(field, value, said):
+    """A thickness, area, resistivity or element of zero or below has no eq 3.13 circuit: one
+    ParameterError naming the MeyerPhysical field and its unit, at construction."""
+    with pytest.raises(ParameterError, match=said):
+        meyer.MeyerPhysical(**{field: value})
+
+
 def test_model_factory_defaults_and_overrides():
     model = meyer.meyer_model()
     assert str(model.circuit) == "C_s + C_i + R_sc || C_sc + R_f"

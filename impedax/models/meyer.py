@@ -68,13 +68,17 @@ _CIRCUITS = {
 _SC_BLOCK = {"rc": ("C_i", "R_sc", "C_sc"), "cpe": ("C_i", "R_sc", "CPE_sc")}
 
 
+_PHYSICAL_UNITS = {"rho_sc": "Ω·m", "d_sc": "m", "d_i": "m", "area": "m²", "r_f": "Ω", "c_s": "F"}
+
+
 @dataclass(frozen=True)
 class MeyerPhysical:
     """Physical description of finger and screen (thesis eq 3.13), SI units.
 
     ``rho_sc`` [Ω·m] and ``eps_sc`` of the stratum corneum at 1 kHz, ``d_sc`` [m] its thickness;
     ``eps_i``, ``d_i`` [m] of the SiO2 insulator; ``area`` [m²] the contact area (a 4 mm radius
-    disc); ``r_f`` [Ω] body resistance; ``c_s`` [F] cable capacitor.
+    disc); ``r_f`` [Ω] body resistance; ``c_s`` [F] cable capacitor. Every value finite and
+    positive, the permittivities at least 1 (`ParameterError` naming the field otherwise).
     """
 
     rho_sc: float = 33e3
@@ -87,6 +91,8 @@ class MeyerPhysical:
     c_s: float = 140e-12
 
     def __post_init__(self):
+        for name in ("rho_sc", "d_sc", "d_i", "area", "r_f", "c_s"):  # (2026-12-06: area=0 raised ZeroDivisionError in r_sc)
+            numeric_array(positive=True)(getattr(self, name), f"MeyerPhysical.{name} [{_PHYSICAL_UNITS[name]}]")
         for name in ("eps_sc", "eps_i"):  # (below vacuum's 1: unphysical; 2026-12-03)
             relative_permittivity(getattr(self, name), f"MeyerPhysical.{name}")
 
