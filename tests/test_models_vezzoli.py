@@ -46,6 +46,21 @@ def test_voltage_inversion_and_fig10():
     np.testing.assert_allclose(np.asarray(back), 0.01, rtol=1e-12)
 
 
+def test_a_negative_force_target_is_refused_not_nan():
+    """Eq 10 is V_m² times a positive factor, so no voltage gives a negative time-averaged force:
+    voltage_for_force(-0.01, 500) returned NaN without a word (√ of a negative). Zero needs 0 V;
+    0.01 N is eq 10 solved by hand (Table 2 values)."""
+    with pytest.raises(ParameterError, match=r"force must be ≥ 0 N .* got -0\.01"):
+        vezzoli.voltage_for_force(-0.01, 500.0)
+    with pytest.raises(ParameterError, match="force must be ≥ 0 N"):
+        vezzoli.voltage_sweep([3.4], force=-0.01)
+    assert float(vezzoli.voltage_for_force(0.0, 500.0)) == 0.0
+    tau = 8.8541878128e-12 * 2340 * 3.0e4
+    wt = 2 * np.pi * 500.0 * tau
+    expected = np.sqrt(4 * 0.01 * (90e-6 + 350e-6) * (90e-6 / 3.35 + 350e-6 / 2340) * (1 + wt**2) / (8.8541878128e-12 * 1e-4 * wt**2))
+    assert float(vezzoli.voltage_for_force(0.01, 500.0)) == pytest.approx(expected, rel=1e-12)
+
+
 def test_fig9_and_fig8_sweeps():
     h_i = np.geomspace(0.5e-6, 100e-6, 20)
     with pytest.warns(vezzoli.Eq8ValidityWarning):

@@ -158,7 +158,16 @@ def electrovibration_force_peak(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], a
     return 2.0 * _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m)
 
 
-@checked_arguments(force=numeric_array(), freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True))
+def _force_target(value, name):
+    """A time-averaged force to reach [N]: numbers ≥ 0 (eq 10 is a square, ≥ 0; a negative
+    target has no voltage, and √ of it was NaN without a word until 2026-12-06)."""
+    value = numeric_array()(value, name)
+    if not isinstance(value, jax.core.Tracer) and not (np.isrealobj(np.asarray(value)) and np.all(np.asarray(value) >= 0)):
+        raise ParameterError(f"{name} must be ≥ 0 N (eq 10's time-averaged force is a square: no voltage gives a negative one), got {shown(value)}")
+    return value
+
+
+@checked_arguments(force=_force_target, freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True))
 def voltage_for_force(force, freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"]):
     """Eq 10 solved for the amplitude [V] giving a time-averaged ``force`` [N] (Fig 10):
     V_m = √(4 F (h_i + h_s)(h_i/ε_i + h_s/ε_s)(1 + (ωτ)²) / (ε0 A (ωτ)²)). Warns as
