@@ -157,6 +157,23 @@ def test_squeeze_film_bad_input():
         vezzoli.squeeze_film_lift(1e-6, normal_force=0.0)
 
 
+@pytest.mark.parametrize("keyword, value, said", [
+    ("area", 0.0, r"area must be positive \[m²\], got 0\.0"),  # said "lift must be finite, got nan"
+    ("area", -1e-4, r"area must be positive \[m²\]"),  # "math domain error"
+    ("l_e", 0.0, r"l_e must be positive \[m\]"),  # ZeroDivisionError
+    ("freq", -38220.0, r"freq must be positive \[Hz\]"),  # a negative squeeze number without a word
+    ("p0", -1e5, r"p0 must be positive \[Pa\]"),  # a negative lift without a word
+    ("h_r", 0.0, r"h_r must be positive \[m\], got 0\.0: at h_r = 0 the film closes"),  # "lift must be finite, got nan"
+    ("h_e", -50e-6, r"h_e must be ≥ 0 \[m\]"),
+    ("points", 1, r"points must be an integer ≥ 2"),  # a lift of 0 N without a word
+])
+def test_squeeze_film_geometry_and_air_refused_by_name(keyword, value, said):
+    """Each geometric and air input of eqs 2–6 must be positive (h_e ≥ 0: a flat finger), said by
+    its name and unit, not by an internal quantity or a Python error."""
+    with pytest.raises(ParameterError, match="squeeze_film_lift: " + said):
+        vezzoli.squeeze_film_lift(2e-6, **{keyword: value})
+
+
 def test_a_sweep_outside_eq8_warns_once_at_its_caller():
     """Fig 9's sweep (1 µm insulator, ε_i 3.4 and 36: C_i/C_s = 0.5 and 5.4) warns once, and the
     warning points at this file, not inside impedax."""

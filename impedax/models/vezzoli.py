@@ -270,6 +270,28 @@ def _require_scalars(**values) -> None:
         raise ParameterError(f"squeeze_film_lift: {name} must be a number, got {shown(value)} ({type(value).__name__})")
 
 
+_FILM_UNITS = {"area": "m²", "length": "m", "h_r": "m", "h_e": "m", "l_e": "m", "freq": "Hz", "eta": "Pa·s", "p0": "Pa"}
+
+
+def _check_film_inputs(*, points, **values) -> None:
+    """`squeeze_film_lift`'s geometry and air: each finite and positive (``h_e`` ≥ 0: no
+    fingerprints is a flat finger), ``length`` None or positive, ``points`` an integer ≥ 2. The
+    plate's roughness h_r > 0 keeps the film open: at h_r = 0 a fingerprint ridge touches the plate
+    at the bottom of the stroke and eq 6's pressure diverges. A `ParameterError` naming the
+    argument and its unit (2026-12-06: ``area=0`` said "lift must be finite", ``area<0`` raised
+    "math domain error", ``l_e=0`` ZeroDivisionError, ``freq<0`` gave σ < 0 without a word)."""
+    for name, value in values.items():
+        if value is None and name == "length":
+            continue
+        low_ok = value >= 0 if name == "h_e" else value > 0
+        if not (math.isfinite(value) and low_ok):
+            what = "≥ 0" if name == "h_e" else "positive"
+            why = ": at h_r = 0 the film closes where a fingerprint ridge meets the plate and eq 6 diverges" if name == "h_r" else ""
+            raise ParameterError(f"squeeze_film_lift: {name} must be {what} [{_FILM_UNITS[name]}], got {value}{why}")
+    if isinstance(points, (bool, np.bool_)) or not isinstance(points, (int, np.integer)) or points < 2:
+        raise ParameterError(f"squeeze_film_lift: points must be an integer ≥ 2 (the trapezoid rule over the contact length), got {shown(points)}")
+
+
 def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], length=None, h_r=TABLE1["h_r"], h_e=TABLE1["h_e"], l_e=TABLE1["l_e"], freq=TABLE1["f_r"], eta=TABLE1["eta"], p0=TABLE1["p0"], points: int = 20001) -> SqueezeFilm:
     """Squeeze-film lift F_s [N] for vibration amplitude h_v = ``amplitude`` [m] (eqs 2–6).
 
@@ -304,6 +326,7 @@ def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], lengt
         raise ParameterError(f"vibration amplitude must be ≥ 0 m, got {amplitude}")
     if not (normal_force > 0 and math.isfinite(normal_force)):
         raise ParameterError(f"normal force must be positive, got {normal_force}")
+    _check_film_inputs(area=area, length=length, h_r=h_r, h_e=h_e, l_e=l_e, freq=freq, eta=eta, p0=p0, points=points)
     l0 = math.sqrt(area) if length is None else length
     h0 = h_r + amplitude + h_e
     delta, eps = h_e / h0, amplitude / h0
