@@ -174,6 +174,25 @@ def test_squeeze_film_geometry_and_air_refused_by_name(keyword, value, said):
         vezzoli.squeeze_film_lift(2e-6, **{keyword: value})
 
 
+def test_squeeze_film_warns_where_the_sigma_to_infinity_limit_is_not_justified():
+    """The paper justifies eq 6's σ → ∞ limit "if σ > 10". σ = 12 η ω l0²/(p0 h0²) by hand:
+    Table 1 at 2 µm with A = 1 cm² gives 18.4 (no warning); a 50 mm² fingertip (l0 = 7.07 mm)
+    gives 9.2, and a 20 kHz mode 9.6: the lift is then the limit's, and said to overstate it.
+    Before, both returned that lift without a word."""
+    def sigma(area, freq, h_v=2e-6):
+        return 12 * 1.85e-5 * 2 * np.pi * freq * area / (1e5 * (1.8e-6 + h_v + 50e-6) ** 2)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", vezzoli.SqueezeNumberWarning)
+        table = vezzoli.squeeze_film_lift(2e-6)
+    assert table.squeeze_number == pytest.approx(sigma(1e-4, 38220.0), rel=1e-12) and table.squeeze_number > 10
+    for kwargs, expected in ((dict(area=50e-6), sigma(50e-6, 38220.0)), (dict(freq=20e3), sigma(1e-4, 20e3))):
+        assert expected < 10
+        with pytest.warns(vezzoli.SqueezeNumberWarning, match=rf"squeeze number σ = {expected:.3g} \(eq 5\) is not above 10"):
+            film = vezzoli.squeeze_film_lift(2e-6, **kwargs)
+        assert film.squeeze_number == pytest.approx(expected, rel=1e-12)
+
+
 def test_a_sweep_outside_eq8_warns_once_at_its_caller():
     """Fig 9's sweep (1 µm insulator, ε_i 3.4 and 36: C_i/C_s = 0.5 and 5.4) warns once, and the
     warning points at this file, not inside impedax."""

@@ -46,6 +46,8 @@ __all__ = [
     "voltage_sweep",
     "stratum_corneum_sweep",
     "friction_coupling",
+    "SQUEEZE_NUMBER_MIN",
+    "SqueezeNumberWarning",
     "SqueezeFilm",
     "squeeze_film_lift",
     "squeeze_number",
@@ -229,6 +231,16 @@ def friction_coupling(mu, delta_mu, normal_force, electrostatic_force):
 # --- squeeze film --------------------------------------------------------------------------
 
 
+SQUEEZE_NUMBER_MIN = 10.0
+"""The squeeze number σ above which the paper takes the σ → ∞ limit of eq 6 as justified ("if
+σ > 10", citing Biet et al. 2007 and Winter et al. 2013)."""
+
+
+class SqueezeNumberWarning(UserWarning):
+    """σ (eq 5) at or below `SQUEEZE_NUMBER_MIN`: the film is compressible (it acts like a spring),
+    and the σ → ∞ pressure of eq 6 that `squeeze_film_lift` uses overstates the lift."""
+
+
 @dataclass(frozen=True)
 class SqueezeFilm:
     """Squeeze-film lift at one vibration amplitude: lift ``force`` F_s [N], ``squeeze_number``
@@ -316,7 +328,8 @@ def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], lengt
     electrovibration force (Fig 8's caption).
 
     With these, h_v ≈ 2 µm lifts ≈ 0.17 N, so just above 2 µm levitates a 0.2 N finger, as the
-    paper says.
+    paper says (σ = 18.4 there). Where σ ≤ `SQUEEZE_NUMBER_MIN` (10, the paper's bound for the
+    σ → ∞ limit) the lift is still that limit's, with a `SqueezeNumberWarning`.
 
     One amplitude and one finger force per call (numbers, not arrays: a `SqueezeFilm` holds
     one lift); for a curve, ``[squeeze_film_lift(a) for a in amplitudes]``.
@@ -337,6 +350,12 @@ def squeeze_film_lift(amplitude, *, normal_force=0.2, area=TABLE2["area"], lengt
     mean_pressure = a * math.sqrt(b**2 + 1.5 * eps**2) / (b * np.sqrt(a**2 - eps**2))
     lift = p0 * area * np.trapezoid(mean_pressure - 1.0, x) / l0
     sigma = float(squeeze_number(amplitude, area=area, length=l0, freq=freq, h_r=h_r, h_e=h_e, eta=eta, p0=p0))
+    if not sigma > SQUEEZE_NUMBER_MIN:
+        warnings.warn(
+            f"squeeze number σ = {sigma:.3g} (eq 5) is not above {SQUEEZE_NUMBER_MIN:g}, where the paper takes eq 6's σ → ∞ pressure as justified: "
+            f"the film is compressible here and the lift of {lift:.3g} N is an overestimate (σ ∝ f l0²/h0²: a higher mode frequency, a longer contact or a thinner film raise it)",
+            SqueezeNumberWarning, stacklevel=2,
+        )
     return SqueezeFilm(float(amplitude), float(lift), sigma, float(friction_reduction(lift, normal_force)), float(normal_force))
 
 
