@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from ..arguments import number_text
-from ..data import format_frequency, format_quantity
+from ..data import format_band, format_frequency, format_quantity
+from ..models.peak import FORCE_PLATEAU_REL
 from .common import accept_negative_numbers, add_output_options, add_positional_model, check_band_options, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
@@ -314,6 +315,11 @@ def _peak_text(peak: dict) -> str:
         return f"no peak in the band: the force is {format_quantity(peak['force_n'], 'N', 4)} at every frequency"
     if peak["at_band_edge"]:
         option, side = ("--fmin", "below") if peak["band_edge"] == "fmin" else ("--fmax", "above")
+        plateau = peak.get("plateau_hz")
+        if plateau:  # (a high-pass's limit, as Vezzoli's eq 10: "still rises" alone read as still growing)
+            band = format_band(*plateau)
+            return (f"no peak in the band: the force is largest at {option}, {where}, on a plateau: within {FORCE_PLATEAU_REL:.0%} of it over {band}, "
+                    f"where it levels off (it may still rise {side} {option})")
         return f"no peak in the band: the force is largest at {option}, {where}, and still rises {side} it"
     grid = f"{format_quantity(peak['grid_force_n'], 'N', 4)} at {format_frequency(peak['grid_frequency_hz'])}"
     return f"peak {where} (refined between grid points; grid maximum {grid})"

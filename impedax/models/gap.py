@@ -52,6 +52,7 @@ from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SI
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
+from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, force_plateau  # noqa: F401 (FORCE_PLATEAU_SPAN: gap.FORCE_PLATEAU_SPAN as before 2026-12-06)
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
@@ -824,15 +825,6 @@ def _flat(values: np.ndarray) -> bool:
     return bool(values.size > 1 and np.all(np.isfinite(values)) and values.max() - values.min() <= FLAT_FORCE_REL * abs(values.max()))
 
 
-FORCE_PLATEAU_REL = 0.01
-"""The force's maximum lies on a plateau (`force_maximum_shape`) where the median stays within this
-fraction of it over more than `FORCE_PLATEAU_SPAN` in frequency: where on the plateau the grid's
-largest value falls is then rounding's and noise's choice, not a peak (a SYNTHETIC remainder of
-tests/test_gap_force_bound.py: the force with EP within 1 % of its largest, 412 mN, from 1 Hz to
-22.4 Hz, was reported as "max 412 mN at 1 Hz"; walkthrough 2026-12-05)."""
-FORCE_PLATEAU_SPAN = 10.0
-
-
 def force_maximum_shape(median: xr.DataArray) -> dict:
     """Where the median force over frequency is largest and what kind of maximum it is:
     ``index`` of the grid's largest value, ``band_edge`` ``"fmin"`` or ``"fmax"`` when that is an
@@ -845,18 +837,7 @@ def force_maximum_shape(median: xr.DataArray) -> dict:
     edge = ("fmin" if freq[i] == freq.min() else "fmax") if values.size > 1 and freq[i] in (freq.min(), freq.max()) else None
     if _flat(values):
         edge = "flat"
-    plateau = None
-    if values.size > 1 and np.all(np.isfinite(values)):
-        near = values >= (1.0 - FORCE_PLATEAU_REL) * values[i]
-        a, b = i, i
-        while a > 0 and near[a - 1]:
-            a -= 1
-        while b < values.size - 1 and near[b + 1]:
-            b += 1
-        low, high = sorted((float(freq[a]), float(freq[b])))
-        if high > FORCE_PLATEAU_SPAN * low:
-            plateau = (low, high)
-    return {"index": i, "band_edge": edge, "plateau_hz": plateau}
+    return {"index": i, "band_edge": edge, "plateau_hz": force_plateau(freq, values, i)}
 
 
 def force_maximum_text(median: xr.DataArray) -> str:

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["ForceMaximum", "force_maximum", "BAND_EDGES"]
+__all__ = ["ForceMaximum", "force_maximum", "force_plateau", "BAND_EDGES", "FORCE_PLATEAU_REL", "FORCE_PLATEAU_SPAN"]
 
 # what `ForceMaximum.band_edge` may say besides None (a peak inside the band)
 BAND_EDGES = ("fmin", "fmax", "fmin=fmax", "flat")
@@ -28,6 +28,31 @@ _XATOL = 1e-10
 _EDGE = 1e-6
 
 
+FORCE_PLATEAU_REL = 0.01
+"""A force's maximum lies on a plateau (`force_plateau`) where the force stays within this
+fraction of it over more than `FORCE_PLATEAU_SPAN` in frequency: where on the plateau the grid's
+largest value falls is then rounding's and noise's choice, not a peak (a SYNTHETIC remainder of
+tests/test_gap_force_bound.py: the force with EP within 1 % of its largest, 412 mN, from 1 Hz to
+22.4 Hz, was reported as "max 412 mN at 1 Hz"; walkthrough 2026-12-05)."""
+FORCE_PLATEAU_SPAN = 10.0
+
+
+def force_plateau(freq, force, index: int) -> tuple[float, float] | None:
+    """(low, high) [Hz]: the contiguous grid frequencies about ``force[index]`` where ``force``
+    stays within `FORCE_PLATEAU_REL` of it, when they span more than `FORCE_PLATEAU_SPAN`; else None."""
+    freq, force = np.asarray(freq, float).reshape(-1), np.asarray(force, float).reshape(-1)
+    if force.size < 2 or not np.all(np.isfinite(force)):
+        return None
+    near = force >= (1.0 - FORCE_PLATEAU_REL) * force[index]
+    a = b = index
+    while a > 0 and near[a - 1]:
+        a -= 1
+    while b < force.size - 1 and near[b + 1]:
+        b += 1
+    low, high = sorted((float(freq[a]), float(freq[b])))
+    return (low, high) if high > FORCE_PLATEAU_SPAN * low else None
+
+
 @dataclass(frozen=True)
 class ForceMaximum:
     """The largest force over a band [N] and where it is [Hz].
@@ -36,7 +61,11 @@ class ForceMaximum:
     ``grid_force_n`` are the grid's largest. ``at_band_edge`` is True when the force is largest
     at an end of the band and still rises past it; ``band_edge`` then names that end ("fmin",
     "fmax"; "fmin=fmax" for a one-frequency band), "flat" for a force the same at every
-    frequency, and None for a peak inside the band."""
+    frequency, and None for a peak inside the band. ``plateau_hz`` (low, high) [Hz]: the grid
+    frequencies about the grid's largest force where the force stays within 1 % of it, when they
+    span more than a decade (`force_plateau`), else None (added 2026-12-06: Vezzoli's eq 10, a
+    high-pass, is within 1 % of its largest from 2.59 kHz to the band's 1 MHz, where "still rises
+    above it" alone read as a force still growing)."""
 
     frequency_hz: float
     force_n: float
@@ -44,6 +73,7 @@ class ForceMaximum:
     grid_force_n: float
     at_band_edge: bool
     band_edge: str | None
+    plateau_hz: tuple[float, float] | None = None
 
     @property
     def is_peak(self) -> bool:
@@ -84,6 +114,7 @@ def force_maximum(force_at: Callable[[float], float], freq, force=None) -> Force
         return ForceMaximum(**{**at_end, "frequency_hz": float(freq[0]), "grid_frequency_hz": float(freq[0]), "at_band_edge": False, "band_edge": "flat"})
     if n == 1 or freq[0] == freq[-1]:
         return ForceMaximum(**at_end, band_edge="fmin=fmax")
+    at_end["plateau_hz"] = force_plateau(freq, force, k)
     lo, hi = math.log(freq[max(k - 1, 0)]), math.log(freq[min(k + 1, n - 1)])
     best = minimize_scalar(lambda x: -force_at(math.exp(lo + x * (hi - lo))), bounds=(0.0, 1.0), method="bounded", options={"xatol": _XATOL})
     value = -float(best.fun)
@@ -93,4 +124,4 @@ def force_maximum(force_at: Callable[[float], float], freq, force=None) -> Force
             return ForceMaximum(**at_end, band_edge="fmin" if k == 0 else "fmax")
     elif not value >= force[k]:  # (not one maximum between the neighbours: keep the grid's)
         return ForceMaximum(**{**at_end, "at_band_edge": False}, band_edge=None)
-    return ForceMaximum(frequency_hz=math.exp(lo + float(best.x) * (hi - lo)), force_n=value, **grid, at_band_edge=False, band_edge=None)
+    return ForceMaximum(frequency_hz=math.exp(lo + float(best.x) * (hi - lo)), force_n=value, **grid, at_band_edge=False, band_edge=None, plateau_hz=at_end["plateau_hz"])
