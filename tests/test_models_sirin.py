@@ -134,6 +134,8 @@ def test_python_api_takes_the_grids_impedax_gap_takes():
     assert sirin.paper_gap_estimate(total, skin, ts).c_gap == pytest.approx(c_gap, rel=1e-12)
     mr = sirin.impedance_contributions(total, skin, ts)["magnitude_ratio"].sel(component="skin").values
     np.testing.assert_allclose(mr, np.abs(skin_z.mean(0)) / np.abs(total["Z"].values.mean(0)), rtol=1e-12)
+    with pytest.raises(ParameterError, match="give both skin and touchscreen spectra"):  # (MR and PPS need the parts)
+        sirin.impedance_contributions(total, None, None)
     # a grid that does differ names the first point, not "61 vs 61 points"
     shifted = ix.make_spectrum(F61 * 1.01, skin_z, dims=("trial",))
     with pytest.raises(DataError, match=r"skin: its frequencies differ .*first differing at point 1: 1\.01 Hz where the total has 1 Hz"):

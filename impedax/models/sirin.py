@@ -607,6 +607,8 @@ def phase_synchronization(z_i, z_total):
 def impedance_contributions(total: xr.Dataset, skin: xr.Dataset, touchscreen: xr.Dataset) -> xr.Dataset:
     """MR and PPS of skin, touchscreen and remaining against the total (trial means), over
     ``component`` × ``frequency`` (Sirin Fig 4c, 4d)."""
+    if skin is None or touchscreen is None:
+        raise ParameterError("impedance_contributions compares skin, touchscreen and the remainder with the total (Sirin eqs 3, 4): give both skin and touchscreen spectra")
     parts = _present_parts(total, skin, touchscreen)  # (sorted, on the total's grid)
     total, skin, touchscreen = parts["total"], parts["skin"], parts["touchscreen"]
     z_r = remaining_impedance(total, skin, touchscreen)
