@@ -167,6 +167,7 @@ def test_cli_gap_runs_on_text_labels_and_names_the_trials(gripper, tmp_path, cap
 @pytest.mark.parametrize("dim, replicate", [
     ("trial", True), ("trials", True), ("trial_id", True), ("sweepIndex", True), ("Session", True), ("cycle", True),
     ("repeats", True), ("run", True), ("voltage", False), ("material", False), ("report", False), ("dim_0", False), ("temperature", False),
+    ("location", True), ("locations", True), ("site", True), ("electrode", False),  # (Sirin: 5 screen locations averaged; hydrogel vs metal electrode a condition)
 ])
 def test_replicate_dims_are_known_by_a_word_of_their_name(dim, replicate):
     assert is_replicate_dim(dim) is replicate
@@ -184,6 +185,24 @@ def test_condition_notes_name_each_condition_dim_once(gripper):
     assert condition_notes(*sessions) == []
     unlabelled = [ds.sel(material="glass").drop_vars("voltage") for ds in gripper]
     assert condition_notes(*unlabelled)[0].startswith("voltage (3 positions: 0, 1, 2)")
+
+
+def test_sirin_touchscreen_over_locations_is_no_condition():
+    """Sirin et al. measured the touchscreen at 5 locations × 10 trials ("to cover the whole
+    surface") and averaged them; a SYNTHETIC screen file of that layout drew "location (5
+    labels: 1, 2, 3, 4, 5) of touchscreen is averaged as replicates ... if location is a
+    condition ..., analyse one at a time with --select location=LABEL", advice against the
+    paper's own method. A skin file over the paper's two electrode types still draws it."""
+    freq = np.geomspace(1.0, 1e6, 7)
+    z = 90.0 + 1.7e5 / (1 + 1.7e5 * 1.184e-9 * (2j * np.pi * freq) ** 0.92)
+    screen = ix.make_spectrum(freq, np.broadcast_to(z, (5, 10, freq.size)) * (1 + 0.01 * np.arange(50).reshape(5, 10, 1)), dims=("location", "trial"),
+                              coords={"location": [1, 2, 3, 4, 5], "trial": list(range(1, 11))})
+    total = ix.make_spectrum(freq, np.stack([10 * z, 11 * z]), dims=("trial",))
+    skin = ix.make_spectrum(freq, np.stack([z, 1.1 * z]), dims=("trial",))
+    assert condition_notes(total, skin, screen) == []
+    electrodes = ix.make_spectrum(freq, np.stack([z, 1.1 * z]), dims=("electrode",), coords={"electrode": ["hydrogel", "metal"]})
+    notes = condition_notes(total, electrodes, screen)
+    assert len(notes) == 1 and notes[0].startswith("electrode (2 labels: hydrogel, metal) of skin is averaged as replicates")
 
 
 def test_cli_remaining_warns_of_the_voltages_it_averages(gripper, tmp_path, capsys):

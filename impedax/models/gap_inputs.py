@@ -50,12 +50,15 @@ GAP_INPUTS = ("total", "skin", "touchscreen")
 MAX_POSITIVE_SHARE = 0.5
 """A gap input whose trial mean has Z'' > 0 (or Z' < 0) at more than this share of its
 frequencies is refused as stored with the opposite sign."""
-REPLICATE_DIM_WORDS = ("trial", "repeat", "repetition", "replicate", "rep", "cycle", "sweep", "session", "run", "scan", "measurement", "touch")
+REPLICATE_DIM_WORDS = ("trial", "repeat", "repetition", "replicate", "rep", "cycle", "sweep", "session", "run", "scan", "measurement", "touch", "location", "site")
 """A dimension is taken for replicates without a word when a word of its name is one of these
 (the name split at non-letters and at a lower-to-upper case change, a plural ``s`` dropped:
 ``trial``, ``trials``, ``trial_id``, ``sweepIndex``): the trials and sessions of docs/models.md,
-the readers' ``sweep`` and ``cycle``, and their usual synonyms. Any other dimension with more than
-one spectrum is averaged with a warning (`condition_notes`)."""
+the readers' ``sweep`` and ``cycle``, and their usual synonyms; ``location`` and ``site``: Sirin et al.
+measured the touchscreen at 5 locations × 10 trials and the stationary total at five sites, to
+cover the screen, and averaged them (added 2026-12-06: such a file drew the condition warning).
+``electrode`` is none: the paper's skin electrodes (hydrogel, metal) are a condition. Any other
+dimension with more than one spectrum is averaged with a warning (`condition_notes`)."""
 _SHOWN_LABELS = 5  # labels a condition warning lists before "…"
 # the slips that scale a grid by a constant: (what the slip multiplies the numbers by, how the
 # message writes the factor, what the slipped file holds)
