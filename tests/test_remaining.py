@@ -231,3 +231,31 @@ def test_remaining_of_three_sweeps_each_says_one_spectrum_each(tmp_path, capsys,
     assert main(["remaining", *paths]) == 0
     err = capsys.readouterr().err
     assert "from 1 total, 1 skin, 1 touchscreen spectrum (one spectrum each, no sigma)" in err, err
+
+
+def test_files_measured_over_different_bands_meet_on_the_one_they_share(tmp_path, capsys, synthetic_parts):
+    """SYNTHETIC: the skin measured from 31.6 Hz only, the touchscreen up to 31.6 kHz only (the
+    total over 10 Hz–100 kHz): users could not run impedax remaining or impedax gap without
+    trimming the files in Python ("measure all three on one frequency grid"). Now the error names
+    the shared band and the options that keep it, and --fmin/--fmax keep it: the remainder is eq 5
+    by hand on those 5 frequencies."""
+    f = synthetic_parts["total"][0]
+    keep = {"total": slice(None), "skin": slice(2, None), "ts": slice(None, 7)}
+    narrowed = {k: (fz[0][keep[k]], fz[1][:, keep[k]]) for k, fz in synthetic_parts.items()}
+    paths = saved_gap_files(tmp_path, _datasets(narrowed))
+    out = tmp_path / "rem.nc"
+    assert main(["remaining", *paths, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    low, high = f[2], f[6]
+    assert f"the grids agree on the 5 frequencies {low:.6g}–{high:.6g} Hz that all of them cover: impedax gap and impedax remaining keep that band with --fmin {low:g} --fmax {high:g}" in err
+    assert not out.exists()
+    assert main(["remaining", *paths, "--fmin", f"{low:g}", "--fmax", f"{high:g}", "--out", str(out)]) == 0
+    shared = {k: (f[2:7], z[:, 2:7] if k == "total" else z[:, : 5] if k == "skin" else z[:, 2:]) for k, (_, z) in narrowed.items()}
+    z_rem, sigma = _by_hand(shared)
+    written = ix.load(out)
+    np.testing.assert_allclose(written["frequency"].values, f[2:7], rtol=1e-14)
+    np.testing.assert_allclose(written["Z"].values, z_rem, rtol=1e-12)
+    np.testing.assert_allclose(written["sigma"].values, sigma, rtol=1e-12)
+    # impedax gap takes the same options, checked before any fit: a band that leaves a file empty is named
+    assert main(["gap", *paths, "--area", "130e-6", "--fmin", "2e5"]) == 2
+    assert f"--fmin 200000 Hz leaves no frequency of {paths[0]}" in capsys.readouterr().err

@@ -16,6 +16,48 @@ GAP_OUT_HELP = (
 )
 
 
+BAND_HELP = ("keep only the frequencies from --fmin to --fmax [Hz] of every input file before the subtraction "
+             "(within 1e-3 relative of the ends): a band all files share, when one was measured over a narrower one")
+
+
+def add_band_options(p) -> None:
+    """``--fmin``/``--fmax`` of ``impedax gap`` and ``impedax remaining`` (`files_in_band`)."""
+    from .common import number_option
+
+    p.add_argument("--fmin", type=number_option, help="lowest frequency kept [Hz]; " + BAND_HELP)
+    p.add_argument("--fmax", type=number_option, help="highest frequency kept [Hz]; " + BAND_HELP)
+
+
+def files_in_band(datasets: list, paths: list[str], fmin: float | None, fmax: float | None) -> list:
+    """Each spectrum of ``datasets`` (read from ``paths``) narrowed to ``fmin``–``fmax`` [Hz]
+    (None: no bound; the ends taken within `SWEEP_RTOL`, the grids' tolerance), so that files
+    measured over different bands meet on the one they share (the grids are checked after, as
+    always); a file with no frequency left is a `ParameterError` naming it and its band."""
+    import numpy as np
+
+    from ..errors import ParameterError
+    from ..io.table import SWEEP_RTOL
+
+    if fmin is None and fmax is None:
+        return datasets
+    low = -np.inf if fmin is None else fmin * (1 - SWEEP_RTOL)
+    high = np.inf if fmax is None else fmax * (1 + SWEEP_RTOL)
+    out = []
+    for data, path in zip(datasets, paths):
+        if data is None:
+            out.append(data)
+            continue
+        freq = np.asarray(data["frequency"].values, float)
+        keep = np.flatnonzero((freq >= low) & (freq <= high))
+        if not keep.size:
+            band = " and ".join(f"{o} {v:g} Hz" for o, v in (("--fmin", fmin), ("--fmax", fmax)) if v is not None)
+            raise ParameterError(f"{band} {'leave' if fmin is not None and fmax is not None else 'leaves'} no frequency of {path} ({freq.size} points, {freq.min():g}–{freq.max():g} Hz)")
+        narrowed = data.isel(frequency=keep)
+        narrowed.attrs = dict(data.attrs)
+        out.append(narrowed)
+    return out
+
+
 def register(sub) -> None:
     from .common import SELECT_SYNTAX_HELP, accept_negative_numbers, add_output_options, add_quiet_option, number_option
     from ..arguments import GAP_MIN_STEPS
@@ -55,6 +97,7 @@ def register(sub) -> None:
         "file over session and trial; the remaining dimensions (and a list's or range's DIM) are the trials. " + SELECT_SYNTAX_HELP,
     )
     add_quiet_option(p)
+    add_band_options(p)
     p.add_argument("--remaining", metavar="FILE.nc|.csv", help="also save the trial-mean remainder total − skin − touchscreen that the EDL model is fitted to (a single contact: the total's trial mean, nothing subtracted, attr single_contact 1), as a spectrum (with sigma) that impedax fit reads; impedax remaining writes it without the sampling")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=GAP_OUT_HELP)
     p.set_defaults(run=run)
@@ -66,7 +109,7 @@ def run(args) -> int:
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
     from ..models.gap_inputs import check_not_a_remainder, condition_notes, drive_voltage
-    from .common import shown_path, check_distinct_paths, contact_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
+    from .common import check_band_options, shown_path, check_distinct_paths, contact_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
         raise ParameterError("--pooled and --method hierarchical contradict each other: give one")
@@ -78,6 +121,7 @@ def run(args) -> int:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
     if not args.no_area_check:
         check_fingertip_area(args.area)  # (an option's error before any file's: gap_analysis checks it again)
+    check_band_options(args.fmin, args.fmax)
     steps = args.steps
     if steps != AUTO_STEPS and steps < GAP_MIN_STEPS:
         raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")
@@ -90,7 +134,7 @@ def run(args) -> int:
     auto_length = auto_step_cap(64) if args.method == "pooled" else HIERARCHICAL_AUTO_DRAWS
     length = auto_length if steps == AUTO_STEPS else steps
     check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
-    total, skin, touchscreen = (*load_selected_files(list(paths.values()), args.select, args.readers), None, None)[:3]  # (a single contact: the total alone)
+    total, skin, touchscreen = (*files_in_band(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
     check_not_a_remainder(total, skin, touchscreen)  # (gap_analysis checks it again; here before the notes on the drive)
     drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)

@@ -11,6 +11,7 @@ def register(sub) -> None:
     from .common import add_quiet_option
 
     from .common import JSON_SUMMARY_HELP, SELECT_SYNTAX_HELP
+    from .gap import add_band_options
 
     p = sub.add_parser(
         "remaining",
@@ -36,6 +37,7 @@ def register(sub) -> None:
         ".txt and a name without extension are the same CSV, .tsv tab-separated); another extension is refused before any work; "
         "CSV to standard output when omitted or '-'",
     )
+    add_band_options(p)
     p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + " (needs --out FILE): written, kind, n_trials, dims, spectra, frequencies, has_sigma, warnings, ...")
     add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
@@ -47,15 +49,17 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..io import write_csv
     from ..models.gap import gap_remainder
-    from .common import check_distinct_paths, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
+    from .gap import files_in_band
+    from .common import check_band_options, check_distinct_paths, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
 
     paths = contact_paths(args, "remaining")
     out = None if args.out == "-" else args.out
     if args.trials and (out is None or Path(out).suffix.lower() != ".nc"):
         raise ParameterError(f"--trials writes one spectrum per total trial, which only netCDF holds: give --out FILE.nc (got {'standard output' if out is None else out})")
     check_json_with_spectrum_out(args.json, out, "remaining")
+    check_band_options(args.fmin, args.fmax)
     outputs = plan_outputs([("--out", out, "spectrum")], inputs=list(paths.values()), stdout="--json" if args.json else None)
-    total, skin, touchscreen = (*load_selected_files(list(paths.values()), args.select, args.readers), None, None)[:3]  # (a single contact: the total alone)
+    total, skin, touchscreen = (*files_in_band(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)
     remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")
     remaining = remainder_with_paths(remaining, paths)

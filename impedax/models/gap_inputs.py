@@ -123,6 +123,23 @@ def _grid_text(freq: np.ndarray) -> str:
     return f"{freq.size} points, {freq[0]:.6g}–{freq[-1]:.6g} Hz" if freq.size else "no points"
 
 
+def _shared_band_note(grids: dict[str, np.ndarray]) -> str:
+    """Where the grids agree point for point on the band all of them cover (a file measured over a
+    narrower band than the others): the options that keep that band (`impedax gap`/`impedax
+    remaining` --fmin/--fmax, Python ``data.sel(frequency=slice(…))``), else ""."""
+    low = max(float(g.min()) for g in grids.values())
+    high = min(float(g.max()) for g in grids.values())
+    if not high >= low:
+        return ""
+    inside = [g[(g >= low * (1 - SWEEP_RTOL)) & (g <= high * (1 + SWEEP_RTOL))] for g in grids.values()]
+    if any(_differs(g, inside[0]) for g in inside[1:]) or inside[0].size < 2:
+        return ""
+    options = " ".join(f"{o} {v:g}" for o, v, cut in (("--fmin", low, any(g.min() < low * (1 - SWEEP_RTOL) for g in grids.values())),
+                                                      ("--fmax", high, any(g.max() > high * (1 + SWEEP_RTOL) for g in grids.values()))) if cut)
+    return (f"; the grids agree on the {inside[0].size} frequencies {low:.6g}–{high:.6g} Hz that all of them cover: "
+            f"impedax gap and impedax remaining keep that band with {options} (Python: each data.sel(frequency=slice({low:.6g}, {high:.6g})))")
+
+
 def _check_grids(named: dict[str, xr.Dataset]) -> None:
     """`DataError` naming the odd one out when the three sorted grids do not agree within
     `SWEEP_RTOL` (the majority of three; all three named when each differs)."""
@@ -145,7 +162,7 @@ def _check_grids(named: dict[str, xr.Dataset]) -> None:
         raise DataError(
             f"{_named(odd, named[odd])}: its frequencies differ from those of {a} and {b}, which agree "
             f"({odd}: {_grid_text(f_odd)}; {a} and {b}: {_grid_text(f_ref)}; {first}){_ratio_note(f_odd, f_ref)}; "
-            f"measure all three on one frequency grid ({tolerance})"
+            f"measure all three on one frequency grid ({tolerance}){_shared_band_note(grids)}"
         )
     listed = "; ".join(f"{_named(n, named[n])}: {_grid_text(grids[n])}" for n in names)
     firsts = []
@@ -154,7 +171,7 @@ def _check_grids(named: dict[str, xr.Dataset]) -> None:
         if i < min(grids[a].size, grids[b].size):
             slip = _ratio_note(grids[a], grids[b], a + "'s", b + "'s")
             firsts.append(f"{a} and {b} first differ at point {i + 1} ({grids[a][i]:.6g} vs {grids[b][i]:.6g} Hz){slip}")
-    raise DataError(f"the frequencies of all three files differ ({listed}; {'; '.join(firsts)}); measure all three on one frequency grid ({tolerance})")
+    raise DataError(f"the frequencies of all three files differ ({listed}; {'; '.join(firsts)}); measure all three on one frequency grid ({tolerance}){_shared_band_note(grids)}")
 
 
 def _check_distinct(named: dict[str, xr.Dataset]) -> None:
