@@ -142,6 +142,36 @@ def test_python_api_takes_the_grids_impedax_gap_takes():
         sirin.remaining_impedance(total, shifted, ts)
 
 
+def test_skin_and_screen_dataarrays_pair_with_freq_by_frequency_not_by_position():
+    """ix.load keeps a descending sweep descending, and `gap_force_peak(p, f, trial_mean(skin)["Z"],
+    …)` took the DataArray's values by position: on SYNTHETIC skin and screen models, a skin
+    saved high-to-low put its 1 MHz value at 1 Hz, and the force came out 0.9999 off at some
+    frequency without a word. Oracle: eq 1 with the node voltages in numpy (the remainder parallel,
+    so ΔV_gap = V0 Z_R/(Z_TS + Z_R + Z_skin))."""
+    zr = edl(F61, **EDL)
+    skin_desc = ix.make_spectrum(F61, np.stack([SKIN, SKIN]), dims=("trial",)).isel(frequency=slice(None, None, -1))
+    ts = ix.make_spectrum(F61, np.stack([TS, TS]), dims=("trial",))
+    z_skin, z_ts = sirin.trial_mean(skin_desc)["Z"], sirin.trial_mean(ts)["Z"]
+    assert z_skin["frequency"].values[0] == 1e6  # (as read: high to low)
+    u = E0 * 1.00059 * 130e-6 / EDL["C_gap"]
+    expected = 0.5 * E0 * 1.00059 * 130e-6 * np.abs(75.0 * zr / (TS + zr + SKIN)) ** 2 / u**2
+    np.testing.assert_allclose(np.asarray(sirin.gap_force_peak(EDL, F61, z_skin, z_ts, area=130e-6, v0=75.0)), expected, rtol=1e-9)
+    np.testing.assert_allclose(np.asarray(sirin.gap_voltage(EDL, F61[::-1], z_skin, z_ts, v0=75.0)), (75.0 * zr / (TS + zr + SKIN))[::-1], rtol=1e-9)
+    assert float(sirin.gap_force_peak(EDL, F61[20], z_skin, z_ts, area=130e-6)) == pytest.approx(expected[20], rel=1e-9)
+    with pytest.raises(ParameterError, match=r"z_skin is over frequencies that do not hold every frequency of freq .*first missing 1\.01 Hz"):
+        sirin.gap_force_peak(EDL, F61 * 1.01, z_skin, z_ts)
+    # REAL: the Gamry DTA of tests/fixtures/real is recorded from 200 kHz down to 15.9 mHz, and read so
+    from pathlib import Path
+
+    gamry = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA")
+    f_file, z_file = gamry["frequency"].values, gamry["Z"].values
+    assert f_file[0] > f_file[-1]
+    order = np.argsort(f_file)
+    f_up, z_up = f_file[order], z_file[order]
+    z_gap = 1 / (2j * np.pi * f_up * EDL["C_gap"])
+    np.testing.assert_allclose(np.asarray(sirin.gap_voltage({"C_gap": EDL["C_gap"]}, f_up, gamry["Z"], 0.0, v0=75.0)), 75.0 * z_gap / (z_gap + z_up), rtol=1e-9)
+
+
 def _conditions_data(seed=5):
     """SYNTHETIC: total over material x voltage x trial (C_gap per material, R_EP per voltage),
     skin over voltage x trial (its Re scales with the voltage), screen over trial; 2 % noise."""

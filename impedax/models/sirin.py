@@ -22,6 +22,7 @@ import functools
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import xarray as xr
@@ -514,8 +515,53 @@ def _plain(rule):
     return check
 
 
+def _keep_over_frequency(rule):
+    """``rule`` for ``z_skin``/``z_ts``: an xarray DataArray over ``frequency`` is checked as its
+    values and kept, for `_over_freq` to pair it with ``freq`` by frequency; else `_plain`'s."""
+    plain = _plain(rule)
+
+    def check(value, name):
+        if isinstance(value, xr.DataArray) and "frequency" in value.dims:
+            rule(value.values, name)
+            return value
+        return plain(value, name)
+
+    return check
+
+
+def _on_freq(value: xr.DataArray, freq, name: str):
+    """The values of ``value`` (a DataArray over ``frequency``) at each frequency of ``freq``,
+    matched within `SWEEP_RTOL` whatever their order (a descending sweep as read, `ix.load`), so
+    that a skin or screen mean pairs with the frequencies it was measured at, not by position;
+    a `ParameterError` when ``freq`` holds a frequency ``value`` lacks."""
+    values = value.transpose(..., "frequency").values
+    if isinstance(freq, jax.core.Tracer):  # (traced frequencies: no values to pair; by position as given)
+        return values
+    own = np.asarray(value["frequency"].values, float)
+    target = np.asarray(freq, float)
+    order = np.argsort(own)
+    sorted_own = own[order]
+    flat = target.reshape(-1)
+    right = np.clip(np.searchsorted(sorted_own, flat), 0, own.size - 1)
+    left = np.clip(right - 1, 0, own.size - 1)
+    nearest = np.where(np.abs(sorted_own[left] - flat) <= np.abs(sorted_own[right] - flat), left, right)
+    missing = np.flatnonzero(np.abs(sorted_own[nearest] / flat - 1.0) > SWEEP_RTOL)
+    if missing.size:
+        raise ParameterError(
+            f"{name} is over frequencies that do not hold every frequency of freq ({name}: {own.size} points, {own.min():.6g}–{own.max():.6g} Hz; "
+            f"freq: {flat.size} points, first missing {flat[missing[0]]:.6g} Hz): give {name} at the frequencies of freq "
+            f"(e.g. the trial mean of a spectrum measured at them), or one value"
+        )
+    picked = values[..., order[nearest]]
+    return picked.reshape(values.shape[:-1] + target.shape) if target.ndim else picked[..., 0]
+
+
 def _over_freq(arguments) -> None:
-    """``z_skin`` and ``z_ts`` give one value or one per frequency (a static shape check)."""
+    """``z_skin`` and ``z_ts`` give one value or one per frequency (a static shape check); a
+    DataArray over ``frequency`` is first taken at the frequencies of ``freq`` (`_on_freq`)."""
+    for name in ("z_skin", "z_ts"):
+        if isinstance(arguments[name], xr.DataArray):
+            arguments[name] = _on_freq(arguments[name], arguments["freq"], name)
     f_shape = np.shape(arguments["freq"])
     for name in ("z_skin", "z_ts"):
         shape = np.shape(arguments[name])
@@ -527,7 +573,7 @@ def _over_freq(arguments) -> None:
 
 
 _FREQ = _plain(numeric_array(positive=True))
-_IMPEDANCE = _plain(numeric_array())
+_IMPEDANCE = _keep_over_frequency(numeric_array())
 
 
 @checked_arguments(freq=_FREQ)
