@@ -51,6 +51,7 @@ __all__ = [
     "impedance_py_parameter",
     "numeric_array",
     "relative_permittivity",
+    "drive_amplitude",
     "relative_permittivity_number",
     "RELATIVE_PERMITTIVITY_MIN",
     "shown",
@@ -489,6 +490,20 @@ def relative_permittivity(value, name):
             f"{name} = {shown(value)} is below 1: a relative permittivity is at least vacuum's 1 (air 1.00059), so a value below it is unphysical; "
             "give the material's relative permittivity (ε/ε0), not its absolute one in F/m"
         )
+    return value
+
+
+def drive_amplitude(value, name):
+    """A drive's voltage amplitude [V] (numbers, as `numeric_array`): a real one must be ≥ 0,
+    as ``impedax gap --v0`` and ``impedax force --param v_a``/``v_m`` require (complex numbers
+    pass unchanged, as before). A negative amplitude, a sign slip, is a `ParameterError` naming
+    ``name`` (2026-12-06: the force functions squared it away without a word)."""
+    value = numeric_array()(value, name)
+    if _is_tracer(value):
+        return value
+    array = np.asarray(value)
+    if np.isrealobj(array) and not np.all(array >= 0):
+        raise ParameterError(f"{name} is the drive's amplitude [V] and must be ≥ 0, got {shown(value)}: a negative sign is only a phase of π (the force is the same); give the magnitude")
     return value
 
 

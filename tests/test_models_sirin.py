@@ -172,6 +172,29 @@ def test_skin_and_screen_dataarrays_pair_with_freq_by_frequency_not_by_position(
     np.testing.assert_allclose(np.asarray(sirin.gap_voltage({"C_gap": EDL["C_gap"]}, f_up, gamry["Z"], 0.0, v0=75.0)), 75.0 * z_gap / (z_gap + z_up), rtol=1e-9)
 
 
+def test_a_negative_drive_amplitude_is_refused_in_every_force_function():
+    """impedax gap --v0 -75, impedax force --param v_a=-140 / v_m=-2000 and gap_analysis(v0=-75)
+    are refused, but the Python force functions squared the sign slip away and returned the force
+    of +V without a word (and gap_voltage a phasor of the opposite sign). 0 V stays allowed: no
+    drive, no force (eq 1, eq 3.6 and eq 10 are squares of the drive)."""
+    from impedax.models import meyer, vezzoli
+
+    f = np.array([100.0, 1e3])
+    calls = {
+        "v0": [lambda v: sirin.gap_voltage(EDL, f, 1e3, 1e3, v0=v), lambda v: sirin.gap_force_peak(EDL, f, 1e3, 1e3, v0=v),
+               lambda v: sirin.gap_force_time_average(EDL, f, 1e3, 1e3, v0=v)],
+        "v_a": [lambda v: meyer.force_time_average(meyer.THESIS_PARAMS, f, v_a=v), lambda v: meyer.force_peak(meyer.THESIS_PARAMS, f, v_a=v)],
+        "v_m": [lambda v: vezzoli.electrovibration_force(f, v_m=v), lambda v: vezzoli.electrovibration_force_peak(f, v_m=v)],
+    }
+    for name, functions in calls.items():
+        for call in functions:
+            with pytest.raises(ParameterError, match=rf"{name} is the drive's amplitude \[V\] and must be ≥ 0, got -75"):
+                call(-75.0)
+            with pytest.raises(ParameterError, match=rf"{name} is the drive's amplitude"):
+                call(np.array([75.0, -75.0]))
+            assert np.all(np.asarray(call(0.0)) == 0.0)
+
+
 def _conditions_data(seed=5):
     """SYNTHETIC: total over material x voltage x trial (C_gap per material, R_EP per voltage),
     skin over voltage x trial (its Re scales with the voltage), screen over trial; 2 % noise."""

@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from ..circuits import Circuit, current_through, parse, voltage_across
-from ..arguments import checked_arguments, numeric_array, relative_permittivity, require_parameters, shown, variants_named
+from ..arguments import checked_arguments, drive_amplitude, numeric_array, relative_permittivity, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
 from ..constants import EPSILON_0
 
@@ -299,7 +299,7 @@ def force_from_charge(v_f, q_f, *, c_i, c_sc, area):
     return series**2 / (2.0 * area * EPSILON_0) * (v_f**2 - q_f**2 / c_i**2)
 
 
-@checked_arguments(freq=numeric_array(positive=True), area=numeric_array(positive=True), v_a=numeric_array())
+@checked_arguments(freq=numeric_array(positive=True), area=numeric_array(positive=True), v_a=drive_amplitude)
 def force_time_average(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSICAL.area, v_a: float = THESIS_DRIVE_V, variant: str = VARIANT_AUTO):
     """Time-averaged electrostatic force [N] for a sinusoidal drive of amplitude ``v_a`` [V]
     (thesis eq 3.6/A.3 averaged over a period, Fig 3.4):
@@ -319,7 +319,7 @@ def force_time_average(params: Mapping[str, object], freq, *, area: float = THES
     return prefactor * 0.5 * jnp.real(minus * jnp.conj(plus))
 
 
-@checked_arguments(freq=numeric_array(positive=True), area=numeric_array(positive=True), v_a=numeric_array())
+@checked_arguments(freq=numeric_array(positive=True), area=numeric_array(positive=True), v_a=drive_amplitude)
 def force_peak(params: Mapping[str, object], freq, *, area: float = THESIS_PHYSICAL.area, v_a: float = THESIS_DRIVE_V, variant: str = VARIANT_AUTO):
     """Peak electrostatic force [N]: the largest instantaneous force of thesis eq 3.6/A.3 over a
     period of the drive V_A cos ωt (arguments as `force_time_average`).

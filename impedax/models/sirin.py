@@ -29,7 +29,7 @@ import xarray as xr
 
 from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import label_value, make_spectrum, validate_spectrum
-from ..arguments import checked_arguments, numeric_array, relative_permittivity, require_parameters, shown, variants_named
+from ..arguments import checked_arguments, drive_amplitude, numeric_array, relative_permittivity, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
 from ..io.table import SWEEP_RTOL
 from ..constants import EPSILON_0, EPSILON_AIR
@@ -585,7 +585,7 @@ def remainder_impedance(params: Mapping[str, object], freq, *, ep: str | None = 
     return _compiled_remainder(_remainder(params, ep, remainder))[0](params, freq)
 
 
-@checked_arguments(_over_freq, freq=_FREQ, z_skin=_IMPEDANCE, z_ts=_IMPEDANCE, v0=numeric_array())
+@checked_arguments(_over_freq, freq=_FREQ, z_skin=_IMPEDANCE, z_ts=_IMPEDANCE, v0=drive_amplitude)
 def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float = SIRIN_DRIVE_V, ep: str | None = EP_AUTO, remainder: str | Circuit | None = None):
     """Complex amplitude [V] of the voltage across C_gap for a drive of amplitude ``v0`` (Sirin §2.4).
 
@@ -609,7 +609,7 @@ def gap_voltage(params: Mapping[str, object], freq, z_skin, z_ts, *, v0: float =
     return delta_v * across_gap(params, freq)
 
 
-@checked_arguments(_over_freq, freq=_FREQ, z_skin=_IMPEDANCE, z_ts=_IMPEDANCE, area=numeric_array(positive=True), v0=numeric_array(), eps_gap=numeric_array(positive=True), gap=numeric_array(positive=True, optional=True))
+@checked_arguments(_over_freq, freq=_FREQ, z_skin=_IMPEDANCE, z_ts=_IMPEDANCE, area=numeric_array(positive=True), v0=drive_amplitude, eps_gap=numeric_array(positive=True), gap=numeric_array(positive=True, optional=True))
 def gap_force_peak(params: Mapping[str, object], freq, z_skin, z_ts, *, area: float = SIRIN_AREA, v0: float = SIRIN_DRIVE_V, ep: str | None = EP_AUTO, eps_gap: float = EPSILON_AIR, gap=None, remainder: str | Circuit | None = None):
     """PEAK electrostatic force [N] over a drive period, Sirin eq 1 at the voltage amplitude
     with the gap's permittivity: F = ½ ε0 ε_gap A |ΔV_gap|²/u² (= ½ C_gap |ΔV_gap|²/u, the

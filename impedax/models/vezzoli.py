@@ -24,7 +24,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ..arguments import checked_arguments, numeric_array, relative_permittivity, shown
+from ..arguments import checked_arguments, drive_amplitude, numeric_array, relative_permittivity, shown
 from ..errors import ParameterError
 from ..constants import EPSILON_0
 
@@ -136,7 +136,7 @@ def _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m):
     return EPSILON_0 * area * v_m**2 / (4.0 * _geometry(h_i, h_s, eps_i, eps_s)) * wt**2 / (1.0 + wt**2)
 
 
-@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True), v_m=numeric_array())
+@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True), v_m=drive_amplitude)
 def electrovibration_force(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"], v_m=TABLE2["v_m"]):
     """Eq 10, TIME-AVERAGED force [N] for v(t) = V_m cos ωt:
     F_e = ε0 A V_m² / (4 (h_i + h_s)(h_i/ε_i + h_s/ε_s)) · (ωτ)²/(1 + (ωτ)²), τ = ε0 ε_s ρ_s.
@@ -146,7 +146,7 @@ def electrovibration_force(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=T
     return _mean_force(freq, h_i, h_s, area, eps_i, eps_s, rho_s, v_m)
 
 
-@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True), v_m=numeric_array())
+@checked_arguments(freq=numeric_array(positive=True), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity, rho_s=numeric_array(positive=True), v_m=drive_amplitude)
 def electrovibration_force_peak(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"], v_m=TABLE2["v_m"]):
     """PEAK force [N]: the largest instantaneous force of eq 7 over a period, = 2 × eq 10.
 
