@@ -259,3 +259,20 @@ def test_files_measured_over_different_bands_meet_on_the_one_they_share(tmp_path
     # impedax gap takes the same options, checked before any fit: a band that leaves a file empty is named
     assert main(["gap", *paths, "--area", "130e-6", "--fmin", "2e5"]) == 2
     assert f"--fmin 200000 Hz leaves no frequency of {paths[0]}" in capsys.readouterr().err
+
+
+def test_a_band_below_the_papers_cutoff_is_said_so(tmp_path, capsys, synthetic_parts):
+    """The paper reads C_gap = |Y_R|/ω above 30 Hz (Sirin §2.3). impedax gap --fmax 20 on the
+    SYNTHETIC files (10 Hz–100 kHz) stopped after reading them with "no frequencies between the
+    cutoff 30 Hz and 10 Hz", naming neither the paper's method nor --fmax; gap_capacitance_paper on
+    data below 30 Hz said the same. Now --fmax below 30 Hz is refused before any file is read,
+    and the function names the data's band and the reason."""
+    from impedax.models import sirin
+
+    paths = saved_gap_files(tmp_path, _datasets(synthetic_parts))
+    assert main(["gap", *paths, "--area", "130e-6", "--fmax", "20", "--pooled"]) == 2
+    err = capsys.readouterr().err
+    assert "--fmax 20 Hz leaves no frequency above 30 Hz, where the paper's method reads C_gap = |Y_R|/ω" in err
+    f = np.geomspace(1.0, 20.0, 10)
+    with pytest.raises(ix.DataError, match=r"no measured frequency at or above the cutoff 30 Hz: the paper's C_gap is the mean of \|Y_R\|/ω above its cutoff .* the data span 1–20 Hz"):
+        sirin.gap_capacitance_paper(1 / (2j * np.pi * f * 4e-10), f)

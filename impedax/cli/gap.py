@@ -109,6 +109,7 @@ def run(args) -> int:
     from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
     from ..models.gap_inputs import check_not_a_remainder, condition_notes, drive_voltage
+    from ..models.sirin import SIRIN_CUTOFF_HZ
     from .common import check_band_options, shown_path, check_distinct_paths, contact_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
@@ -122,6 +123,9 @@ def run(args) -> int:
     if not args.no_area_check:
         check_fingertip_area(args.area)  # (an option's error before any file's: gap_analysis checks it again)
     check_band_options(args.fmin, args.fmax)
+    if args.fmax is not None and args.fmax < SIRIN_CUTOFF_HZ:  # (the paper's C_gap reads |Y_R|/ω above 30 Hz: gap_analysis's cutoff_hz)
+        raise ParameterError(f"--fmax {args.fmax:g} Hz leaves no frequency above {SIRIN_CUTOFF_HZ:g} Hz, where the paper's method reads C_gap = |Y_R|/ω "
+                             f"(Sirin §2.3: the remainder is the gap's capacitance there) and the EDL model's C_gap shows; keep --fmax above {SIRIN_CUTOFF_HZ:g} Hz")
     steps = args.steps
     if steps != AUTO_STEPS and steps < GAP_MIN_STEPS:
         raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")

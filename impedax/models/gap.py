@@ -54,7 +54,7 @@ from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
 from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, force_plateau  # noqa: F401 (FORCE_PLATEAU_SPAN: gap.FORCE_PLATEAU_SPAN as before 2026-12-06)
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
-from .sirin import SIRIN_AREA, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
+from .sirin import SIRIN_AREA, SIRIN_CUTOFF_HZ, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
 __all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area", "force_maximum_text", "force_maximum_shape"]
 
@@ -905,7 +905,7 @@ def gap_analysis(
     v0: float | None = None,
     ep: str = "CPE",
     eps_gap: float = EPSILON_AIR,
-    cutoff_hz: float = 30.0,
+    cutoff_hz: float = SIRIN_CUTOFF_HZ,
     steps: int | str = AUTO_STEPS,
     walkers: int | None = None,
     seed: int = 0,

@@ -38,6 +38,7 @@ __all__ = [
     "SIRIN_AREA",
     "SIRIN_DRIVE_V",
     "SIRIN_C_GAP",
+    "SIRIN_CUTOFF_HZ",
     "SINGLE_CONTACT_QUANTITY",
     "trial_mean",
     "remaining_impedance",
@@ -65,6 +66,9 @@ SIRIN_DRIVE_V = 75.0
 """Drive amplitude V0 [V] (paper §2.4)."""
 SIRIN_C_GAP = 413e-12
 """Reported air-gap capacitance [F] (paper §2.3)."""
+SIRIN_CUTOFF_HZ = 30.0
+"""The frequency [Hz] above which the paper reads C_gap = |Y_R|/ω (§2.3: the remainder's
+conductance "almost vanishes" there): the default ``cutoff_hz``."""
 
 _REMAINDERS = {
     "C": "R_EP || C_EP || C_gap",
@@ -307,7 +311,7 @@ def admittance_spectrum(z_r, freq=None) -> xr.Dataset:
     )
 
 
-def gap_capacitance_paper(z_r, freq=None, *, cutoff_hz: float = 30.0, fmax_hz: float | None = None) -> float:
+def gap_capacitance_paper(z_r, freq=None, *, cutoff_hz: float = SIRIN_CUTOFF_HZ, fmax_hz: float | None = None) -> float:
     """C_gap by Sirin's method (§2.3): the arithmetic mean, over the measured frequencies with
     ``cutoff_hz`` ≤ f (≤ ``fmax_hz`` if given), of |Y_R(f)|/ω = 1/(2πf |Z_R(f)|), where Z_R is
     the trial-mean remaining impedance. Equal weight per measured point (log-spaced grids weight
@@ -317,7 +321,12 @@ def gap_capacitance_paper(z_r, freq=None, *, cutoff_hz: float = 30.0, fmax_hz: f
     if fmax_hz is not None:
         keep &= f <= fmax_hz
     if not np.any(keep):
-        raise DataError(f"no frequencies between the cutoff {cutoff_hz:g} Hz and {fmax_hz if fmax_hz is not None else f.max():g} Hz")
+        where = f"from the cutoff {cutoff_hz:g} Hz to fmax_hz {fmax_hz:g} Hz" if fmax_hz is not None else f"at or above the cutoff {cutoff_hz:g} Hz"
+        raise DataError(
+            f"no measured frequency {where}: the paper's C_gap is the mean of |Y_R|/ω above its cutoff (Sirin §2.3: "
+            f"above ≈ 30 Hz the remainder is the gap's capacitance), and the data span {f.min():.6g}–{f.max():.6g} Hz"
+            + ("; a lower cutoff_hz reads C_gap where electrode polarization may still add to it" if f.max() < cutoff_hz else "")
+        )
     return float(np.mean(1.0 / (2.0 * np.pi * f[keep] * np.abs(z[keep]))))
 
 
@@ -378,7 +387,7 @@ def _extreme_trial(ds: xr.Dataset, keep: np.ndarray, pick: str) -> np.ndarray:
     return flat[np.argmin(score) if pick == "lowest" else np.argmax(score)]
 
 
-def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None, *, area: float = SIRIN_AREA, cutoff_hz: float = 30.0, fmax_hz: float | None = None, eps_gap: float = EPSILON_AIR) -> PaperGapEstimate:
+def paper_gap_estimate(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.Dataset | None, *, area: float = SIRIN_AREA, cutoff_hz: float = SIRIN_CUTOFF_HZ, fmax_hz: float | None = None, eps_gap: float = EPSILON_AIR) -> PaperGapEstimate:
     """Sirin §2.3 end to end: Z_R from the trial means (eq 5), C_gap = mean |Y_R|/ω above the
     cutoff (`gap_capacitance_paper`), u = ε0 ε_gap A/C_gap; and the paper's bounds "from the
     lowest and highest impedances measured for skin, touchscreen and the total": for each of the
