@@ -372,6 +372,10 @@ def test_magnitude_ratio_phase_sync_and_friction():
     assert sirin.force_from_friction_coefficients(0.5, 0.625) == pytest.approx(0.2)
     with pytest.raises(ParameterError):
         sirin.force_from_friction_coefficients(0.5, 0.0)
+    # eq 6 with F_n = -1 N gave -0.2 N, a repulsion, without a word; F_n = 0 a force of 0
+    for bad in (-1.0, 0.0, [1.0, -1.0]):
+        with pytest.raises(ParameterError, match=r"normal_force is the finger's normal force F_n \[N\] .* must be positive"):
+            sirin.force_from_friction_coefficients(0.5, 0.625, normal_force=bad)
 
 
 def test_contributions_dataset():

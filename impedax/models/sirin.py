@@ -685,4 +685,7 @@ def force_from_friction_coefficients(mu_off, mu_on, normal_force=1.0):
     mu_off, mu_on = np.asarray(mu_off, dtype=np.float64), np.asarray(mu_on, dtype=np.float64)
     if not (np.all(mu_on > 0) and np.all(mu_off > 0)):
         raise ParameterError("friction coefficients must be positive")
-    return (1.0 - mu_off / mu_on) * np.asarray(normal_force, dtype=np.float64)
+    normal_force = np.asarray(normal_force, dtype=np.float64)
+    if not np.all(np.isfinite(normal_force) & (normal_force > 0)):  # (2026-12-06: F_n = -1 N gave a force of the opposite sign without a word)
+        raise ParameterError(f"normal_force is the finger's normal force F_n [N] (1 N in the paper) and must be positive, got {shown(normal_force.tolist())}")
+    return (1.0 - mu_off / mu_on) * normal_force
