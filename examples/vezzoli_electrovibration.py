@@ -36,6 +36,7 @@ import warnings
 import numpy as np
 
 import _example
+from impedax.data import format_quantity
 from impedax.models import vezzoli
 
 # m, Fig 8: impedax's choice around Table 2's 350 µm; the paper gives only "the range given by
@@ -119,6 +120,21 @@ def _paper_sweeps(n: int):
     return freq, fig8, h_i, fig9, eps_i, fig10
 
 
+TABLE2_UNITS = {"h_i": "m", "h_s": "m", "area": "m²", "eps_i": "", "eps_s": "", "rho_s": "Ω·m", "v_m": "V", "frequency": "Hz"}
+"""The units of `vezzoli.TABLE2`'s SI values (the paper's Table 2 gives µm, cm², Ω·m, V, Hz)."""
+
+
+def _with_unit(name, value) -> str:
+    """A Table 2 value with its unit: thicknesses with an SI prefix (``90 µm``), the area in cm²
+    as the paper gives it, the permittivities as numbers, the rest in SI (``3e+04 Ω·m``)."""
+    unit = TABLE2_UNITS[name]
+    if unit == "m":
+        return format_quantity(value, unit, 4)
+    if unit == "m²":
+        return f"{value * 1e4:g} cm²"
+    return f"{value:g} {unit}".rstrip()
+
+
 def main(argv=None):
     args = _example.parse_args(__doc__, argv)
     import matplotlib.pyplot as plt
@@ -127,7 +143,7 @@ def main(argv=None):
     force_440 = float(vezzoli.electrovibration_force(table2["frequency"]))
     tau = float(vezzoli.skin_time_constant())
     print("Vezzoli Table 2 — eq 10, time-averaged force")
-    print("  parameters: " + ", ".join(f"{k} = {v:g}" for k, v in table2.items()))
+    print("  parameters: " + ", ".join(f"{k} = {_with_unit(k, v)}" for k, v in table2.items()))
     print(f"  F_e at 440 Hz = {force_440:.4f} N   (paper: 0.056 N)")
     print(f"  tau = eps0 eps_s rho_s = {tau * 1e3:.3f} ms, corner 1/(2 pi tau) = {1 / (2 * np.pi * tau):.0f} Hz")
 

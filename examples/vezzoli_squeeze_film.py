@@ -25,6 +25,7 @@ import numpy as np
 
 import _example
 from impedax.models import vezzoli
+from impedax.data import format_quantity
 
 NORMAL_FORCES = (0.2, 0.3, 0.4)  # N, Table 1 range
 ASSUMPTIONS = (
@@ -39,6 +40,21 @@ ASSUMPTIONS = (
 )
 
 
+TABLE1_UNITS = {"h_r": "m", "h_e": "m", "l_e": "m", "f_r": "Hz", "wavelength": "m", "normal_force": "N", "eta": "Pa·s", "p0": "Pa"}
+"""The units of `vezzoli.TABLE1`'s SI values (the paper's Table 1 gives µm, Hz, cm, N, Pa.s, Pa)."""
+
+
+def _with_unit(name, value) -> str:
+    """A Table 1 value with its unit: lengths and frequencies with an SI prefix (``1.8 µm``,
+    ``38.22 kHz``), the force range as ``0.2–0.4 N``, η and p0 as numbers (``1.85e-05 Pa·s``)."""
+    unit = TABLE1_UNITS[name]
+    if isinstance(value, tuple):
+        return "–".join(f"{v:g}" for v in value) + f" {unit}"
+    if unit in ("m", "Hz"):
+        return format_quantity(value, unit, 4)
+    return f"{value:g} {unit}"
+
+
 def main(argv=None):
     args = _example.parse_args(__doc__, argv)
     import matplotlib.pyplot as plt
@@ -47,7 +63,7 @@ def main(argv=None):
     points = 2001 if args.fast else 20001
     lift = np.array([vezzoli.squeeze_film_lift(a, points=points).force for a in amplitudes])
     at_2um = vezzoli.squeeze_film_lift(2e-6, normal_force=0.2, points=points)
-    print("Vezzoli Fig 7 — squeeze-film model, Table 1 parameters: " + ", ".join(f"{k} = {v}" for k, v in vezzoli.TABLE1.items()))
+    print("Vezzoli Fig 7 — squeeze-film model, Table 1 parameters: " + ", ".join(f"{k} = {_with_unit(k, v)}" for k, v in vezzoli.TABLE1.items()))
     print("assumptions:")
     for text in ASSUMPTIONS:
         print(f"  - {text}")

@@ -194,6 +194,8 @@ EXAMPLES = {
         ["vezzoli_fig8_9_10_electrovibration.png"],
         [
             (r"F_e at 440 Hz = " + _NUMBER + " N", _near(0.0556, 0.00005)),  # Table 2: 0.0556 N
+            # Table 2's values with their units, as the paper prints them (they were bare SI numbers: h_i = 9e-05, area = 0.0001)
+            (None, lambda out: "parameters: h_i = 90 µm, h_s = 350 µm, area = 1 cm², eps_i = 3.35, eps_s = 2340, rho_s = 30000 Ω·m, v_m = 2000 V, frequency = 440 Hz" in out),
             (r"corner 1/\(2 pi tau\) = " + _NUMBER + " Hz", _near(256.0, 2.0)),
             # Fig 8's values at exactly 1 kHz, whatever the grid (--fast printed a grid interpolation: 119.644)
             (r"h_s = 100 µm: \S+ / " + _NUMBER + " /", _near(_eq10_mn(1e3, 100e-6), 0.0006)),
@@ -207,6 +209,8 @@ EXAMPLES = {
         ["vezzoli_fig7_squeeze_film.png"],
         [
             (r"lift at 2 µm amplitude: " + _NUMBER + " N", _near(0.17, 0.01)),  # levitates 0.2 N just above 2 µm
+            # Table 1's values with their units (Table 1: 1.8 µm, 50 µm, 350 µm, 38220 Hz, 0.8 cm, [0.2, 0.4] N, 1.85e-5 Pa.s, 1e5 Pa; they were bare SI numbers)
+            (None, lambda out: "h_r = 1.8 µm, h_e = 50 µm, l_e = 350 µm, f_r = 38.22 kHz, wavelength = 8 mm, normal_force = 0.2–0.4 N, eta = 1.85e-05 Pa·s, p0 = 100000 Pa" in out),
             (r"levitation of a 0\.2 N finger at an amplitude of " + _NUMBER + " µm", _within(2.0, 2.5)),
             # eq 1 as printed, (µ − Δµ)/µ = F_s/F_n, is inconsistent; the theory is Fig 7's (the text says Figure 8)
             (None, lambda out: "(µ − Δµ)/µ = F_s/F_n, which is inconsistent" in out and "Fig 7's (its caption)" in out),
