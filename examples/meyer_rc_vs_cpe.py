@@ -33,6 +33,7 @@ import numpy as np
 
 import _example
 import impedax
+from impedax.data import format_quantity
 from impedax.models import meyer
 
 TRUE_FINGER = {"R_f": 500.0, "R_sc": 130e3, "CPE_sc.alpha": 0.8, "CPE_sc.Q": 2.2e-9 * (2 * np.pi * 1e3) ** 0.2}
@@ -102,7 +103,8 @@ def main(argv=None):
     comparison = impedax.compare(with_evidence(fits, data, args.fast))
     print("Meyer Fig 5.3 — SYNTHETIC finger spectrum (fractional stratum corneum, α = 0.8, 2 % noise)")
     for key, f in zip(MODELS, fits):
-        values = ", ".join(f"{k} = {v:.4g}" for k, v in f.values.items())
+        units = {name: spec.unit for name, spec in f.circuit.parameter_specs().items()}
+        values = ", ".join(f"{k} = {format_quantity(v, units[k], 4)}" for k, v in f.values.items())
         print(f"  {key:>3}: rms_rel {f.rms_rel:.4f}  chi2_red {f.chi2_red:.3g}  {values}")
     print("model comparison (impedax.compare):")
     print("  " + comparison.table().replace("\n", "\n  "))

@@ -32,6 +32,7 @@ import numpy as np
 
 import _example
 import impedax
+from impedax.data import format_quantity, format_uncertain
 from impedax.models import example_spectra, load_example, sirin
 
 
@@ -54,7 +55,8 @@ def main(argv=None):
     print("Sirin Figs 3d/4a/4b — SYNTHETIC example (finger sliding, 30 trials)")
     print(f"  paper method   C_gap = {paper.c_gap * 1e12:.1f} pF   u = {paper.gap * 1e6:.3f} µm   bounds {paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm   (paper: 413 pF, 2.78 µm, 2.57–3.28 µm)")
     print(f"  EDL fit        C_gap = {c_gap_fit * 1e12:.1f} ± {c_gap_se * 1e12:.1f} pF   u = {float(sirin.gap_thickness(c_gap_fit)) * 1e6:.3f} µm   rms_rel {fit.rms_rel:.3f}   chi2_red {fit.chi2_red:.2f}")
-    print(f"  fit model      {fit.model}: " + ", ".join(f"{k} = {v:.3g} ± {fit.stderr[k]:.2g} (truth {truth[k]:.3g})" for k, v in fit.values.items()))
+    units = {name: spec.unit for name, spec in fit.circuit.parameter_specs().items()}
+    print(f"  fit model      {fit.model}: " + ", ".join(f"{k} = {format_uncertain(v, fit.stderr[k], units[k])} (truth {format_quantity(truth[k], units[k])})" for k, v in fit.values.items()))
     below_30 = np.abs(naive.residuals)[freq < 30.0]
     print(f"  naive C_gap    C_gap = {naive.values['C_gap'] * 1e12:.1f} pF   rms_rel {naive.rms_rel:.2f}   |relative residual| below 30 Hz {below_30.min():.2f}–{below_30.max():.2f}")
     for warning in fit.warnings:

@@ -117,6 +117,9 @@ EXAMPLES = {
             (r"cpe: rms_rel " + _NUMBER, _within(0.01, 0.035)),
             (r"rc: rms_rel " + _NUMBER, _within(0.08, 1.0)),
             (r"CPE_sc\.alpha = " + _NUMBER, _near(0.8, 0.05)),
+            # the fitted values with their units (bare numbers until 2026-12-06: "R_sc = 1.3e+05"): the generating 500 Ω, 130 kΩ
+            (r"cpe: .*R_f = " + _NUMBER + " Ω", _near(500.0, 50.0)),
+            (r"cpe: .*R_sc = " + _NUMBER + " kΩ", _near(130.0, 10.0)),
         ],
         (pytest.mark.slow,),  # (15 s; the suite's 15-minute budget: make test-all)
     ),
@@ -136,6 +139,9 @@ EXAMPLES = {
             (r"paper method\s+C_gap = " + _NUMBER + " pF", _within(413.0, 435.0)),
             (r"paper method\s+C_gap = \S+ pF\s+u = " + _NUMBER + " µm", _within(2.65, 2.80)),
             (r"EDL fit\s+C_gap = " + _NUMBER + " ±", _within(405.0, 425.0)),
+            # the fitted values with their units and the truth's (bare numbers until 2026-12-06: "R_EP = 1.13e+08 ± 6.3e+06 (truth 1e+08)")
+            (r"fit model .*R_EP = " + _NUMBER + r" ± \S+ MΩ \(truth 100 MΩ\)", _within(90.0, 130.0)),
+            (r"fit model .*C_gap = " + _NUMBER + r" ± \S+ pF \(truth 413 pF\)", _within(405.0, 425.0)),
             (r"naive C_gap\s+C_gap = \S+ pF\s+rms_rel " + _NUMBER, _within(0.5, 5.0)),  # C_gap alone fails below 30 Hz
         ],
         (),
