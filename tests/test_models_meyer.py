@@ -220,6 +220,25 @@ def test_static_forces_eq_3_7_to_3_9():
     assert f1 == pytest.approx(q**2 / (2 * E0 * AREA), rel=1e-12)
 
 
+def test_static_forces_refuse_a_non_positive_area_or_a_negative_thickness():
+    """Eqs 3.7–3.9 scale with A and 1/d²: area=-A gave -10.6 N, d_i=-1 µm 696 N, d_sc=0 in
+    eq 3.8 inf, all without a word. A zero layer in eq 3.7 is that layer absent (d_i = 0 is
+    eq 3.8's F1 exactly, by hand: ε0 A V²/(2 (d_sc/ε_sc)²)); both zero leaves no dielectric."""
+    kw = dict(area=AREA, d_i=1e-6, eps_i=3.9, d_sc=200e-6, eps_sc=1000.0)
+    for name, value, said in (("area", -AREA, "area must be positive"), ("area", 0.0, "area must be positive"),
+                              ("d_i", -1e-6, r"d_i is a layer thickness \[m\] and must be ≥ 0, got -1e-06"), ("d_sc", -2e-4, "d_sc is a layer thickness")):
+        with pytest.raises(ParameterError, match=said):
+            meyer.static_force_series(100.0, **{**kw, name: value})
+    with pytest.raises(ParameterError, match="d_i and d_sc are both 0: eq 3.7 needs a dielectric"):
+        meyer.static_force_series(100.0, **{**kw, "d_i": 0.0, "d_sc": 0.0})
+    assert float(meyer.static_force_series(100.0, **{**kw, "d_i": 0.0})) == pytest.approx(E0 * AREA * 100.0**2 / (2 * (200e-6 / 1000.0) ** 2), rel=1e-12)
+    for function in (meyer.static_force_f1, meyer.static_force_f2):
+        with pytest.raises(ParameterError, match="d_sc must be positive"):
+            function(100.0, area=AREA, d_sc=0.0, eps_sc=1000.0)
+        with pytest.raises(ParameterError, match="area must be positive"):
+            function(100.0, area=-AREA, d_sc=200e-6, eps_sc=1000.0)
+
+
 def test_friction_regression_and_force(rng):
     normal = np.repeat([0.3, 0.5, 0.7, 0.9, 1.1], 8)
     friction = 0.8 * normal + 0.02 + rng.normal(0, 0.01, normal.size)

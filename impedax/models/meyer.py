@@ -374,21 +374,37 @@ def _force_phasors(params, freq, area, v_a, variant):
     return series**2 / (2.0 * area * EPSILON_0), minus, v_f + q_c
 
 
-@checked_arguments(eps_i=relative_permittivity, eps_sc=relative_permittivity)
+def _thickness(value, name):
+    """A layer thickness [m]: numbers ≥ 0 (0: no such layer; a negative one, a sign slip, gave a
+    force of any size without a word until 2026-12-06)."""
+    value = numeric_array()(value, name)
+    if not isinstance(value, jax.core.Tracer) and not (np.isrealobj(np.asarray(value)) and np.all(np.asarray(value) >= 0)):
+        raise ParameterError(f"{name} is a layer thickness [m] and must be ≥ 0, got {shown(value)}")
+    return value
+
+
+def _some_layer(arguments) -> None:
+    """Eq 3.7 needs a layer between the plates: d_i and d_sc not both 0 (the force is infinite)."""
+    d_i, d_sc = arguments["d_i"], arguments["d_sc"]
+    if not any(isinstance(v, jax.core.Tracer) for v in (d_i, d_sc)) and np.any((np.asarray(d_i) == 0) & (np.asarray(d_sc) == 0)):
+        raise ParameterError("d_i and d_sc are both 0: eq 3.7 needs a dielectric between the plates (the force is infinite without one)")
+
+
+@checked_arguments(_some_layer, area=numeric_array(positive=True), d_i=_thickness, d_sc=_thickness, eps_i=relative_permittivity, eps_sc=relative_permittivity)
 def static_force_series(v_f, *, area: float, d_i: float, eps_i: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.7: force [N] of two dielectrics in series with no leaked charge,
     F = ε0 A V_F² / (2 (d_i/ε_i + d_sc/ε_sc)²)."""
     return EPSILON_0 * area * jnp.asarray(v_f) ** 2 / (2.0 * (d_i / eps_i + d_sc / eps_sc) ** 2)
 
 
-@checked_arguments(eps_sc=relative_permittivity)
+@checked_arguments(area=numeric_array(positive=True), d_sc=numeric_array(positive=True), eps_sc=relative_permittivity)
 def static_force_f1(v_f, *, area: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.8 (zero insulator thickness; the form Meyer argues is right for a solid
     dielectric slab): F1 = ε0 A V_F² / (2 (d_sc/ε_sc)²) = Q²/(2 ε0 A)."""
     return EPSILON_0 * area * jnp.asarray(v_f) ** 2 / (2.0 * (d_sc / eps_sc) ** 2)
 
 
-@checked_arguments(eps_sc=relative_permittivity)
+@checked_arguments(area=numeric_array(positive=True), d_sc=numeric_array(positive=True), eps_sc=relative_permittivity)
 def static_force_f2(v_f, *, area: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.9 (the textbook parallel-plate form, correct only for a dielectric fluid):
     F2 = ε0 ε_sc A V_F² / (2 d_sc²) = Q²/(2 ε0 ε_sc A) = F1/ε_sc."""
