@@ -278,7 +278,8 @@ def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, h
     first, at most `WARNING_GROUPS_SHOWN`; a key that names no spectrum (a global fit's
     ``"shared over trial"``) is given as it is. ``spectra``: every spectrum's key, in order
     (`BatchFitResult.spectrum_keys`); given, a kind that applies to more than half of them names
-    the others (``128 of 130 spectra: all but cycle 8, 14``). ``head`` begins each line
+    the others (``128 of 130 spectra: all but cycle 8, 14``); the only spectrum of a batch of
+    one is named by its labels (``warning (cycle 0): ...``). ``head`` begins each line
     (``warning (2 of 3 spectra: ...): TEXT``); ``more`` is the closing line past the kinds
     shown, ``{n}`` their number."""
     ordered = _kinds(warnings)
@@ -290,7 +291,9 @@ def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, h
         if not spectra_of:  # not spectra: global fits' own notes (`scope_key`)
             where = _scopes_text(scopes)
         elif len(spectra_of) == n_spectra:
-            where = "the 1 spectrum" if n_spectra == 1 else f"all {n_spectra} spectra"
+            # (one spectrum: named by its labels, as a batch's other lines name theirs; until
+            # 2026-12-06 "the 1 spectrum", which said neither which nor that it was the only one)
+            where = _spectra_text(spectra_of) if n_spectra == 1 else f"all {n_spectra} spectra"
         elif spectra is not None and 2 * len(spectra_of) > n_spectra and (others := [p for p in spectra if p not in set(spectra_of)]):
             where = f"{len(spectra_of)} of {n_spectra} spectra: all but {_spectra_text(others)}"
         else:

@@ -1180,7 +1180,7 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     spectra in one stacked computation (`covariances`), their warnings too (`stack_notes`); only
     spectra that overflowed or did not converge go through `fit_result`."""
     out, used, solver, inward = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts)
-    say(f"standard errors, bounds and warnings of the {len(z)} fits")
+    say(f"standard errors, bounds and warnings of the {counted(len(z), 'fit')}")
     out = canonical_order(circuit, table, freq, out, registry)
     b, k, n_res = z.shape[0], len(table.free_names), 2 * len(freq)
     chi2 = np.array(out.chi2, float)  # copies: device_get's arrays are read-only
