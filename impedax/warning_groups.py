@@ -26,15 +26,22 @@ def labels_text(labels: Sequence) -> str:
 
 
 # a quantity in a warning's text: a number, a space and a unit of `_SCALED_UNITS` with an SI
-# prefix (``1.58 kHz``, as `impedax.data.format_frequency` writes frequencies); the same quantity
-# with another prefix is the same wording (`_template`), and a range of it is one value scale
-_SCALED_UNITS = ("Hz",)
-_PREFIXES = {"G": 1e9, "M": 1e6, "k": 1e3, "": 1.0, "m": 1e-3, "µ": 1e-6, "u": 1e-6, "n": 1e-9}  # (SI prefixes)
-_QUANTITY = re.compile(r"(?<![\w.])([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?) (" + "|".join(p for p in _PREFIXES if p) + r")?(" + "|".join(_SCALED_UNITS) + r")(?!\w)")
+# prefix (``1.58 kHz``, as `impedax.data.format_frequency` writes frequencies; ``677 µΩ s^-1/2``,
+# ``2.81 nF s^(α-1)``, as `impedax.data.format_quantity` writes parameters); the same quantity
+# with another prefix is the same wording (`_template`), and a range of it is one value scale.
+# Until 2026-12-06 only Hz: on the REAL 130 battery cycles above 3 kHz, "W1.sigma = 1.14 µΩ
+# s^-1/2 runs to its lower bound 0" and the same note in nΩ and mΩ were three kinds of warning.
+# The compound units first, so that a quantity takes its whole unit.
+_SCALED_UNITS = ("Ω s^-1/2", "F s^(α-1)", "Hz", "Ω", "F", "H", "s")
+_PREFIXES = {"T": 1e12, "G": 1e9, "M": 1e6, "k": 1e3, "": 1.0, "m": 1e-3, "µ": 1e-6, "u": 1e-6, "n": 1e-9, "p": 1e-12, "f": 1e-15}  # (SI prefixes, as impedax.data.SI_PREFIXES)
+_QUANTITY = re.compile(r"(?<![\w.])([-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?) (" + "|".join(p for p in _PREFIXES if p) + r")?(" + "|".join(map(re.escape, _SCALED_UNITS)) + r")(?!\w)")
 # a band of them: two quantities joined by a dash (``1 Hz – 5.01 Hz``, ``1 Hz–5 Hz``)
 _BAND = re.compile(_QUANTITY.pattern + r"( ?[–-] ?)" + _QUANTITY.pattern)
-# what `_spread` reads: bands, then lone quantities, then plain numbers
-_SLOT = re.compile(f"(?P<band>{_BAND.pattern})|(?P<quantity>{_QUANTITY.pattern})|(?P<number>{_NUMBER.pattern})")
+# a value and its standard error, the prefix of the unit on both (``121 ± 66 mΩ``, as
+# `impedax.data.format_uncertain` writes them): one scale, as a quantity's
+_UNCERTAIN = re.compile(r"(?<![\w.(])([-+]?\d+(?:\.\d+)?) ± " + _QUANTITY.pattern[len(r"(?<![\w.])"):])
+# what `_spread` reads: bands, then values with their errors, then lone quantities, then plain numbers
+_SLOT = re.compile(f"(?P<band>{_BAND.pattern})|(?P<uncertain>{_UNCERTAIN.pattern})|(?P<quantity>{_QUANTITY.pattern})|(?P<number>{_NUMBER.pattern})")
 
 
 def _quantity(number: str, prefix: str | None, unit: str) -> tuple[float, str, str]:
@@ -44,8 +51,8 @@ def _quantity(number: str, prefix: str | None, unit: str) -> tuple[float, str, s
 
 def _slots(text: str) -> tuple[list[str], list[tuple]]:
     """``text`` cut at its bands, quantities and numbers (`_SLOT`): the text between them (one
-    more piece than slots), and each slot as ("band", low, high, dash), ("quantity", q) or
-    ("number", text), a quantity as `_quantity` gives it."""
+    more piece than slots), and each slot as ("band", low, high, dash), ("uncertain", value,
+    error), ("quantity", q) or ("number", text), a quantity as `_quantity` gives it."""
     pieces, slots, start = [], [], 0
     for m in _SLOT.finditer(text):
         pieces.append(text[start : m.start()])
@@ -53,6 +60,9 @@ def _slots(text: str) -> tuple[list[str], list[tuple]]:
         if m.group("band"):
             low, high = _BAND.match(m.group("band")).groups()[:3], _BAND.match(m.group("band")).groups()[4:]
             slots.append(("band", _quantity(*low), _quantity(*high), _BAND.match(m.group("band")).group(4)))
+        elif m.group("uncertain"):
+            value, error, prefix, unit = _UNCERTAIN.match(m.group("uncertain")).groups()
+            slots.append(("uncertain", _quantity(value, prefix, unit), _quantity(error, prefix, unit)))
         elif m.group("quantity"):
             slots.append(("quantity", _quantity(*_QUANTITY.match(m.group("quantity")).groups())))
         else:
@@ -85,6 +95,18 @@ def _band_range(bands) -> str:
     return f"{_quantity_range([min(lows), max(highs)])} (the spectra's {', '.join(varying)})"
 
 
+def _uncertain_range(pairs) -> str:
+    """Values with their errors (two `_quantity`s) of one place in several spectra's warnings:
+    in one prefix, each side's numbers ranged and the unit once (``121 to 170 ± 66 to 150 mΩ``,
+    as before quantities other than Hz were read); in several, the values' range then the
+    errors', each with its units (``61.5 nΩ – 121 mΩ ± 3 nΩ – 66 mΩ``)."""
+    units = {error[2] for _, error in pairs}
+    if len(units) == 1:
+        ranged = [n[0] if len(set(n)) == 1 else f"{min(n, key=float)} to {max(n, key=float)}" for n in ([v[1] for v, _ in pairs], [e[1] for _, e in pairs])]
+        return f"{ranged[0]} ± {ranged[1]} {units.pop()}"
+    return f"{_quantity_range([v for v, _ in pairs])} ± {_quantity_range([e for _, e in pairs])}"
+
+
 def _spread(texts: Sequence[str]) -> str:
     """One text for warnings that differ only in their numbers (and the SI prefixes of their
     quantities, `_template`): the numbers that differ become their range (``r = -0.993 to
@@ -103,6 +125,8 @@ def _spread(texts: Sequence[str]) -> str:
         kind = column[0][0]
         if kind == "band":
             out.append(_band_range([s[1:] for s in column]))
+        elif kind == "uncertain":
+            out.append(_uncertain_range([s[1:] for s in column]))
         elif kind == "quantity":
             quantities = [s[1] for s in column]
             out.append(f"{quantities[0][1]} {quantities[0][2]}" if len(set(quantities)) == 1 else _quantity_range(quantities))
