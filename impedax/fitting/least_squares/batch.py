@@ -34,7 +34,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, fit_
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
+from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -613,7 +613,7 @@ class BatchFitResult(FrozenResult):
             rows = s["spectra"]
             heads = [labels_key(r["labels"]) for r in rows]
             fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
-            cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"]) for r in rows] for p in s["params"]]
+            cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for r in rows] for p in s["params"]]
             col = max(22, *(len(h) for h in heads), *(len(c) for row in cells for c in row))
             lines.append(f"{'parameter':<{width}} " + " ".join(f"{h:>{col}}" for h in heads) + "  unit")
             for p, row in zip(s["params"], cells):
@@ -646,7 +646,7 @@ class BatchFitResult(FrozenResult):
         heads = [labels_key(r["labels"]) for r in rows]
         fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
         names = list(s["params"])
-        cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"]) for p in names] + [f"{r['rms_rel'] * 100:.3g} %"] for r in rows]
+        cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for p in names] + [f"{r['rms_rel'] * 100:.3g} %"] for r in rows]
         columns = names + ["rms_rel"]
         widths = [max(len(c), *(len(row[j]) for row in cells)) for j, c in enumerate(columns)]
         lead = column_width(heads, "spectrum")
@@ -654,6 +654,11 @@ class BatchFitResult(FrozenResult):
         for head, row in zip(heads, cells):
             lines.append(f"{head:<{lead}}  " + "  ".join(f"{c:>{w}}" for c, w in zip(row, widths)))
         return lines
+
+    def _notes_of(self, row: dict) -> list[str]:
+        """The warnings that speak for one spectrum's parameters (a `_spectrum_rows` row): its
+        own (a global fit adds its group's, `SharedFitResult`)."""
+        return row["warnings"]
 
     def _warning_lines(self) -> list[str]:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
@@ -688,13 +693,14 @@ SPECTRUM_STATISTICS = FIT_STATISTICS
 single fit's JSON (`FitResult.summary`), so models can be compared spectrum by spectrum."""
 
 
-def _cell(value: float, stderr, fixed: bool, at_bound: bool) -> str:
-    """One spectrum's parameter as the single fit's table gives it: ``0.11946 ± 1.2%`` (value
-    and relative standard error), ``… (fixed)``, ``… at bound``, ``… ± —`` (no finite error)."""
+def _cell(value: float, stderr, fixed: bool, at_bound: bool, name: str = "", notes=()) -> str:
+    """One spectrum's parameter ``name`` as the single fit's table gives it: ``0.11946 ± 1.2%``
+    (value and relative standard error), ``… (fixed)``, ``… at bound`` (``0 at bound`` where
+    its ``notes`` say it is on its bound 0, `value_shown_at_bound`), ``… ± —`` (no finite error)."""
     if fixed:
         return f"{exact_number(value)} (fixed)"  # (as given: no error to round to)
     if at_bound:
-        return f"{value:.5g} at bound"
+        return f"{value_shown_at_bound(name, value, notes)} at bound"
     rel = format_relative_error(stderr / value) if stderr is not None and value else "—"
     return f"{value:.5g} ± {rel}"
 

@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
     "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
-    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
+    "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
 
@@ -319,7 +319,8 @@ class FitResult(FrozenResult):
                 at = n in self.at_bound
                 rel = "at bound" if at else format_relative_error(e / v) if v and np.isfinite(e) else "—"
                 shown = f"{'—':>10}" if at else f"{e:>10.3g}"
-                lines.append(f"{n:<{width}}  {v:>12.5g}  {shown}  {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
+                value = value_shown_at_bound(n, v, self.warnings) if at else f"{v:.5g}"  # (on a bound 0: "0", as its note says)
+                lines.append(f"{n:<{width}}  {value:>12}  {shown}  {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for w in self.warnings:
             if not w.startswith("fit did not converge"):  # the status line says it once
                 lines.append(f"warning: {w}")
@@ -555,6 +556,23 @@ def shown_stderr(stderr: float, fixed: bool) -> float | None:
     """A parameter's standard error as the JSON and the CSV give it: None when fixed or not
     finite (at a bound, a vanishing term's, an overflowed fit's)."""
     return None if fixed or not math.isfinite(stderr) else stderr
+
+
+def value_shown_at_bound(name: str, value: float, notes) -> str:
+    """A parameter at a bound as the tables write its value (``.5g``), or its bound where the
+    fit's ``notes`` put it on a bound 0 or ∞ without a value ("R0 is at its lower bound 0",
+    `bound_note` within `NUMERICALLY_ON_FRACTION`; a global fit's "shared R0 is ..."): there
+    its digits are where the solver stopped, not what the data say, and a table that printed
+    them (REAL exampleDataGamry.DTA with R0 + R1 || CPE1 + R2 || CPE2: "R0 1.2675e-05 at
+    bound" beside "R0 is at its lower bound 0"; 5.75e-292 Ω in another run) contradicted the
+    note until 2026-12-06. The JSON, CSV and netCDF keep the value as fitted."""
+    for note in notes:
+        for bound in ("0", "∞"):
+            for side in ("lower", "upper"):
+                text = f"{name} is at its {side} bound {bound}"
+                if note.removeprefix("shared ") == text or note.removeprefix("shared ").startswith(text + " ("):
+                    return bound
+    return f"{value:.5g}"
 
 
 def without_error(sides: np.ndarray, vanished: np.ndarray, free_stderr: np.ndarray, corr: np.ndarray | None = None):

@@ -44,7 +44,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, add_null_group, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, unidentified_stderr, vanishing_candidates, vanishing_parameters
-from .result import BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
+from .result import value_shown_at_bound, BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "joint_null_sets", "JointNullSets", "SHARING_P_LIMIT"]
@@ -503,6 +503,12 @@ class SharedFitResult(BatchFitResult):
         axes = [[(d, v) for v in coordinate_labels(ds, d)] for d in self.keep]
         return [dict(combo) for combo in itertools.product(*axes)]
 
+    def _notes_of(self, row: dict) -> list[str]:
+        """A spectrum's warnings and those of the global fit of its group (a shared parameter's
+        bound note is filed there, `scope_key`)."""
+        group = ", ".join(f"{d}={row['labels'][d]}" for d in self.keep)
+        return [*row["warnings"], *self.warnings.get(scope_key(self.over, group), ())]
+
     def _group_texts(self) -> list[str]:
         return [", ".join(f"{d}={v}" for d, v in labels.items()) for labels in self.group_labels()]
 
@@ -542,7 +548,8 @@ class SharedFitResult(BatchFitResult):
             for g, vi, ei, bound in zip(groups, v.tolist(), e.tolist(), at.tolist()):
                 rel = "at bound" if bound else format_relative_error(ei / vi) if vi and math.isfinite(ei) else "—"
                 shown = f"{ei:>10.3g}" if math.isfinite(ei) else f"{'—':>10}"  # (at a bound: no standard error)
-                lines.append(f"{lead(g)}{n:<{width}} {vi:>12.5g} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
+                value = value_shown_at_bound(n, vi, self.warnings.get(scope_key(self.over, g), ())) if bound else f"{vi:.5g}"  # (on a bound 0: "0", as its note says)
+                lines.append(f"{lead(g)}{n:<{width}} {value:>12} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
         for g, f, p, d, c in zip(groups, *(ordered(ds[k]).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
             whose = f" ({g})" if g else ""
             lines.append(f"sharing vs independent fits{whose}: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
