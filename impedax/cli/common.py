@@ -778,7 +778,20 @@ def _range_positions(data, dim: str, part: str, path: str, item: str) -> list[in
     found = [i for i, v in enumerate(values) if v is not None and (lo is None or v >= lo) and (hi is None or v <= hi)]
     if not found:
         raise ParameterError(f"--select {item}: no spectrum of {path} has a {dim} label in {part} (both ends included); its {dim} labels: {labels_text(labels)}")
+    if dim in data.coords and all(end == "" or end.isdigit() for end in (first, last)):
+        _note_labels_not_positions(item, dim, labels, found, range(int(first or 0), min(int(last) + 1 if last else len(labels), len(labels))))
     return found
+
+
+def _note_labels_not_positions(item: str, dim: str, labels: Sequence, found: Sequence[int], by_position: range) -> None:
+    """One line on stderr when a range of labels (``found``) picks other spectra than the same
+    ends read as positions would (``by_position``): ``--select cycle=0:20`` of the REAL battery
+    cycles labelled 0, 64, 129 keeps cycle 0 alone, which a user counting spectra did not
+    expect, and until 2026-12-06 only its "1 spectrum" said so."""
+    if list(found) != list(by_position):
+        kept = [labels[i] for i in found]
+        print(f"impedax: note: --select {item} keeps {dim} {labels_text(kept)} ({len(found)} of {len(labels)}): a range is of {dim} labels, by value "
+              f"(the file's: {labels_text(labels)}), not of positions", file=sys.stderr)
 
 
 def part_of_joined(text: str, prefixes: Sequence[str], i: int) -> str | None:
