@@ -24,7 +24,7 @@ from ...circuits.nesting import carried_values
 from ...data import column_width, concise_repr, exact_number, report_text, coordinate_labels, counted, format_band, format_relative_error, label_value, unit_text
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
-from ...warning_groups import grouped_warnings, warning_kinds
+from ...warning_groups import LABELS_SHOWN, grouped_warnings, labels_text, warning_kinds
 from ..frozen import FrozenResult, freeze_fields
 from ..grid import refuse_result_names
 from ..kk import KKChains
@@ -582,8 +582,11 @@ class BatchFitResult(FrozenResult):
         the Kramers–Kronig test's Voigt chain reaches on that spectrum; `misfit_hint_spectra`,
         ~0.5 ms of chain per spectrum in that range, computed when asked): ``spectra`` (how
         many), ``worst`` (``labels``, ``rms_rel``, ``chain_rms_rel``, ``ratio``: the largest
-        ratio's spectrum) and ``note``; None when there is none (added 2026-12-03: a batch's
-        warnings begin at 2 %, so these fits were told nothing)."""
+        ratio's spectrum), ``note`` and ``labels``: every such spectrum's labels (dicts, in the
+        batch's order; added 2026-12-06: on the REAL 130 battery cycles 49 fits were counted and
+        one named, and users could not find the others in any output), which the note names
+        too; None when there is none (added 2026-12-03: a batch's warnings begin at 2 %, so these
+        fits were told nothing)."""
         if self.weighting != "modulus" or "Z" not in self.dataset:
             return None
         z = self.dataset["Z"].transpose(*self.dims, "frequency").values.reshape(self.n_spectra, -1)
@@ -592,11 +595,15 @@ class BatchFitResult(FrozenResult):
         if not rows.size:
             return None
         worst = int(np.argmax(ratio))
-        key, labels = list(self.spectrum_keys())[rows[worst]]
-        note = (f"{rows.size} of the {self.n_spectra} fits miss structure the data hold, small as their misfits look (rms_rel below {MISFIT_CHECKED_FROM * 100:g} % "
+        keys = list(self.spectrum_keys())
+        key, labels = keys[rows[worst]]
+        hinted = [keys[i][1] for i in sorted(rows.tolist())]
+        which = "" if self.n_spectra == 1 else f" ({_spectra_named(hinted)})"
+        note = (f"{rows.size} of the {self.n_spectra} fits{which} {'misses' if rows.size == 1 else 'miss'} structure the data hold, small as their misfits look (rms_rel below {MISFIT_CHECKED_FROM * 100:g} % "
                 f"and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches on that spectrum); the worst, {key}: {rms[rows[worst]] * 100:.3g} %, "
                 f"{ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % (a diagnosis of that spectrum shows where and what)")
-        return {"spectra": int(rows.size), "worst": {"labels": labels, "rms_rel": float(rms[rows[worst]]), "chain_rms_rel": float(chain[worst]), "ratio": float(ratio[worst])}, "note": note}
+        return {"spectra": int(rows.size), "worst": {"labels": labels, "rms_rel": float(rms[rows[worst]]), "chain_rms_rel": float(chain[worst]), "ratio": float(ratio[worst])}, "note": note,
+                "labels": hinted}
 
     def _parameter_lines(self) -> list[str]:
         """The header and the parameter table: one column per spectrum (value and relative
@@ -665,6 +672,17 @@ class BatchFitResult(FrozenResult):
         then the notes (`notes`), after an empty line; none when there are none."""
         warned = ["", *grouped_warnings(self.warnings, self.n_spectra, spectra=[key for key, _ in self.spectrum_keys()])] if any(self.warnings.values()) else []
         return warned + ([""] if self.notes and not warned else []) + [f"note: {n}" for n in self.notes]
+
+
+def _spectra_named(labels: list[dict]) -> str:
+    """Spectra by their labels ({dimension: label}) for a line of text, as the grouped warnings
+    name them: ``cycle 0, 3, 7, ... (49 in all)`` along one dimension, else ``cell=a, cycle=1;
+    ...``, the first `LABELS_SHOWN`."""
+    dims = list(labels[0]) if labels else []
+    if len(dims) == 1:
+        return f"{dims[0]} {labels_text([one[dims[0]] for one in labels])}"
+    shown = "; ".join(labels_key(one) for one in labels[:LABELS_SHOWN])
+    return shown + (f"; ... ({len(labels)} in all)" if len(labels) > LABELS_SHOWN else "")
 
 
 SPECTRA_AS_COLUMNS = 6
