@@ -15,12 +15,12 @@ import xarray as xr
 from ..arguments import checked_arguments, sequence_of
 from ..circuits import DEFAULT_REGISTRY, Circuit, Registry
 from ..circuits.nesting import embedding
-from ..data import column_width, report_text
+from ..data import column_width, format_quantity, report_text
 from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EVIDENCE_NOTE_LEAD
-from .least_squares.result import BOUND_CHI2_FRACTION, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
+from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
 from .frozen import FrozenResult, freeze_fields
 from .problem import WEIGHTING_SCALES
 from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
@@ -858,14 +858,31 @@ def _boundary_note(simple: FitResult, complex_: FitResult, simple_label: str, co
     rule takes for no fall (`BOUND_CHI2_FRACTION` of the reduced χ²: L0 within two standard
     errors of 0 on a SYNTHETIC arc lowered χ² by 0.006 of it): the extra element does nothing;
     else "at_bound"."""
-    # (a value at an infinite upper bound reads as that, not as its float: "R1 → ∞", where "R1 = 2.11e+167" was printed)
-    where = ", ".join(f"{n} → ∞" if complex_.values[n] > AT_INFINITY else f"{n} = {complex_.values[n]:.3g}" for n in names)
+    where = ", ".join(_value_at_bound(complex_, n) for n in names)
     at = "is at its bound" if len(names) == 1 else "are at their bounds"
     why = "an F-test with a parameter on its bound does not follow the F distribution (Self & Liang 1987)"
     if simple.chi2 - complex_.chi2 <= max(NESTED_WORSE_REL * simple.chi2, BOUND_CHI2_FRACTION * complex_.chi2_red):
         return {"reason": "reduces_to_simple",
                 "note": f"{complex_label} reduces to {simple_label}: {where} {at} and its χ² is no lower, so the extra element does nothing; {why}"}
     return {"reason": "at_bound", "note": f"{where} {at} in {complex_label}: {why}; compare the two by AIC"}
+
+
+def _value_at_bound(fit: FitResult, name: str) -> str:
+    """A parameter of ``fit`` at its bound as a boundary note names it: "R1 → ∞" at an infinite
+    upper bound (not the float the solver stopped at, "R1 = 2.11e+167"); "R0 = 0" where the
+    fit's own note puts it on its bound 0 (`value_shown_at_bound`; REAL exampleDataGamry.DTA
+    read "R0 = 1.27e-05 is at its bound" beside "R0 is at its lower bound 0" until 2026-12-06);
+    else its value with its unit as the fit's notes write it ("R0 = 87.4 µΩ", `format_quantity`;
+    a bare "8.74e-05" before)."""
+    value = fit.values[name]
+    if value > AT_INFINITY:
+        return f"{name} → ∞"
+    shown = value_shown_at_bound(name, value, getattr(fit, "warnings", ()))
+    if shown in ("0", "∞"):
+        return f"{name} = {shown}"
+    circuit = getattr(fit, "circuit", None)
+    unit = circuit.parameter_specs(fit.registry)[name].unit if circuit is not None else ""
+    return f"{name} = {format_quantity(value, unit)}"
 
 
 AT_INFINITY = 1e30
