@@ -29,3 +29,8 @@ def test_the_hint_names_each_spectrum_it_counts():
     assert hints["spectra"] == 2 and hints["labels"] == expected
     assert hints["note"].startswith("2 of the 4 fits (trial 0, 2) miss structure")
     assert f"hint: {hints['note']}" in fits.report()
+    # a comparison over the stack names the same spectra, where its winner (R0 + R1 ∥ C1 on every
+    # trial: R0 + C1 has no arc) misses the second arc
+    comparison = ix.compare([fits, ix.fit("R0 + C1", data, progress=False)])
+    best = comparison.best_misfit_hints()
+    assert best["labels"] == expected and "on 2 of 4 spectra (trial 0, 2)" in best["note"]

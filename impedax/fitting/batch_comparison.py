@@ -16,7 +16,7 @@ from ..data import column_width, concise_repr, report_text
 from ..errors import FitError
 from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, nested_as_held, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
-from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key
+from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key, spectra_named
 from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, data_difference, misfit_hint_spectra
 from .frozen import FrozenResult, freeze_fields
 
@@ -435,8 +435,9 @@ class BatchComparison(FrozenResult):
         test's Voigt chain reaches on that spectrum (`misfit_hint_spectra`: the chain fitted for
         those spectra only). None when there is none. Keys: ``spectra`` (how many),
         ``by_model`` (winner label → how many), ``worst`` (``labels``, ``model`` (label),
-        ``rms_rel``, ``chain_rms_rel``, ``ratio``: the spectrum of the largest ratio) and
-        ``note`` (the report's line)."""
+        ``rms_rel``, ``chain_rms_rel``, ``ratio``: the spectrum of the largest ratio), ``note``
+        (the report's line) and ``labels`` (every such spectrum's labels, in the batch's order,
+        which the note names too; added 2026-12-06, as `BatchFitResult.misfit_hints`)."""
         if self.dataset.attrs["weighting"] != "modulus" or "Z" not in self.batches[0].dataset:
             return None
         best, _ = self._winners()
@@ -451,14 +452,15 @@ class BatchComparison(FrozenResult):
         labels = _labels(self.batches[0])[rows[worst]]
         by_model = {self.labels[m]: int(np.sum(best[rows] == m)) for m in np.unique(best[rows])}
         where = ", ".join(f"{d}={v}" for d, v in labels.items())
-        note = (f"the best model misses structure the data hold on {len(rows)} of {self.n_spectra} spectra, small as the misfits look "
+        hinted = [_labels(self.batches[0])[i] for i in sorted(rows.tolist())]
+        note = (f"the best model misses structure the data hold on {len(rows)} of {self.n_spectra} spectra ({spectra_named(hinted)}), small as the misfits look "
                 f"(rms_rel below {MISFIT_CHECKED_FROM * 100:g} % and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches: "
                 + ", ".join(f"{label} on {n}" for label, n in by_model.items())
                 + f"); the worst, {where}: {self.labels[best[rows[worst]]]} at {winner_rms[rows[worst]] * 100:.3g} %, {ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % "
                 "(a diagnosis of that spectrum shows where and what)")
         return {"spectra": int(len(rows)), "by_model": by_model,
                 "worst": {"labels": labels, "model": self.labels[best[rows[worst]]], "rms_rel": float(winner_rms[rows[worst]]), "chain_rms_rel": float(chain[worst]), "ratio": float(ratio[worst])},
-                "note": note}
+                "note": note, "labels": hinted}
 
     def to_table(self) -> list[dict]:
         """One row per spectrum and model (``compare --out FILE.csv``): the spectrum's labels,

@@ -598,7 +598,7 @@ class BatchFitResult(FrozenResult):
         keys = list(self.spectrum_keys())
         key, labels = keys[rows[worst]]
         hinted = [keys[i][1] for i in sorted(rows.tolist())]
-        which = "" if self.n_spectra == 1 else f" ({_spectra_named(hinted)})"
+        which = "" if self.n_spectra == 1 else f" ({spectra_named(hinted)})"
         note = (f"{rows.size} of the {self.n_spectra} fits{which} {'misses' if rows.size == 1 else 'miss'} structure the data hold, small as their misfits look (rms_rel below {MISFIT_CHECKED_FROM * 100:g} % "
                 f"and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches on that spectrum); the worst, {key}: {rms[rows[worst]] * 100:.3g} %, "
                 f"{ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % (a diagnosis of that spectrum shows where and what)")
@@ -674,7 +674,7 @@ class BatchFitResult(FrozenResult):
         return warned + ([""] if self.notes and not warned else []) + [f"note: {n}" for n in self.notes]
 
 
-def _spectra_named(labels: list[dict]) -> str:
+def spectra_named(labels: list[dict]) -> str:
     """Spectra by their labels ({dimension: label}) for a line of text, as the grouped warnings
     name them: ``cycle 0, 3, 7, ... (49 in all)`` along one dimension, else ``cell=a, cycle=1;
     ...``, the first `LABELS_SHOWN`."""
