@@ -1625,6 +1625,9 @@ _PHRASE_OF_CALL: dict[str, tuple[str, tuple[str, ...]]] = {
     # (a large batch's report: `least_squares.batch.EACH_SPECTRUM_WHERE`)
     "batch.to_table() or ix.write_result(batch, 'FILE.csv') (a row per spectrum and parameter), batch.summary()['spectra']":
         ("--out FILE.csv (a row per spectrum and parameter) or --json (\"spectra\")", ("--out", "--json")),
+    # (a batch report's warnings that name only the first of their spectra: `least_squares.batch.WARNED_SPECTRA_WHERE`)
+    "batch.summary()['warning_kinds'] (each spectrum's own: batch.warnings, or the warnings column of ix.write_result(batch, 'FILE.csv'))":
+        ("--json (\"warning_kinds\"; each spectrum's own: its row of \"spectra\", or the warnings column of --out FILE.csv)", ("--out", "--json")),
 }
 
 # a refinement's note on a start from earlier values (`refinement.py`), which `impedax refine`

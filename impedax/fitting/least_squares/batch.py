@@ -669,8 +669,11 @@ class BatchFitResult(FrozenResult):
 
     def _warning_lines(self) -> list[str]:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
-        then the notes (`notes`), after an empty line; none when there are none."""
+        where the rest are when a line names only the first of its spectra (`WARNED_SPECTRA_WHERE`;
+        added 2026-12-06), then the notes (`notes`), after an empty line; none when there are none."""
         warned = ["", *grouped_warnings(self.warnings, self.n_spectra, spectra=[key for key, _ in self.spectrum_keys()])] if any(self.warnings.values()) else []
+        if any(" in all)" in line for line in warned):  # (`labels_text` cut a kind's spectra short)
+            warned.append(f"every spectrum of each kind: {WARNED_SPECTRA_WHERE}")
         return warned + ([""] if self.notes and not warned else []) + [f"note: {n}" for n in self.notes]
 
 
@@ -705,6 +708,11 @@ spectrum's fit is (`EACH_SPECTRUM_WHERE`)."""
 EACH_SPECTRUM_WHERE = "batch.to_table() or ix.write_result(batch, 'FILE.csv') (a row per spectrum and parameter), batch.summary()['spectra']"
 """Where a large batch's report sends the reader for each spectrum's fit (the command line
 gives its own options: `impedax.cli.common.command_line_words`)."""
+
+WARNED_SPECTRA_WHERE = "batch.summary()['warning_kinds'] (each spectrum's own: batch.warnings, or the warnings column of ix.write_result(batch, 'FILE.csv'))"
+"""Where a batch's report sends the reader for the spectra a warning line names only the first
+of ("cycle 0, 3, 4, ... (56 in all)" on the REAL 130 battery cycles, with no word where the
+other 48 were; the command line gives its own options: `impedax.cli.common.command_line_words`)."""
 
 SPECTRUM_STATISTICS = FIT_STATISTICS
 """Each spectrum's goodness of fit in a batch's JSON rows and CSV rows, under the keys of a
