@@ -1679,10 +1679,13 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
     its bound yet more standard errors from it is said by its distance, rounded to its error, and
     named the simpler model where the bound reduces its element: "CPE1.alpha lies (8.4 ± 1.6)e-15
     below its upper bound 1, on it to 1 part in 10⁴ or better (CPE1 with alpha = 1 is a
-    capacitor: …)" (REAL data.ods, an exact spectrum)."""
+    capacitor: …)" (REAL data.ods, an exact spectrum). A standard error of exactly 0 is none to
+    speak of (a global fit's shared parameter in each spectrum's notes, whose group says it
+    once: "CPE2.alpha = 1 ± 0 lies within 2 standard errors" was printed for each of the REAL
+    130 battery cycles until 2026-12-06)."""
     values, stderr = np.atleast_2d(values), np.atleast_2d(stderr)
     candidates = bound_sides(table, values, stderr)
-    near = (candidates != 0) & (np.asarray(sides) == 0) & ~undetermined_mask(table, values, stderr, sides)
+    near = (candidates != 0) & (np.asarray(sides) == 0) & ~undetermined_mask(table, values, stderr, sides) & (stderr[..., table.free_index] != 0)
     out = []
     for b, j in np.argwhere(near).tolist():
         i = table.free_index[j]

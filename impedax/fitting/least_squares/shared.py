@@ -44,7 +44,7 @@ from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, add_null_group, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, unidentified_stderr, vanishing_candidates, vanishing_parameters
-from .result import value_shown_at_bound, BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
+from .result import value_shown_at_bound, near_bound_notes, BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "joint_null_sets", "JointNullSets", "SHARING_P_LIMIT"]
@@ -698,6 +698,11 @@ def fit_shared(
                        exactly=on_bound(table, values[gi, :1], sides.reshape(n_groups, m, k)[gi, :1], np.tile(freq, m), z[gi].reshape(1, -1), NUMERICALLY_ON_FRACTION)[0, sh])
         for gi in range(n_groups)
     ]
+    for gi in range(n_groups):  # a shared parameter within 2 standard errors of its bound: said once per global fit (each spectrum's notes have it quiet)
+        first = sides.reshape(-1, k)[gi * m : gi * m + 1]
+        own_quiet = np.ones_like(first)  # (the spectra's own parameters: their notes are each spectrum's)
+        own_quiet[:, sh] = first[:, sh]
+        group_notes[gi] += tuple("shared " + note for _, note in near_bound_notes(table, flat_values[gi * m : gi * m + 1], flat_stderr[gi * m : gi * m + 1], own_quiet))
     for gi in range(n_groups):  # a shared parameter's idle branch: said once per global fit, when idle in every spectrum
         group_notes[gi] += _shared_idle_notes(circuit, registry, table, layout, values[gi], shared_value[gi], shared_stderr[gi], sides.reshape(n_groups, m, k)[gi, 0, sh], freq)
     # the result gives no standard error, nor correlations, to a parameter at a bound or a
