@@ -56,6 +56,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     places = [coordinate_labels(ds, d) for d in batch.dims]
     labels = [", ".join(str(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
     specs = batch.circuit.parameter_specs(batch.registry)
+    shared = set(getattr(batch, "shared", ()))  # (a global fit's shared parameters)
     for ax, name in zip(axes, panels):
         if name == "rms_rel":
             y, err, unit = ds["rms_rel"].transpose(*batch.dims).values.ravel() * 100, None, "%"
@@ -78,6 +79,9 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
                 ax.errorbar(position[chosen], y[chosen], yerr=None if all_bars is None else all_bars[:, chosen], fmt="o", ms=3, lw=0.8, capsize=1.5, color=f"C{k % 10}", label=label or None)
             if len(series) > 1 and ax is axes[0]:  # (below the panels: inside the first one it covered its values)
                 fig.legend(*ax.get_legend_handles_labels(), fontsize=font_size("legend", 6.5), loc="outside lower center", ncol=min(len(series), 4), handlelength=1.0)
+        elif name in shared:  # (one value and one ± per global fit: a band, not the same bar on every spectrum)
+            ax.plot(index[kept], y[kept], "o", ms=3, color="C0")
+            _shared_band(ax, batch, name)
         elif barred.any() or not (kept & at).any():
             ax.errorbar(index[barred], y[barred], yerr=None if bars is None else bars[:, ~at[kept]], fmt="o", ms=3, lw=0.8, capsize=1.5)
         if (kept & at).any():  # (no bar: text and JSON give no standard error at a bound)
@@ -93,7 +97,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
         if loose.any():
             # (the rule on its own line: on one, the legend was wider than the panel)
             _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined\n({batch.UNDETERMINED_RULE})")
-        ax.set_title(f"{name} [{unit}]" if unit else name, fontsize=font_size("title", 9))
+        ax.set_title((f"{name} [{unit}]" if unit else name) + (" (shared)" if name in shared else ""), fontsize=font_size("title", 9))
         if ax.get_yscale() == "linear":
             shown = y[np.isfinite(y)] if loose.all() else y[kept & np.isfinite(y)]
             _window_flat(ax, shown, None if bars is None else bars[:, np.isfinite(y[kept])], None if name == "rms_rel" else _bounds(ds, name, specs[name]))
@@ -112,6 +116,19 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     converged = float(ds["converged"].mean()) * 100
     fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged, {batch.weighting} weighting", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
     return fig
+
+
+def _shared_band(ax, batch, name: str) -> None:
+    """A global fit's shared parameter ``name`` as its value ± standard error, a band across the
+    panel per global fit (its value's points drawn by the caller), labelled with the number: the
+    same bar drawn at each of the REAL 130 battery cycles read as a wall of bars until 2026-12-06."""
+    value = batch.values(name).values.ravel()
+    error = batch.stderr(name).values.ravel()
+    for v, e in zip(value, error):
+        if np.isfinite(e) and e > 0:
+            ax.axhspan(v - e, v + e, color="C0", alpha=0.15, lw=0, label="shared ± stderr" if len(value) == 1 else None)
+    if len(value) == 1 and np.isfinite(error[0]) and error[0] > 0:
+        ax.legend(fontsize=font_size("legend", 6.5), loc="best", handlelength=1.0, borderaxespad=0.3)
 
 
 # the sideways shift between the series of `plot_batch(x=...)`, a fraction of the coordinate's
