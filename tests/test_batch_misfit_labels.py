@@ -34,3 +34,7 @@ def test_the_hint_names_each_spectrum_it_counts():
     comparison = ix.compare([fits, ix.fit("R0 + C1", data, progress=False)])
     best = comparison.best_misfit_hints()
     assert best["labels"] == expected and "on 2 of 4 spectra (trial 0, 2)" in best["note"]
+    # one such fit is named once, in the singular (was "1 of the 2 fits ... their misfits ...; the worst, trial=0")
+    pair = ix.fit("R0 + R1 || C1", data.isel(trial=[0, 1]), progress=False).misfit_hints()
+    assert pair["labels"] == [{"trial": 0}]
+    assert pair["note"].startswith("the fit of trial=0 (1 of the 2) misses structure the data hold, small as its misfit looks (")

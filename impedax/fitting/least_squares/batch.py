@@ -598,10 +598,13 @@ class BatchFitResult(FrozenResult):
         keys = list(self.spectrum_keys())
         key, labels = keys[rows[worst]]
         hinted = [keys[i][1] for i in sorted(rows.tolist())]
-        which = "" if self.n_spectra == 1 else f" ({spectra_named(hinted)})"
-        note = (f"{rows.size} of the {self.n_spectra} fits{which} {'misses' if rows.size == 1 else 'miss'} structure the data hold, small as their misfits look (rms_rel below {MISFIT_CHECKED_FROM * 100:g} % "
-                f"and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches on that spectrum); the worst, {key}: {rms[rows[worst]] * 100:.3g} %, "
-                f"{ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % (a diagnosis of that spectrum shows where and what)")
+        rule = f"rms_rel below {MISFIT_CHECKED_FROM * 100:g} % and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches on that spectrum"
+        figures = f"{rms[rows[worst]] * 100:.3g} %, {ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % (a diagnosis of that spectrum shows where and what)"
+        if rows.size == 1:  # (one: named once, not "1 of the 1 fits ... their misfits ...; the worst, cycle=0", until 2026-12-06)
+            of = "the only one" if self.n_spectra == 1 else f"1 of the {self.n_spectra}"
+            note = f"the fit of {key} ({of}) misses structure the data hold, small as its misfit looks ({rule}): {figures}"
+        else:
+            note = f"{rows.size} of the {self.n_spectra} fits ({spectra_named(hinted)}) miss structure the data hold, small as their misfits look ({rule}); the worst, {key}: {figures}"
         return {"spectra": int(rows.size), "worst": {"labels": labels, "rms_rel": float(rms[rows[worst]]), "chain_rms_rel": float(chain[worst]), "ratio": float(ratio[worst])}, "note": note,
                 "labels": hinted}
 
