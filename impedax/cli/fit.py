@@ -162,6 +162,8 @@ def run(args) -> int:
         raise ParameterError(f"--out {args.out}: a LaTeX table holds the fit of one spectrum, and {args.data} holds {n_spectra}: pick one with --select, or write .csv (a row per spectrum and parameter)")
     if args.residual_map and n_spectra == 1:
         raise ParameterError(f"--residual-map maps the residuals of several spectra, and {args.data} holds one: --plot FIG.png draws its data against the model with the residuals")
+    if latex:  # (a list or range that picks one, --select cycle=0:20 of cycles 0, 64, 129: that spectrum, fitted alone, as compare takes it; a batch of one has no LaTeX table and ended in a traceback until 2026-12-06)
+        data = data.isel({d: 0 for d in data["Z"].dims if d != "frequency"})
     if plot_params is not None and n_spectra == 1:
         raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
     if args.plot_x is not None:  # (checked before the fit, as every argument: added 2026-12-02)
