@@ -788,7 +788,7 @@ def _note_labels_not_positions(item: str, dim: str, labels: Sequence, found: Seq
     ends read as positions would (``by_position``): ``--select cycle=0:20`` of the REAL battery
     cycles labelled 0, 64, 129 keeps cycle 0 alone, which a user counting spectra did not
     expect, and until 2026-12-06 only its "1 spectrum" said so."""
-    if list(found) != list(by_position):
+    if by_position and list(found) != list(by_position):  # (ends past the last position: no one meant positions)
         kept = [labels[i] for i in found]
         print(f"impedax: note: --select {item} keeps {dim} {labels_text(kept)} ({len(found)} of {len(labels)}): a range is of {dim} labels, by value "
               f"(the file's: {labels_text(labels)}), not of positions", file=sys.stderr)
