@@ -41,6 +41,7 @@ def run(args) -> int:
     from ..data import counted, format_bound
     from ..errors import ParameterError
     from ..fitting.least_squares.result import user_bounds_text
+    from ..fitting.batch_comparison import FIT_COMMAND_WORDS
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
     from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
@@ -111,7 +112,15 @@ def run(args) -> int:
     elif extra and not outputs.uses_stdout:  # several spectra: the `BatchComparison`'s report
         pick = f"--select {extra[0]}=LABEL" + (" for each dimension" if len(extra) > 1 else "")
         where = each_spectrum_written(args.out, rows="a row per spectrum and model", netcdf="each model's criteria and fits over the spectra") or "--out FILE.csv (a row per spectrum and model) or --json's spectra"  # (not the options the run used)
-        print(comparison.report(each_spectrum_where=f"{where}; one spectrum's full comparison: {pick}"))
+        report = comparison.report(each_spectrum_where=f"{where}; one spectrum's full comparison: {pick}")
+        warned = [batch.model for batch in comparison.batches if any(batch.warnings.values())]
+        if warned:  # (the command that lists them, this run's file and options: "impedax fit FILE --model MODEL" until 2026-12-06)
+            import shlex
+
+            from .common import fit_command
+
+            report = report.replace(FIT_COMMAND_WORDS, f"{fit_command(args)} --model {shlex.quote(warned[0])}")
+        print(report)
         hints = comparison.best_misfit_hints()
         if hints is not None:  # (the report's line says it; the command for its worst spectrum: added 2026-12-03)
             from .common import diagnose_command

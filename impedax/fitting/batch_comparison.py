@@ -25,6 +25,10 @@ __all__ = ["BatchComparison", "compare_batches", "PER_SPECTRUM_CRITERIA", "SUM_N
 PER_SPECTRUM_CRITERIA = ("rms_rel", "chi2", "chi2_red", "aic", "aicc", "bic", "delta_aic", "akaike_weight", "converged")
 """Each spectrum's row for each model: the columns of a single `Comparison`'s table."""
 
+FIT_COMMAND_WORDS = "impedax fit FILE --model MODEL"
+"""The command a batch comparison's report names for its fits' warnings; `impedax compare`
+writes its own file, options and first warned model in its place."""
+
 SUM_NOTE = "AIC summed over the spectra: the spectra are independent, so the joint log-likelihood, the parameter count and the joint AIC are sums"
 """What the summed AIC is (Burnham & Anderson 2002, §2.2: AIC = −2 ln L + 2K with ln L and K
 summed over independent data sets; each spectrum keeps its own noise scale)."""
@@ -556,7 +560,7 @@ class BatchComparison(FrozenResult):
             lines.append(f"won by less than ΔAIC {WEAK_DELTA_AIC:g} (the data barely tell the models apart there): " + ", ".join(f"{m['weak_wins']} of {m['label']}'s {m['wins']}" for m in weak))
         warned = [m for m in models if m["spectra_with_warnings"]]
         if warned:
-            lines.append("fits with warnings: " + ", ".join(f"{m['label']} on {m['spectra_with_warnings']} {'spectrum' if m['spectra_with_warnings'] == 1 else 'spectra'}" for m in warned) + " (each batch's report() lists them; from the command line, impedax fit FILE --model MODEL)")
+            lines.append("fits with warnings: " + ", ".join(f"{m['label']} on {m['spectra_with_warnings']} {'spectrum' if m['spectra_with_warnings'] == 1 else 'spectra'}" for m in warned) + f" (each batch's report() lists them; from the command line, {FIT_COMMAND_WORDS})")
         if self.n_spectra <= SPECTRA_AS_ROWS:
             lines += ["", *self._spectrum_lines()]
         else:
