@@ -29,6 +29,9 @@ def test_a_range_of_labels_that_positions_would_read_otherwise_is_noted(tmp_path
         ds.load().assign_coords(cycle=[20.0, 25.5, 30.0]).rename(cycle="temperature").to_netcdf(path)
     assert main(["inspect", str(path), "--select", "temperature=20:30"]) == 0
     assert "note: --select" not in capsys.readouterr().err
+    # a range inside a list: the note names it
+    assert main(["inspect", str(THREE), "--select", "cycle=129,0:20"]) == 0
+    assert "note: --select cycle=129,0:20 (its range 0:20) keeps cycle 0 (1 of 3)" in capsys.readouterr().err
     # a list names labels one by one: no note
     assert main(["inspect", str(THREE), "--select", "cycle=0,64"]) == 0
     assert "note: --select" not in capsys.readouterr().err

@@ -779,7 +779,7 @@ def _range_positions(data, dim: str, part: str, path: str, item: str) -> list[in
     if not found:
         raise ParameterError(f"--select {item}: no spectrum of {path} has a {dim} label in {part} (both ends included); its {dim} labels: {labels_text(labels)}")
     if dim in data.coords and all(end == "" or end.isdigit() for end in (first, last)):
-        _note_labels_not_positions(item, dim, labels, found, range(int(first or 0), min(int(last) + 1 if last else len(labels), len(labels))))
+        _note_labels_not_positions(item if item == f"{dim}={part}" else f"{item} (its range {part})", dim, labels, found, range(int(first or 0), min(int(last) + 1 if last else len(labels), len(labels))))
     return found
 
 
