@@ -132,7 +132,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from pathlib import Path
 
-    from .. import BatchFitResult, FitResult, SharedFitResult, fit, parse
+    from .. import BatchFitResult, FitResult, fit, parse
     from ..fitting.least_squares.result import misfit_hint
     from ..errors import ParameterError
     from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
@@ -184,8 +184,8 @@ def run(args) -> int:
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr, as before 2026-12-02)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once; added 2026-12-02)
-        # (a batch's report groups its warnings by kind, naming the spectra, and ends with the hints computed above, not again; a global fit's has none)
-        given_hints = {"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) and not isinstance(result, SharedFitResult) else {}
+        # (a batch's report groups its warnings by kind, naming the spectra, and ends with the hints computed above, not again; a global fit's too since 2026-12-06)
+        given_hints = {"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {}
         print_result(read, args.json, source, record, command="fit", written=args.out, **given_hints)
         if not args.json:
             note_skipped_rows(data, "fit", args.data)

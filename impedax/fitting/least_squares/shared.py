@@ -530,7 +530,11 @@ class SharedFitResult(BatchFitResult):
         out["sharing"] = {**{k.removeprefix("joint_"): self._scalar_or_list(ds[k]) for k in keys}, **groups}
         return out
 
-    def report(self) -> str:
+    def report(self, *, misfit_hints=None) -> str:
+        """The batch's table, the shared parameters' (one row per global fit), the test of
+        sharing, the warnings and, given ``misfit_hints`` (`BatchFitResult.misfit_hints`, which
+        ``impedax fit`` computes once), its hint line: until 2026-12-06 the command line printed
+        the diagnose command of the worst such spectrum without the line saying why."""
         lines = [*self._parameter_lines(), "", f"shared over {', '.join(self.over)} (one global fit{'' if not self.keep else ' per ' + ', '.join(self.keep)}):"]
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
@@ -553,7 +557,7 @@ class SharedFitResult(BatchFitResult):
         for g, f, p, d, c in zip(groups, *(ordered(ds[k]).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
             whose = f" ({g})" if g else ""
             lines.append(f"sharing vs independent fits{whose}: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")
-        return "\n".join(lines + self._warning_lines())
+        return "\n".join(lines + self._warning_lines() + ([] if misfit_hints is None else ["", f"hint: {misfit_hints['note']}"]))
 
 
 def _shown(stderr):
