@@ -482,11 +482,14 @@ class SharedFitResult(BatchFitResult):
         """`BatchFitResult.to_table` with a ``shared`` column after ``fixed`` (added 2026-12-02):
         True on the rows of a shared parameter (the JSON's ``shared``), whose value and stderr
         each row of its group repeats (one estimate, not one per spectrum: average the rows with
-        ``shared`` False only, or take one row per group)."""
+        ``shared`` False only, or take one row per group). Its ``warnings`` are the spectrum's
+        and then its global fit's ("shared CPE2.alpha is at its upper bound 1", "the spectra
+        disagree with sharing ..."; added 2026-12-06: a CSV had no word of them)."""
         out = []
         for row in super().to_table():
             at = list(row).index("fixed") + 1
-            items = list(row.items())
+            group = self.warnings.get(scope_key(self.over, ", ".join(f"{d}={row[d]}" for d in self.keep)), ())
+            items = list({**row, "warnings": "; ".join(([row["warnings"]] if row["warnings"] else []) + list(group))}.items())
             out.append(dict(items[:at] + [("shared", row["name"] in self.shared)] + items[at:]))
         return out
 
