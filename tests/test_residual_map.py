@@ -7,6 +7,7 @@ complete model leaves uncorrelated noise."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 import warnings
 
 import numpy as np
@@ -14,6 +15,8 @@ import pytest
 
 import impedax as ix
 from impedax.cli import main
+
+REAL = Path(__file__).parent / "fixtures" / "real"
 
 F = np.geomspace(0.1, 1e5, 45)
 W = 2 * np.pi * F
@@ -117,3 +120,55 @@ def test_a_batch_whose_fits_miss_structure_points_at_the_map(tmp_path, capsys):
     assert main(["fit", str(path), "--model", MODEL, "--quiet", "--residual-map", str(tmp_path / "m.png")]) == 0
     said = [line for line in capsys.readouterr().out.splitlines() if line.startswith("next: impedax diagnose")]
     assert len(said) == 1 and "--residual-map" not in said[0]
+
+
+def _tick_texts(ax):
+    ax.get_figure().canvas.draw()
+    return [t.get_text() for t in ax.get_yticklabels() if t.get_text()], ax.yaxis.get_offset_text().get_text()
+
+
+@pytest.mark.slow
+def test_the_rms_panel_of_equal_fits_reads_plain_numbers_around_their_value():
+    # (the four sheets of the REAL data.ods hold one spectrum: four fits equal to a few ulp,
+    # 11.08 %, were ticked 4 and 5 under the offset "1e-11+1.107680505e1")
+    data = ix.load(REAL / "data.ods")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        batch = ix.fit("R0 + R1 || CPE1", data, progress=False)
+    z, w = data["Z"].values, 2 * np.pi * data["frequency"].values
+    r0, r1, q, alpha = (float(batch.values(p).isel(sheet=0)) for p in ("R0", "R1", "CPE1.Q", "CPE1.alpha"))
+    z_model = r0 + 1 / (1 / r1 + q * (1j * w) ** alpha)  # (closed form: R0 + R1 ∥ CPE1)
+    fig = batch.plot_residual_map()
+    try:
+        ax_rms = fig.axes[2]
+        rms = float(np.sqrt(np.mean(np.abs((z[0] - z_model) / np.abs(z[0])) ** 2))) * 100
+        texts, offset = _tick_texts(ax_rms)
+        assert offset == ""
+        low, high = ax_rms.get_ylim()
+        assert low < rms < high and high - low < 0.2 * rms  # (a window about the value, not ±1e-11)
+        ticks = ax_rms.get_yticks()
+        values = [float(t.get_text().replace("−", "-")) for t, at in zip(ax_rms.get_yticklabels(), ticks) if low <= at <= high]
+        np.testing.assert_allclose(values, [at for at in ticks if low <= at <= high], rtol=1e-3)  # (each label its own place)
+        assert len(set(values)) == len(values) >= 2
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
+
+
+def test_the_rms_panel_goes_log_when_one_fit_is_decades_off():
+    # (SYNTHETIC: a 1000 % outlier at one point of one spectrum puts its rms_rel ~100× the others')
+    data = series(False)
+    z = data["Z"].values.copy()
+    z[3, 20] *= 11
+    batch = fitted(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": np.arange(6)}))
+    fig = batch.plot_residual_map()
+    try:
+        ax_rms = fig.axes[2]
+        assert ax_rms.get_yscale() == "log"
+        texts, offset = _tick_texts(ax_rms)
+        assert offset == "" and texts
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
