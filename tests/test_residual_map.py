@@ -172,3 +172,31 @@ def test_the_rms_panel_goes_log_when_one_fit_is_decades_off():
         import matplotlib.pyplot as plt
 
         plt.close(fig)
+
+
+def test_the_colour_bar_says_where_the_colour_saturates():
+    # (SYNTHETIC: one point of one spectrum ×11, a 1000 % outlier far beyond the 99th percentile;
+    # the bar's ends are arrows and its label names the largest |residual|, from numpy)
+    data = series(False)
+    z = data["Z"].values.copy()
+    z[3, 20] *= 11
+    batch = fitted(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": np.arange(6)}))
+    fig = batch.plot_residual_map()
+    try:
+        bar = fig.axes[-1]
+        z_model = r_rc(*(float(batch.values(p).isel(cycle=3)) for p in ("R0", "R1", "C1")))
+        relative = (z[3] - z_model) / np.abs(z[3]) * 100
+        largest = max(np.abs(relative.real).max(), np.abs(relative.imag).max())
+        assert largest > 50  # (relative to the ×11 point itself: (11 − 1)/11 of it)
+        label = bar.get_ylabel()
+        assert f"up to {largest:.3g} %" in label, label
+        mesh = fig.axes[1].collections[0]  # (the bar is made from the second map)
+        assert mesh.colorbar.extend in ("max", "both")
+        fig.draw_without_rendering()  # (the label, on two lines, stays inside the figure: on one it ran past the top)
+        text, box = bar.yaxis.label, fig.bbox
+        extent = text.get_window_extent()
+        assert box.y0 <= extent.y0 and extent.y1 <= box.y1 and extent.x1 <= box.x1
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
