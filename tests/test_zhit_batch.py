@@ -179,3 +179,18 @@ def test_a_batch_report_names_the_spectra_with_points_below_re_z_0(method):
     notes = [line for line in batch.report().splitlines() if line.startswith("note: in ")]
     assert len(notes) == 1 and notes[0].startswith("note: in 1 of 3 spectra (cycle=17) points have Re Z < 0")
     assert "100 kHz" in notes[0]
+
+
+@pytest.mark.parametrize("method", ["linear", "zhit"])
+def test_a_batchs_json_names_its_method_as_one_spectrums_does(method, tmp_path, capsys):
+    # (the Z-HIT batch's JSON had "method": "zhit" at its top, the linear test's none: a script
+    # telling the two apart by that key got a KeyError on the linear one; SYNTHETIC stack)
+    z, _ = stack()
+    path = tmp_path / "cycles.nc"
+    ix.save(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES}), path)
+    assert main(["kk", str(path), "--method", method, "--select", "cycle=3", "--json"]) == 0
+    single = json.loads(capsys.readouterr().out)
+    assert main(["kk", str(path), "--method", method, "--json"]) == 0
+    batch = json.loads(capsys.readouterr().out)
+    assert batch["method"] == single["method"] == method
+    assert {s["method"] for s in batch["spectra"]} == {method}

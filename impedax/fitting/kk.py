@@ -818,13 +818,14 @@ class KKBatchResult(ValidityGrid):
         return self.per_spectrum("n_rc", int)
 
     def summary(self) -> dict:
-        """The JSON of ``impedax kk --json`` for several spectra: ``dims``, ``sizes``,
+        """The JSON of ``impedax kk --json`` for several spectra: ``method`` ("linear", added
+        2026-12-06 as `ZHITBatchResult.summary` has it), ``dims``, ``sizes``,
         ``n_spectra``, ``n_valid`` (inconclusive spectra count as valid), ``n_conclusive``,
         ``n_inconclusive`` and ``spectra`` (each spectrum's ``labels``, then the keys of
         `KKResult.summary`); ``warnings`` (added 2026-12-01): the spectra's warnings, each once."""
         few = sum(not r.conclusive for r in self.results)
         spectra = [{"labels": where, **r.summary()} for where, r in zip(self.labels(), self.results)]
-        return {"dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results), "n_valid": sum(bool(r.valid) for r in self.results),
+        return {"method": "linear", "dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results), "n_valid": sum(bool(r.valid) for r in self.results),
                 "n_conclusive": len(self.results) - few, "n_inconclusive": few, "spectra": spectra,
                 "warnings": sorted({w for row in spectra for w in row["warnings"]})}
 
