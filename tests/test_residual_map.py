@@ -200,3 +200,21 @@ def test_the_colour_bar_says_where_the_colour_saturates():
         import matplotlib.pyplot as plt
 
         plt.close(fig)
+
+
+def test_a_global_fits_figures_name_what_it_shares():
+    # (SYNTHETIC: R0 shared over cycle; the map and the parameter figure of a global fit read as
+    # those of independent fits of the same series, nothing naming R0 shared)
+    import matplotlib.pyplot as plt
+
+    data = series(False, n=3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        shared = ix.fit(MODEL, data, shared=["R0"], over="cycle", progress=False)
+        independent = ix.fit(MODEL, data, progress=False)
+    for figure in (shared.plot_residual_map(), shared.plot()):
+        assert "R0 shared over cycle" in figure.get_suptitle()
+        plt.close(figure)
+    for figure in (independent.plot_residual_map(), independent.plot()):
+        assert "shared" not in figure.get_suptitle()
+        plt.close(figure)

@@ -114,7 +114,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
         ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
         _plot_fits(ax_nyq, ds, batch.dims, labels, batch.circuit.compile(batch.registry), phase)
     converged = float(ds["converged"].mean()) * 100
-    fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {converged:.0f}% converged, {batch.weighting} weighting", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
+    fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}{sharing_text(batch)}, {converged:.0f}% converged, {batch.weighting} weighting", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
     return fig
 
 
@@ -349,6 +349,13 @@ def _plot_fits(ax, ds, dims, labels, model, phase: bool = False) -> None:
     nyquist_view(ax, z[drawn], *curves, frequency=np.broadcast_to(freq, z[drawn].shape), frame=nyquist_frame(z[drawn], *curves))
 
 
+def sharing_text(batch) -> str:
+    """", R0 shared over trial" for a global fit (`SharedFitResult`), "" for independent fits:
+    the two figures of one series read alike without it."""
+    shared, over = tuple(getattr(batch, "shared", ())), tuple(getattr(batch, "over", ()))
+    return f", {', '.join(shared)} shared over {', '.join(over)}" if shared else ""
+
+
 def plot_residual_map(batch, *, title: str | None = None):
     """Where a model fails across a batch: the relative residuals (Z − Z_model)/|Z| of every
     spectrum, real and imaginary parts [%], as two maps over the spectra (x, in the batch's
@@ -410,6 +417,6 @@ def plot_residual_map(batch, *, title: str | None = None):
         plain_linear_ticks(ax_rms.yaxis)
     ax_rms.grid(alpha=0.3, which="both")
     label_spectra_axis(ax_rms, labels, dims)
-    fig.suptitle(title or wrap_model(f"{batch.model}: residuals of {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}, {batch.weighting} weighting",
+    fig.suptitle(title or wrap_model(f"{batch.model}: residuals of {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}{sharing_text(batch)}, {batch.weighting} weighting",
                                      characters_across(8, font_size("suptitle", 12))))
     return fig
