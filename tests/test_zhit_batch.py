@@ -194,3 +194,35 @@ def test_a_batchs_json_names_its_method_as_one_spectrums_does(method, tmp_path, 
     batch = json.loads(capsys.readouterr().out)
     assert batch["method"] == single["method"] == method
     assert {s["method"] for s in batch["spectra"]} == {method}
+
+
+def test_the_maps_legend_hides_no_flagged_point():
+    # (the legend stood in the map's upper right, over the REAL battery cycles' flags at
+    # 6.2–9.9 kHz of cycles 92, 112 and 116; SYNTHETIC: the last four of twelve spectra with
+    # their three highest frequencies 5 % off, flagged there)
+    import matplotlib.pyplot as plt
+
+    rng = np.random.default_rng(3)
+    freq = F[::-1]
+    z = np.stack([r_cpe_at(freq, 1000.0 + 20 * k) for k in range(12)]) * (1 + 0.003 * (rng.standard_normal((12, F.size)) + 1j * rng.standard_normal((12, F.size))) / math.sqrt(2))
+    z[8:, :3] *= 1.05  # (the three highest frequencies of the last four)
+    batch = ix.kk_test_batch(ix.make_spectrum(freq, z, dims=("cycle",), coords={"cycle": np.arange(12)}))
+    flagged = np.array([np.asarray(r.flagged, bool) for r in batch.results])
+    assert flagged[8:, :3].any()
+    fig = batch.plot()
+    try:
+        fig.draw_without_rendering()
+        ax_map = fig.axes[0]
+        legend = ax_map.get_legend()
+        box = legend.get_window_extent()
+        circles = ax_map.collections[1]
+        xy = circles.get_offset_transform().transform(np.asarray(circles.get_offsets(), float))
+        inside = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
+        assert not inside.any(), f"{inside.sum()} flagged points under the legend"
+    finally:
+        plt.close(fig)
+
+
+def r_cpe_at(freq: np.ndarray, r1: float) -> np.ndarray:
+    """R0 + R1 ∥ CPE (closed form) at ``freq``."""
+    return 10 + 1 / (1 / r1 + 1e-4 * (2j * np.pi * freq) ** 0.8)
