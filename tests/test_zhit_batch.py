@@ -226,3 +226,21 @@ def test_the_maps_legend_hides_no_flagged_point():
 def r_cpe_at(freq: np.ndarray, r1: float) -> np.ndarray:
     """R0 + R1 ∥ CPE (closed form) at ``freq``."""
     return 10 + 1 / (1 / r1 + 1e-4 * (2j * np.pi * freq) ** 0.8)
+
+
+def test_a_batch_iterates_and_indexes_as_a_list_would():
+    # (`for r in batch` ended in numpy's "invalid entry in coordinates array" after the last
+    # spectrum, batch[-1] too, and batch[0] of a two-dimension batch read "parameter
+    # multi_index must be a sequence of length 2"; SYNTHETIC stack, and 3 × 2 of it)
+    z, _ = stack()
+    data = ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES})
+    for batch in (ix.zhit_batch(data), ix.kk_test_batch(data)):
+        assert [r.rms_rel for r in batch] == [r.rms_rel for r in batch.results]
+        assert batch[-1] is batch.results[2] and batch[0] is batch.results[0]
+        with pytest.raises(IndexError, match=r"beyond its spectra \(cycle 3\)"):
+            batch[3]
+    two = ix.make_spectrum(F, np.stack([z, z[::-1]], axis=1), dims=("cycle", "session"), coords={"cycle": CYCLES, "session": ["am", "pm"]})
+    batch = ix.zhit_batch(two)
+    assert len(list(batch)) == 6 and batch[2, 1] is batch.results[5] and batch[-1, -2] is batch.results[4]
+    with pytest.raises(IndexError, match=r"one integer position per dimension \(cycle 3 × session 2\), e.g. \[0, 0\]"):
+        batch[0]

@@ -50,10 +50,23 @@ class ResultGrid(FrozenResult):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     def __getitem__(self, index):
+        """One result by its integer positions, one per dimension (negative from the end, as a
+        list's); an `IndexError` naming the dimensions and their sizes otherwise: numpy's
+        "invalid entry in coordinates array" ended ``for r in batch`` on the REAL battery cycles."""
         index = index if isinstance(index, tuple) else (index,)
         if not self.shape:
             return self.results[0]
-        return self.results[int(np.ravel_multi_index(index, self.shape))]
+        sizes = " × ".join(f"{d} {n}" for d, n in zip(self.dims, self.shape))
+        if len(index) != len(self.shape) or not all(isinstance(i, (int, np.integer)) and not isinstance(i, bool) for i in index):
+            raise IndexError(f"{type(self).__name__}[...] takes one integer position per dimension ({sizes}), e.g. [{', '.join(['0'] * len(self.shape))}]"
+                             f"{'' if len(self.shape) == 1 else '; .results[k] holds them in order (the last dimension fastest), .labels() their places'}; got {index!r}")
+        if not all(-n <= i < n for i, n in zip(index, self.shape)):
+            raise IndexError(f"{type(self).__name__}{list(index)} is beyond its spectra ({sizes})")
+        return self.results[int(np.ravel_multi_index(tuple(int(i) % n for i, n in zip(index, self.shape)), self.shape))]
+
+    def __iter__(self):
+        """The results in the order of ``results`` (C order over ``dims``)."""
+        return iter(self.results)
 
     def __len__(self) -> int:
         return len(self.results)
