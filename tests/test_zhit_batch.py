@@ -244,3 +244,20 @@ def test_a_batch_iterates_and_indexes_as_a_list_would():
     assert len(list(batch)) == 6 and batch[2, 1] is batch.results[5] and batch[-1, -2] is batch.results[4]
     with pytest.raises(IndexError, match=r"one integer position per dimension \(cycle 3 × session 2\), e.g. \[0, 0\]"):
         batch[0]
+
+
+def test_the_maps_legend_counts_one_flagged_point_in_the_singular():
+    # (SYNTHETIC: one point of one of three spectra 30 % off; the legend read "flagged (1 points)")
+    import matplotlib.pyplot as plt
+
+    rng = np.random.default_rng(4)
+    z = np.stack([r_cpe(1000.0 + 100 * k) for k in range(3)]) * (1 + 0.002 * (rng.standard_normal((3, F.size)) + 1j * rng.standard_normal((3, F.size))) / math.sqrt(2))
+    z[1, 35] *= 1.3
+    batch = ix.kk_test_batch(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": CYCLES}))
+    n_flagged = sum(int(np.sum(r.flagged)) for r in batch.results)
+    fig = batch.plot()
+    try:
+        texts = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+        assert texts == [f"flagged ({n_flagged} point{'' if n_flagged == 1 else 's'})"] and n_flagged == 1
+    finally:
+        plt.close(fig)

@@ -162,7 +162,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     flagged = np.array([np.asarray(r.flagged, bool)[order] for r in results])
     spectra, points = np.nonzero(flagged)
     if spectra.size:
-        ax_map.scatter(spectra, f[points], s=18, facecolors="none", edgecolors="tab:cyan", linewidths=1.0, label=f"flagged ({spectra.size} points)")
+        ax_map.scatter(spectra, f[points], s=18, facecolors="none", edgecolors="tab:cyan", linewidths=1.0, label=f"flagged ({spectra.size} point{'' if spectra.size == 1 else 's'})")
         ax_map.legend(loc="upper right", fontsize=font_size("legend", 8), framealpha=0.85)
     ax_map.set_yscale("log")
     ax_map.set_ylim(f_edges[0], f_edges[-1])
