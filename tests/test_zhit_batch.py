@@ -261,3 +261,21 @@ def test_the_maps_legend_counts_one_flagged_point_in_the_singular():
         assert texts == [f"flagged ({n_flagged} point{'' if n_flagged == 1 else 's'})"] and n_flagged == 1
     finally:
         plt.close(fig)
+
+
+@pytest.mark.parametrize("method", ["linear", "zhit"])
+def test_a_batch_of_one_spectrum_marks_its_noise_estimate(method):
+    # (SYNTHETIC: one cycle over a batch dimension; the noise estimate, a dashed line through
+    # one point, drew nothing beside its legend entry)
+    import matplotlib.pyplot as plt
+
+    z, _ = stack()
+    data = ix.make_spectrum(F, z[:1], dims=("cycle",), coords={"cycle": CYCLES[:1]})
+    batch = ix.zhit_batch(data) if method == "zhit" else ix.kk_test_batch(data)
+    fig = batch.plot()
+    try:
+        (line,) = [ln for ln in fig.axes[1].get_lines() if ln.get_label() == "noise estimate"]
+        np.testing.assert_allclose(line.get_ydata(), [batch.results[0].noise_estimate * 100])
+        assert line.get_marker() not in (None, "", "None", " ") and line.get_markersize() > 0
+    finally:
+        plt.close(fig)

@@ -176,7 +176,9 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     ax_rms.plot(x[~bad], rms[~bad], "o", ms=3, color="tab:blue", label="rms_rel, valid")
     if bad.any():
         ax_rms.plot(x[bad], rms[bad], "o", ms=4, color="tab:red", label="rms_rel, not valid")
-    ax_rms.plot(x, noise, "--", color="0.3", lw=0.9, label="noise estimate")
+    # (one spectrum: a dash as marker, where a dashed line through one point draws nothing: the
+    # noise estimate of a SYNTHETIC batch of one had a legend entry and no mark)
+    ax_rms.plot(x, noise, "--", color="0.3", lw=0.9, label="noise estimate", **({"marker": "_", "ms": 14, "mew": 1.2} if n == 1 else {}))
     ax_rms.set_yscale("log")
     ax_rms.set_ylabel("rms_rel, noise [%]")
     plain_log_ticks(ax_rms.yaxis)
