@@ -279,3 +279,18 @@ def test_a_batch_of_one_spectrum_marks_its_noise_estimate(method):
         assert line.get_marker() not in (None, "", "None", " ") and line.get_markersize() > 0
     finally:
         plt.close(fig)
+
+
+def test_a_notebook_table_of_many_spectra_shows_those_that_fail():
+    # (1,000 SYNTHETIC spectra filled a notebook with 1,000 rows; SYNTHETIC: the stack's three
+    # cycles 24 times over, every third one drifting, 72 spectra)
+    z, _ = stack()
+    data = ix.make_spectrum(F, np.tile(z, (24, 1)), dims=("cycle",), coords={"cycle": np.arange(72)})
+    drifting = [str(k) for k in range(1, 72, 3)]
+    for batch in (ix.zhit_batch(data), ix.kk_test_batch(data)):
+        html = batch._repr_html_()
+        rows = _html_rows(html)
+        assert [row[0] for row in rows] == drifting and {row[1] for row in rows} == {"NOT valid"}
+        assert "72 spectra: the table shows the 24 not valid or inconclusive (48 valid not shown)" in html
+    few = ix.make_spectrum(F, np.tile(z, (20, 1)), dims=("cycle",), coords={"cycle": np.arange(60)})
+    assert len(_html_rows(ix.zhit_batch(few)._repr_html_())) == 60  # (up to 60: every spectrum)

@@ -683,6 +683,10 @@ batch dimension of one of these names (`grid.refuse_result_names`), where ``to_x
 failed with xarray's "conflicting sizes for dimension 'rc'"."""
 
 
+# the most rows a batch's notebook table shows (`ValidityGrid._html_table`), as pandas' 60
+HTML_ROWS = 60
+
+
 class ValidityGrid(ResultGrid):
     """What the batches of the validity tests (`KKBatchResult`, `zhit.ZHITBatchResult`) share:
     the verdict counts, ``valid`` and ``rms_rel`` over ``dims``, a table row per spectrum (text,
@@ -754,6 +758,18 @@ class ValidityGrid(ResultGrid):
         return [{**where, "verdict": _verdict_word(r), "rms_rel [%]": f"{r.rms_rel * 100:.3g}", "noise [%]": f"{r.noise_estimate * 100:.3g}",
                  **({head: getattr(r, attribute)} if head else {}), "bad bands": "; ".join(band_name(points) for points in r.band_frequencies) or "none"}
                 for where, r in zip(self.labels(), self.results)]
+
+    def _html_table(self) -> tuple[list[dict], list[str]]:
+        """The notebook's rows and the line saying what they leave out: every spectrum up to
+        `HTML_ROWS`; beyond, only those not valid or inconclusive (up to `HTML_ROWS` of them):
+        1,000 SYNTHETIC spectra filled a notebook with 1,000 rows of "valid"."""
+        rows = self._html_rows()
+        if len(rows) <= HTML_ROWS:
+            return rows, []
+        failing = [row for row, r in zip(rows, self.results) if not (r.valid and r.conclusive)]
+        shown = failing[:HTML_ROWS]
+        which = f"the first {len(shown)} of the {len(failing)}" if len(failing) > len(shown) else f"the {len(shown)}"
+        return shown, [f"{len(rows)} spectra: the table shows {which} not valid or inconclusive ({len(rows) - len(failing)} valid not shown); report() and to_xarray() hold every spectrum"]
 
     def _non_passive_lines(self, names: list[str]) -> list[str]:
         """The spectra with points Re Z < 0 beyond the noise (up to 3 named) and the first one's note."""
@@ -869,7 +885,8 @@ class KKBatchResult(ValidityGrid):
         noise estimate, M and bad bands), as the report's table."""
         from ..plotting.html import result_html
 
-        return result_html("linear Kramers–Kronig test", self._html_rows(), lines=[self.report().splitlines()[0]])
+        rows, left_out = self._html_table()
+        return result_html("linear Kramers–Kronig test", rows, lines=[self.report().splitlines()[0], *left_out])
 
     def plot(self, *, title: str | None = None):
         """Every spectrum's |Δ| as a map over the spectra and frequency, the flagged points

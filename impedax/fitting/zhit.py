@@ -352,7 +352,8 @@ class ZHITBatchResult(ValidityGrid):
         noise estimate and bad bands), as the report's table."""
         from ..plotting.html import result_html
 
-        return result_html("Z-HIT", self._html_rows(), lines=[self.report().splitlines()[0]])
+        rows, left_out = self._html_table()
+        return result_html("Z-HIT", rows, lines=[self.report().splitlines()[0], *left_out])
 
     def plot(self, *, title: str | None = None):
         """Every spectrum's |residual| as a map over the spectra and frequency, the flagged
