@@ -218,3 +218,20 @@ def test_a_global_fits_figures_name_what_it_shares():
     for figure in (independent.plot_residual_map(), independent.plot()):
         assert "shared" not in figure.get_suptitle()
         plt.close(figure)
+
+
+def test_maps_of_more_cells_than_the_vector_limit_are_rasterised(monkeypatch):
+    # (the limit lowered to 6 spectra × 45 frequencies − 1 cells: both maps are drawn as images in
+    # a vector file, as 1,000 spectra are at the limit of 5,000)
+    import matplotlib.pyplot as plt
+
+    import impedax.plotting.fit as plotting_fit
+
+    batch = fitted(series(False))
+    for limit, rasterised in ((6 * F.size - 1, True), (6 * F.size, False)):
+        monkeypatch.setattr(plotting_fit, "MAP_VECTOR_CELLS", limit)
+        fig = batch.plot_residual_map()
+        try:
+            assert [ax.collections[0].get_rasterized() for ax in fig.axes[:2]] == [rasterised, rasterised]
+        finally:
+            plt.close(fig)

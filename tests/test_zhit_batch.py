@@ -294,3 +294,16 @@ def test_a_notebook_table_of_many_spectra_shows_those_that_fail():
         assert "72 spectra: the table shows the 24 not valid or inconclusive (48 valid not shown)" in html
     few = ix.make_spectrum(F, np.tile(z, (20, 1)), dims=("cycle",), coords={"cycle": np.arange(60)})
     assert len(_html_rows(ix.zhit_batch(few)._repr_html_())) == 60  # (up to 60: every spectrum)
+
+
+def test_a_map_of_many_cells_is_one_image_in_a_vector_file(tmp_path):
+    # (1,000 SYNTHETIC spectra × 40 frequencies made an SVG of 7.9 MB, a shape per cell;
+    # SYNTHETIC: the stack's cycles 40 times over, 120 × 71 = 8,520 cells, more than the 5,000
+    # kept as shapes)
+    z, _ = stack()
+    path = tmp_path / "many.nc"
+    ix.save(ix.make_spectrum(F, np.tile(z, (40, 1)), dims=("cycle",), coords={"cycle": np.arange(120)}), path)
+    svg = tmp_path / "map.svg"
+    assert main(["kk", str(path), "--method", "zhit", "--plot", str(svg)]) == 0
+    text = svg.read_text()
+    assert text.count("<path") < 120 * F.size / 4  # (before: a path per cell, 8,617 in all)

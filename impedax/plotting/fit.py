@@ -349,6 +349,12 @@ def _plot_fits(ax, ds, dims, labels, model, phase: bool = False) -> None:
     nyquist_view(ax, z[drawn], *curves, frequency=np.broadcast_to(freq, z[drawn].shape), frame=nyquist_frame(z[drawn], *curves))
 
 
+# the most cells a map (`plot_residual_map`, `plotting.kk.plot_validity_batch`) draws as vector
+# shapes in a PDF, SVG or EPS; more are one raster image at the figure's dpi: 1,000 SYNTHETIC
+# spectra × 40 frequencies made an SVG of 7.9 MB, 40,000 quadrilaterals
+MAP_VECTOR_CELLS = 5000
+
+
 def sharing_text(batch) -> str:
     """", R0 shared over trial" for a global fit (`SharedFitResult`), "" for independent fits:
     the two figures of one series read alike without it."""
@@ -388,7 +394,7 @@ def plot_residual_map(batch, *, title: str | None = None):
     fig, (ax_re, ax_im, ax_rms) = plt.subplots(3, 1, figsize=(8, 8), height_ratios=[2.2, 2.2, 1.1], sharex=True, layout="constrained")
     norm = Normalize(-scale, scale)
     for ax, part, name in ((ax_re, relative.real, "Re"), (ax_im, relative.imag, "Im")):
-        mesh = ax.pcolormesh(x_edges, f_edges, part.T, norm=norm, cmap="RdBu_r", shading="flat")
+        mesh = ax.pcolormesh(x_edges, f_edges, part.T, norm=norm, cmap="RdBu_r", shading="flat", rasterized=part.size > MAP_VECTOR_CELLS)
         ax.set_yscale("log")
         ax.set_ylim(f_edges[0], f_edges[-1])
         ax.set_ylabel(f"frequency [Hz]\n({name})", fontsize=font_size("label", 9))

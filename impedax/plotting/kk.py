@@ -140,6 +140,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     from matplotlib.colors import LogNorm
 
     from . import label_spectra_axis, plain_log_ticks
+    from .fit import MAP_VECTOR_CELLS
 
     results = batch.results
     n = len(results)
@@ -155,7 +156,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     positive = values[np.isfinite(values) & (values > 0)]
     low = max(float(positive.min()), 1e-3) if positive.size else 1e-3
     high = max(float(positive.max()), low * 10) if positive.size else 1.0
-    mesh = ax_map.pcolormesh(x_edges, f_edges, np.clip(values, low, high).T, norm=LogNorm(low, high), cmap="magma_r", shading="flat")
+    mesh = ax_map.pcolormesh(x_edges, f_edges, np.clip(values, low, high).T, norm=LogNorm(low, high), cmap="magma_r", shading="flat", rasterized=values.size > MAP_VECTOR_CELLS)
     bar = fig.colorbar(mesh, ax=ax_map)
     bar.set_label(f"{residual} [%]")
     plain_log_ticks(bar.ax.yaxis)
