@@ -235,3 +235,16 @@ def test_maps_of_more_cells_than_the_vector_limit_are_rasterised(monkeypatch):
             assert [ax.collections[0].get_rasterized() for ax in fig.axes[:2]] == [rasterised, rasterised]
         finally:
             plt.close(fig)
+
+
+def test_the_map_writes_float_labels_without_binary_noise():
+    # (SYNTHETIC: soc = np.arange(6) * 0.1; the ticks read "0.30000000000000004", "0.6000000000000001")
+    import matplotlib.pyplot as plt
+
+    data = series(False).assign_coords(cycle=np.arange(6) * 0.1)
+    fig = fitted(data).plot_residual_map()
+    try:
+        fig.canvas.draw()
+        assert [t.get_text() for t in fig.axes[2].get_xticklabels() if t.get_text()] == ["0.0", "0.1", "0.2", "0.3", "0.4", "0.5"]
+    finally:
+        plt.close(fig)

@@ -307,3 +307,18 @@ def test_a_map_of_many_cells_is_one_image_in_a_vector_file(tmp_path):
     assert main(["kk", str(path), "--method", "zhit", "--plot", str(svg)]) == 0
     text = svg.read_text()
     assert text.count("<path") < 120 * F.size / 4  # (before: a path per cell, 8,617 in all)
+
+
+def test_the_maps_write_float_labels_without_binary_noise():
+    # (SYNTHETIC: soc = np.arange(6) * 0.1; the maps' ticks read "0.30000000000000004")
+    import matplotlib.pyplot as plt
+
+    z, _ = stack()
+    data = ix.make_spectrum(F, np.tile(z, (2, 1)), dims=("soc",), coords={"soc": np.arange(6) * 0.1})
+    assert str(float(data["soc"][3])) == "0.30000000000000004"
+    fig = ix.zhit_batch(data).plot()
+    try:
+        fig.canvas.draw()
+        assert [t.get_text() for t in fig.axes[1].get_xticklabels() if t.get_text()] == ["0.0", "0.1", "0.2", "0.3", "0.4", "0.5"]
+    finally:
+        plt.close(fig)

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from ..arguments import figure_size, shown
-from ..data import coordinate_labels, unit_text
+from ..data import coordinate_labels, label_text, unit_text
 from ..errors import ParameterError
 from . import TAIL_RATIO, font_size, tail_frame
 
@@ -54,7 +54,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     for _, members, position in series or ():  # (each spectrum at its coordinate)
         index = np.where(members, position, index)
     places = [coordinate_labels(ds, d) for d in batch.dims]
-    labels = [", ".join(str(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
+    labels = [", ".join(label_text(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
     specs = batch.circuit.parameter_specs(batch.registry)
     shared = set(getattr(batch, "shared", ()))  # (a global fit's shared parameters)
     for ax, name in zip(axes, panels):
@@ -408,7 +408,7 @@ def plot_residual_map(batch, *, title: str | None = None):
     beyond = f"; beyond it, up to {float(np.max(np.abs(parts))):.3g} %" if above or below else ""
     bar.set_label(f"(Z − Z_model)/|Z| [%]\n(± {scale:.3g} %: the 99th percentile{beyond})")  # (two lines: one ran past the figure's top)
     places = [coordinate_labels(ds, d) for d in dims]
-    labels = [", ".join(str(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
+    labels = [", ".join(label_text(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
     rms = ds["rms_rel"].transpose(*dims).values.reshape(-1) * 100
     ax_rms.plot(np.arange(batch.n_spectra), rms, "o-", ms=3, lw=0.8)
     ax_rms.set_ylabel("rms_rel [%]", fontsize=font_size("label", 9))
