@@ -630,6 +630,9 @@ def _position(data, dim: str, label: str, path: str, item: str | None = None) ->
         number = None
     moment = _as_moment(data, dim, label)
     found = [i for i, v in enumerate(labels) if str(v) == label or (number is not None and _is_number(v) and v == number)]
+    if not found and number is not None:  # (a label written with rounding error: 0.30000000000000004 of np.arange(6) * 0.1 is 0.3)
+        slack = _label_slack(labels)
+        found = [i for i, v in enumerate(labels) if _is_number(v) and abs(v - number) <= slack]
     if moment is not None:
         found = [i for i, v in enumerate(data[dim].values) if v == moment]
     if not found:
@@ -653,6 +656,17 @@ def _as_moment(data, dim: str, text: str):
         return np.datetime64(text.strip())
     except ValueError:
         return None
+
+
+# numeric labels within this fraction of the labels' largest magnitude are the same label: floats
+# computed as 0.1 * 3 (0.30000000000000004) are found by the 0.3 a user reads and types
+LABEL_RTOL = 1e-9
+
+
+def _label_slack(labels) -> float:
+    """How far a number typed for a numeric label may be from it: `LABEL_RTOL` of the largest
+    |label| (0 when no label is a number)."""
+    return LABEL_RTOL * max((abs(v) for v in labels if _is_number(v) and math.isfinite(v)), default=0.0)
 
 
 def _is_number(value) -> bool:
@@ -775,7 +789,8 @@ def _range_positions(data, dim: str, part: str, path: str, item: str) -> list[in
     lo, hi = ends
     if lo is not None and hi is not None and lo > hi:
         raise ParameterError(f"--select {item}: the range {part} is reversed (its first end is above its last); write {last}:{first}")
-    found = [i for i, v in enumerate(values) if v is not None and (lo is None or v >= lo) and (hi is None or v <= hi)]
+    slack = _label_slack([v for v in values if v is not None])  # (0.1:0.7 keeps a label 0.7000000000000001)
+    found = [i for i, v in enumerate(values) if v is not None and (lo is None or v >= lo - slack) and (hi is None or v <= hi + slack)]
     if not found:
         raise ParameterError(f"--select {item}: no spectrum of {path} has a {dim} label in {part} (both ends included); its {dim} labels: {labels_text(labels)}")
     if dim in data.coords and all(end == "" or end.isdigit() for end in (first, last)):
