@@ -50,3 +50,19 @@ def test_the_command_tests_the_picked_spectrum(soc_file, capsys):
     path, _ = soc_file
     assert main(["kk", path, "--select", "soc=0.3", "--json"]) == 0
     assert '"valid": true' in capsys.readouterr().out
+
+
+def test_the_drt_batch_figure_writes_the_labels_as_read(soc_file):
+    """The DRT batch figure's spectrum axis read "0.30000000000000004" where the maps and the
+    fit figure write 0.3 (`data.label_text`); the legend (8 spectra) likewise."""
+    import matplotlib.pyplot as plt
+
+    path, _ = soc_file
+    fig = ix.drt(ix.load(path)).plot()
+    try:
+        ticks = [t.get_text() for t in fig.axes[1].get_xticklabels() if t.get_text()]
+        legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    finally:
+        plt.close(fig)
+    assert "0.3" in ticks and not any("0000000" in t for t in ticks)
+    assert any(t.startswith("soc=0.3:") for t in legend) and not any("0000000" in t for t in legend)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..data import counted, format_percent, format_quantity, format_time
+from ..data import counted, format_percent, format_quantity, format_time, label_text
 from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
@@ -138,7 +138,7 @@ LEGEND_MAX = 10  # batches of up to this many spectra get a legend of their labe
 def plot_drt_batch(batch, *, title: str | None = None):
     """γ(τ) of every spectrum of a `DRTBatchResult` on one axes, coloured in batch order (viridis),
     and each DRT fit's rms_rel for each spectrum below (marked with the spectra's labels)."""
-    labels = [", ".join(f"{d}={v}" for d, v in where.items()) for where in batch.labels()]
+    labels = [", ".join(f"{d}={label_text(v)}" for d, v in where.items()) for where in batch.labels()]
     n = len(batch.results)
     fig, (ax, ax_rms) = plt.subplots(2, 1, figsize=(8, 6.5), height_ratios=[3, 1], layout="constrained")
     colours = plt.get_cmap("viridis")(np.linspace(0, 1, max(n, 2)))
@@ -167,7 +167,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     prefixed_axis(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
     ax_rms.plot(np.arange(n), [one.rms_rel * 100 for one in batch.results], "o-", ms=3, lw=0.8)
-    label_spectra_axis(ax_rms, [", ".join(str(v) for v in where.values()) for where in batch.labels()], batch.dims)
+    label_spectra_axis(ax_rms, [", ".join(label_text(v) for v in where.values()) for where in batch.labels()], batch.dims)
     ax_rms.set_ylabel("DRT fit rms_rel [%]")
     ax_rms.grid(alpha=0.3)
     counts = [len(counted_peaks(one.peaks)) for one in batch.results]  # resolved, inside the measured τ window
