@@ -139,6 +139,50 @@ def test_blocks_of_one_step_draw_what_growing_blocks_draw(clean, clean_post, mon
         np.testing.assert_array_equal(getattr(post, name), getattr(clean_post, name), err_msg=name)
 
 
+def test_progress_function_gets_every_line_and_stderr_none(clean, clean_post, capsys):
+    """``progress=lines.append`` (as `fit` and `sample` take it): the function is handed the
+    phase lines (compiling, warm-up, draws) as well as the progress line, and nothing goes to
+    stderr; until 2026-12-06 the phase lines went to stderr even with a function. The draws are
+    the run's without progress (the fixture's)."""
+    lines = []
+    post = sample_hierarchical(MODEL, clean, seed=1, progress=lines.append, **SETTINGS)
+    assert capsys.readouterr().err == ""
+    text = "\n".join(lines)
+    phases = ["tracing and compiling the sampler", "compiled in", "warm-up done", f"drawing {SETTINGS['draws']} draws"]
+    assert all(p in text for p in phases), lines
+    assert all(isinstance(line, str) and "\n" not in line for line in lines)
+    np.testing.assert_array_equal(post.mu, clean_post.mu)
+
+
+class _Stop(Exception):
+    pass
+
+
+@pytest.mark.parametrize("progress, on_stderr", [("default", True), (None, True), (True, True), (False, False)])
+def test_progress_default_and_false(clean, monkeypatch, capsys, progress, on_stderr):
+    """None (the default) and True: the first phase line on stderr, as `sample` does (until
+    2026-12-06 the default was False: a long compilation without a word); False: none. The run
+    is stopped where the sampler would start."""
+    from impedax.fitting.bayes import hierarchical
+
+    def stop(*args, **kwargs):
+        raise _Stop
+
+    monkeypatch.setattr(hierarchical, "_sample", stop)
+    options = {} if progress == "default" else {"progress": progress}
+    with pytest.raises(_Stop):
+        sample_hierarchical(MODEL, clean, seed=1, **SETTINGS, **options)
+    assert ("tracing and compiling the sampler" in capsys.readouterr().err) is on_stderr
+
+
+@pytest.mark.parametrize("value", ["no", 1, 0.5, [print]])
+def test_progress_other_values_are_refused_naming_it(clean, value):
+    """progress="no" printed lines (any truthy value was taken as True, unchecked); now anything
+    but None, a bool or a function is a ParameterError naming the argument, before any fit."""
+    with pytest.raises(ix.ParameterError, match=r"^progress must be True or False"):
+        sample_hierarchical(MODEL, clean, seed=1, progress=value, **SETTINGS)
+
+
 def test_a_small_block_capacity_draws_the_same(clean, clean_post, monkeypatch):
     """A call runs at most `BLOCK_CAPACITY` steps, its keys, schedule and draws in arrays of that
     length: with a capacity of 8 the 200 warm-up steps and 200 draws run as 25 + 25 calls and

@@ -51,7 +51,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ...arguments import checked_arguments, refuse_unknown_keywords
+from ...arguments import checked_arguments, progress_line_flag, refuse_unknown_keywords
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
 from ...data import column_width, make_spectrum, report_text
 from ...errors import DataError, FitError, ParameterError
@@ -418,7 +418,7 @@ class _Phases:
         if bar.enabled:
             if bar.shown and bar.interactive:
                 sys.stderr.write("\n")
-            announce(text, True)
+            announce(text, bar.callback or True)
             bar.shown = False
 
     def advance(self) -> None:
@@ -1147,7 +1147,7 @@ def _total_sd(basis, rest) -> np.ndarray:
     return np.sqrt(np.stack([(b.real**2).sum(axis=0), (b.imag**2).sum(axis=0)]) + np.asarray(rest))
 
 
-@checked_arguments()
+@checked_arguments(progress=progress_line_flag)
 def sample_hierarchical(
     circuit: Circuit | str,
     data: xr.Dataset,
@@ -1166,7 +1166,7 @@ def sample_hierarchical(
     seed: int = 0,
     registry: Registry = DEFAULT_REGISTRY,
     init=None,
-    progress: bool = False,
+    progress=None,
 ) -> HierarchicalPosterior:
     """Sample the hierarchical model (module docstring) of the spectra in ``data``.
 
@@ -1183,10 +1183,13 @@ def sample_hierarchical(
     ``"non-centred"`` its standardised offset η; ``"auto"`` picks centred when the per-trial
     least-squares fits determine each trial better than the trials differ. ``init``: a `BatchFitResult` of the circuit on ``data`` (else
     one is run, each trial started from the fit of the trials' mean) — the per-trial fits give
-    the start, the prior centres and the noise ν_k. ``progress``: a progress line on stderr
-    (warm-up and draws) once the run has taken a second.
+    the start, the prior centres and the noise ν_k. ``progress``: a line at each phase (compiling,
+    warm-up, draws) and a progress line once the run has taken a second, on stderr when None
+    (the default) or True, none when False, handed one line of text at a time to a function
+    (``progress=print``), as `fit` and `sample` take it.
     Returns a `HierarchicalPosterior`.
     """
+    progress = progress_line_flag(progress, "progress")  # (the default None is not checked by the decorator: lines on stderr)
     t0 = time.perf_counter()
     lay, dat, init_pos, trial_index = _setup(
         circuit, data, per_trial=per_trial, session_dim=session_dim, reparametrization=reparametrization, fixed=fixed, discrepancy=discrepancy,
