@@ -148,7 +148,7 @@ def test_progress_function_gets_every_line_and_stderr_none(clean, clean_post, ca
     post = sample_hierarchical(MODEL, clean, seed=1, progress=lines.append, **SETTINGS)
     assert capsys.readouterr().err == ""
     text = "\n".join(lines)
-    phases = ["tracing and compiling the sampler", "compiled in", "warm-up done", f"drawing {SETTINGS['draws']} draws"]
+    phases = ["fitting the 8 trials by least squares", "tracing and compiling the sampler", "compiled in", "warm-up done", f"drawing {SETTINGS['draws']} draws"]
     assert all(p in text for p in phases), lines
     assert all(isinstance(line, str) and "\n" not in line for line in lines)
     np.testing.assert_array_equal(post.mu, clean_post.mu)
@@ -160,19 +160,28 @@ class _Stop(Exception):
 
 @pytest.mark.parametrize("progress, on_stderr", [("default", True), (None, True), (True, True), (False, False)])
 def test_progress_default_and_false(clean, monkeypatch, capsys, progress, on_stderr):
-    """None (the default) and True: the first phase line on stderr, as `sample` does (until
-    2026-12-06 the default was False: a long compilation without a word); False: none. The run
-    is stopped where the sampler would start."""
+    """None (the default) and True: its own phase lines on stderr, as `sample` does (until
+    2026-12-06 the default was False: a long compilation without a word); False: nothing at all.
+    The start fits say nothing of their own, as `sample`'s: with False they wrote "[0.0 s]
+    fitting …" lines (shown at once here: `PROGRESS_AFTER_S` 0). The run is stopped where the
+    sampler would start."""
+    import impedax.progress
     from impedax.fitting.bayes import hierarchical
 
     def stop(*args, **kwargs):
         raise _Stop
 
     monkeypatch.setattr(hierarchical, "_sample", stop)
+    monkeypatch.setattr(impedax.progress, "PROGRESS_AFTER_S", 0.0)
     options = {} if progress == "default" else {"progress": progress}
     with pytest.raises(_Stop):
         sample_hierarchical(MODEL, clean, seed=1, **SETTINGS, **options)
-    assert ("tracing and compiling the sampler" in capsys.readouterr().err) is on_stderr
+    err = capsys.readouterr().err
+    if on_stderr:
+        assert "fitting the 8 trials by least squares" in err and "tracing and compiling the sampler" in err, err
+        assert f"fitting {MODEL}" not in err, err
+    else:
+        assert err == ""
 
 
 @pytest.mark.parametrize("value", ["no", 1, 0.5, [print]])

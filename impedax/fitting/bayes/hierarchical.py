@@ -55,6 +55,7 @@ from ...arguments import checked_arguments, progress_line_flag, refuse_unknown_k
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
 from ...data import column_width, make_spectrum, report_text
 from ...errors import DataError, FitError, ParameterError
+from ...progress import quiet_beneath
 from ..derived import draw_indices
 from ..frozen import FrozenResult, freeze_fields
 from .diagnostics import PiledUp, PriorEdges, prior_edges, reducing_bounds
@@ -1003,7 +1004,7 @@ def _check_batch_init(init, circuit, order, freq, z) -> None:
             raise ParameterError(f"init was fitted to different data: trial {trial} ({', '.join(order)} stacked): {difference}; pass init=fit(circuit, data) of the trials sampled")
 
 
-def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, discrepancy, session_spread_scale, chains, parameterisation, seed, registry, init):
+def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, discrepancy, session_spread_scale, chains, parameterisation, seed, registry, init, progress=None):
     """Checks, per-trial least-squares fits, noise ν_k, priors and the chains' starts."""
     from ..least_squares import fit
 
@@ -1049,6 +1050,7 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
         # each trial's fit starts from the fit of the trials' mean: single noisy trials fitted
         # from the data-driven guess alone can land far off (R_EP → 1e47 Ω, α → 0.12 on Sirin seed 12)
         mean = make_spectrum(data["frequency"].values, data["Z"].mean(rep_dims).values, source="trial mean")
+        announce(f"hierarchical: fitting the {n_trials} trials by least squares (the start, the priors' centres and the noise) …", progress)
         init = fit(circuit, data, init=fit(circuit, mean, fixed=fixed or None, weighting="modulus", registry=registry), fixed=fixed or None, weighting="modulus", registry=registry)
     else:
         _check_batch_init(init, circuit, order, freq, z)
@@ -1147,6 +1149,7 @@ def _total_sd(basis, rest) -> np.ndarray:
     return np.sqrt(np.stack([(b.real**2).sum(axis=0), (b.imag**2).sum(axis=0)]) + np.asarray(rest))
 
 
+@quiet_beneath  # (its start fits say nothing of their own: with progress=False they wrote "[0.0 s] fitting …" to stderr)
 @checked_arguments(progress=progress_line_flag)
 def sample_hierarchical(
     circuit: Circuit | str,
@@ -1193,7 +1196,7 @@ def sample_hierarchical(
     t0 = time.perf_counter()
     lay, dat, init_pos, trial_index = _setup(
         circuit, data, per_trial=per_trial, session_dim=session_dim, reparametrization=reparametrization, fixed=fixed, discrepancy=discrepancy,
-        session_spread_scale=session_spread_scale, chains=chains, parameterisation=parameterisation, seed=seed, registry=registry, init=init,
+        session_spread_scale=session_spread_scale, chains=chains, parameterisation=parameterisation, seed=seed, registry=registry, init=init, progress=progress,
     )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
     announce(f"hierarchical: tracing and compiling the sampler ({chains} chains; 30–70 s the first time, a few seconds once JAX's persistent cache holds it) …", progress)
