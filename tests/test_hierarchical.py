@@ -378,6 +378,29 @@ def test_bad_input(clean, kwargs, error, fragment):
         sample_hierarchical(MODEL, clean, **kwargs)
 
 
+@pytest.mark.parametrize(
+    "option, value, fragment",
+    [
+        ("chains", 0, "chains must be at least 1, got 0"),  # was IndexError: list index out of range
+        ("warmup", -1, "warmup must be at least 1, got -1"),  # was a TypeError from JAX's broadcast_in_dim
+        ("draws", 0, "draws must be at least 1, got 0"),  # was a posterior of no draws (NaN summaries)
+        ("draws", 2.5, r"draws must be an integer, got 2.5"),  # was taken as 2
+        ("target_accept", 1.5, "target_accept is NUTS's target acceptance rate, strictly between 0 and 1"),  # was taken
+        ("seed", -1, "seed must be at least 0, got -1"),  # was NumPy's ValueError
+        ("session_spread_scale", -1.0, "session_spread_scale must be positive"),  # was taken
+        ("per_trial", (), "per_trial is empty: name at least one parameter drawn per trial, of R0, R1, CPE1.Q"),  # was NumPy's 'need at least one array to stack'
+        ("per_trial", "R1", r"per_trial must be a list"),  # was read letter by letter: "per-trial parameter 'R'"
+        ("per_trial", ("R1", "R1"), "per_trial names R1 more than once"),
+    ],
+)
+def test_bad_settings_are_parameter_errors_naming_them(clean, option, value, fragment):
+    """Each setting outside its range is refused before any fit with a ParameterError naming it
+    (until 2026-12-06 none was checked: Python, NumPy or JAX errors from deep inside, or a run
+    that silently did something else; the comment of each case says what)."""
+    with pytest.raises(ix.ParameterError, match=fragment):
+        sample_hierarchical(MODEL, clean, progress=False, **{**SETTINGS, option: value})
+
+
 def test_a_batch_init_of_other_trials_is_refused(rng):
     """init=batch of the same frequencies but other impedances centred the priors and set the
     noise from other data without a word; it is refused as `compare` refuses such fits."""

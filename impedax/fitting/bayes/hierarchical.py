@@ -51,7 +51,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ...arguments import checked_arguments, progress_line_flag, refuse_unknown_keywords
+from ...arguments import MAX_SAMPLER_STEPS, checked_arguments, count, progress_line_flag, real, refuse_unknown_keywords, sequence_of, seed as seed_rule
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
 from ...data import column_width, make_spectrum, report_text
 from ...errors import DataError, FitError, ParameterError
@@ -1024,6 +1024,13 @@ def _setup(circuit, data, *, per_trial, session_dim, reparametrization, fixed, d
     replaced = set(rp.replaces) if rp is not None else set()
     free = [n for n in circuit.parameter_names(registry) if n not in fixed and n not in replaced]
     known = free + (list(rp.names) if rp is not None else [])
+    if isinstance(per_trial, str):  # ('R1' was read letter by letter: "per-trial parameter 'R'")
+        raise ParameterError(f"per_trial must be a list of parameter names, e.g. per_trial=({per_trial!r},); got the string {per_trial!r}")
+    if not per_trial:
+        raise ParameterError(f"per_trial is empty: name at least one parameter drawn per trial, of {', '.join(known)}")
+    repeated = sorted({n for n in per_trial if list(per_trial).count(n) > 1})
+    if repeated:
+        raise ParameterError(f"per_trial names {', '.join(repeated)} more than once")
     for name in per_trial:
         if name not in known:
             raise ParameterError(f"per-trial parameter {name!r} is not a free parameter of {circuit}; free: {', '.join(known)}")
@@ -1149,8 +1156,19 @@ def _total_sd(basis, rest) -> np.ndarray:
     return np.sqrt(np.stack([(b.real**2).sum(axis=0), (b.imag**2).sum(axis=0)]) + np.asarray(rest))
 
 
+def _acceptance_rate(value, name):
+    """NUTS's target acceptance rate: a number strictly between 0 and 1."""
+    value = real()(value, name)
+    if not 0.0 < value < 1.0:
+        raise ParameterError(f"{name} is NUTS's target acceptance rate, strictly between 0 and 1 (default {TARGET_ACCEPT}; 0.95 for fewer divergent transitions), got {value:g}")
+    return value
+
+
 @quiet_beneath  # (its start fits say nothing of their own: with progress=False they wrote "[0.0 s] fitting …" to stderr)
-@checked_arguments(progress=progress_line_flag)
+@checked_arguments(
+    per_trial=sequence_of(str, what="parameter name, e.g. per_trial=('R1',)"), chains=count(1, 1024), warmup=count(1, MAX_SAMPLER_STEPS), draws=count(1, MAX_SAMPLER_STEPS),
+    target_accept=_acceptance_rate, session_spread_scale=real(positive=True), seed=seed_rule, progress=progress_line_flag,
+)
 def sample_hierarchical(
     circuit: Circuit | str,
     data: xr.Dataset,
