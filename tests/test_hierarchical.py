@@ -192,6 +192,45 @@ def test_progress_other_values_are_refused_naming_it(clean, value):
         sample_hierarchical(MODEL, clean, seed=1, progress=value, **SETTINGS)
 
 
+def test_warnings_cover_the_shared_parameters_and_delta(clean_post):
+    """R-hat and ESS warned of μ and the spreads only: a shared parameter whose chains disagree
+    (R0 ≈ 10 Ω in one chain, 12 Ω in the other: between-chain variance ≫ within, so split-R̂ ≫
+    1.05 by construction) or that barely moves (a random walk: ESS ≪ 100) went unsaid, and so did
+    δ's R-hat. Draws written here; the same draws iid in both chains raise no such warning (split-R̂
+    of 2 × 200 iid normals is 1 ± 0.01, ESS ≈ 400)."""
+    import dataclasses
+
+    rng = np.random.default_rng(0)
+    chains, draws = clean_post.shared.shape[:2]
+    j = clean_post.shared_names.index("R0")
+
+    def with_r0(r0):
+        shared = np.array(clean_post.shared)
+        shared[..., j] = r0
+        return dataclasses.replace(clean_post, shared=shared)
+
+    iid = 10.0 * np.exp(0.01 * rng.standard_normal((chains, draws)))
+    assert not [w for w in with_r0(iid).warnings if ("R-hat" in w or "effective sample size" in w) and "R0" in w]
+    apart = iid * np.array([1.0, 1.2])[:, None]
+    assert any(w.startswith("R-hat above 1.05 for") and "R0" in w for w in with_r0(apart).warnings)
+    walk = 10.0 * np.exp(0.01 * np.cumsum(rng.standard_normal((chains, draws)), axis=1) / np.sqrt(draws))
+    walk = walk / np.exp(np.log(walk).mean(axis=1, keepdims=True)) * 10.0  # (the chains agree in mean: ESS alone)
+    assert any(w.startswith("effective sample size below 100 for") and "R0" in w for w in with_r0(walk).warnings)
+    delta = np.array(clean_post.delta) * np.array([1.0, 100.0])[:, None]  # (ln 100 = 4.6, beyond the spread of ln δ)
+    assert any(w.startswith("R-hat above 1.05 for") and "delta" in w for w in dataclasses.replace(clean_post, delta=delta).warnings)
+
+
+def test_divergence_warning_names_the_remedy(clean_post):
+    """The warning said "run longer warm-up"; NUTS's remedy for divergent transitions is a higher
+    target acceptance (smaller steps, Stan's adapt_delta), which `gap_analysis` itself applies:
+    the warning now names target_accept and the draws the count is of."""
+    import dataclasses
+
+    post = dataclasses.replace(clean_post, divergences=7)
+    (warning,) = [w for w in post.warnings if "divergent" in w]
+    assert f"7 divergent NUTS transitions of {post.mu.shape[0] * post.mu.shape[1]} draws" in warning and "target_accept" in warning
+
+
 def test_a_small_block_capacity_draws_the_same(clean, clean_post, monkeypatch):
     """A call runs at most `BLOCK_CAPACITY` steps, its keys, schedule and draws in arrays of that
     length: with a capacity of 8 the 200 warm-up steps and 200 draws run as 25 + 25 calls and

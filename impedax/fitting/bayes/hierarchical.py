@@ -811,15 +811,32 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         out.update({f"spread[{n}]": float(r) for n, r in zip(self.trial_names, _rhat(np.log(self.spread)))})
         return out
 
+    def _other_mixing(self) -> tuple[dict[str, float], dict[str, float]]:
+        """(R-hat, ESS) of what `rhat` and `ess` leave out: each shared parameter (in the space it
+        is sampled in: ln φ, or the logit within its bounds, where R-hat is the same up to the
+        monotone map) and R-hat of δ. Only the warnings read them: `rhat` and `ess` keep their
+        keys, which `impedax gap`'s verdict reads."""
+        rhat, ess = {}, {}
+        for j, n in enumerate(self.shared_names):
+            x = self.shared[..., j]
+            lo, hi, _ = self._bounds_and_unit(n)
+            y = np.log(np.clip((x - lo) / (hi - x), 1e-300, None)) if math.isfinite(hi) else np.log(np.clip(x, 1e-300, None))
+            rhat[n], ess[n] = float(_rhat(y)), float(_ess(y))
+        if self.discrepancy:
+            rhat["delta"] = float(_rhat(np.log(self.delta)))
+        return rhat, ess
+
     @property
     def warnings(self) -> tuple[str, ...]:
         notes = []
         if self.divergences:
-            notes.append(f"{self.divergences} divergent NUTS transitions: the intervals may be biased; run longer warm-up")
-        bad = [k for k, r in self.rhat().items() if not r < 1.05]
+            notes.append(f"{self.divergences} divergent NUTS transitions of {self.n_draws} draws: the intervals may be biased; sample with a higher "
+                         f"target_accept (smaller steps: 0.95 or 0.99, the default {TARGET_ACCEPT}) or a longer warmup")
+        other_rhat, other_ess = self._other_mixing()
+        bad = [k for k, r in {**self.rhat(), **other_rhat}.items() if not r < 1.05]
         if bad:
             notes.append(f"R-hat above 1.05 for {', '.join(bad)}: chains disagree, run more draws")
-        low = [k for k, e in self.ess().items() if e < 100]
+        low = [k for k, e in {**self.ess(), **other_ess}.items() if e < 100]
         if low:
             notes.append(f"effective sample size below 100 for {', '.join(low)}")
         notes.extend(self._prior_edges.warnings)
