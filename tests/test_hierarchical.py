@@ -231,6 +231,21 @@ def test_divergence_warning_names_the_remedy(clean_post):
     assert f"7 divergent NUTS transitions of {post.mu.shape[0] * post.mu.shape[1]} draws" in warning and "target_accept" in warning
 
 
+def test_report_gives_units_and_the_sampler_diagnostics(clean_post):
+    """The report's rows had no unit and it said nothing of the sampling's health unless a
+    warning fired (`sample`'s report has a unit column): each row now ends with its parameter's
+    unit (a resistor's Ω, a CPE's Q in F s^(α-1), α dimensionless: none), the shared rows say
+    "shared", and a line gives the divergent transitions of all draws (2 chains × 200), R-hat
+    and ESS, and what "spread" is."""
+    lines = clean_post.report().splitlines()
+    row = {line.split()[0]: line for line in lines if line.split() and line.split()[0] in ("R1", "CPE1.Q", "R0", "CPE1.alpha")}
+    assert row["R1"].endswith(" Ω") and row["CPE1.Q"].endswith(" F s^(α-1)") and row["R0"].endswith(" Ω")
+    assert row["R0"].split()[4] == "shared" and row["CPE1.alpha"].split()[-1] == "shared"
+    assert lines[2].split()[-1] == "unit"
+    assert lines[1].startswith(f"sampler: {clean_post.divergences} divergent transitions of 400 draws, R-hat up to ")
+    assert any(line.startswith("population: the median over trials") and "spread: sd of ln between trials" in line for line in lines)
+
+
 def test_a_small_block_capacity_draws_the_same(clean, clean_post, monkeypatch):
     """A call runs at most `BLOCK_CAPACITY` steps, its keys, schedule and draws in arrays of that
     length: with a capacity of 8 the 200 warm-up steps and 200 draws run as 25 + 25 calls and

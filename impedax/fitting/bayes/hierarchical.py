@@ -53,7 +53,7 @@ import xarray as xr
 
 from ...arguments import MAX_SAMPLER_STEPS, checked_arguments, count, progress_line_flag, real, refuse_unknown_keywords, sequence_of, seed as seed_rule
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
-from ...data import column_width, make_spectrum, report_text
+from ...data import column_width, make_spectrum, report_text, unit_text
 from ...errors import DataError, FitError, ParameterError
 from ...progress import quiet_beneath
 from ..derived import draw_indices
@@ -896,17 +896,22 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
 
     def report(self) -> str:
         lines = [f"{self.model}: hierarchical model over {self.z_data.shape[0]} trials" + (f" in {self.sessions} sessions" if self.sessions > 1 else "") + f", NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws ({self.elapsed_s:.1f} s)"]
+        rhat, ess = self._other_mixing()
+        rhat, ess = {**self.rhat(), **rhat}, {**self.ess(), **ess}
+        lines.append(f"sampler: {self.divergences} divergent transitions of {self.n_draws} draws, R-hat up to {max(rhat.values()):.3f}, ESS down to {min(ess.values()):.0f}, "
+                     f"mean acceptance {self.mean_acceptance:.2f}")
         width = column_width((*self.trial_names, *self.shared_names), 14)
-        lines.append(f"{'parameter':<{width}} {'population':>11} {'q05':>11} {'q95':>11} {'spread':>8} {'new trial q05–q95':>25}")
+        lines.append(f"{'parameter':<{width}} {'population':>11} {'q05':>11} {'q95':>11} {'spread':>8} {'new trial q05–q95':>25}  unit")
         for n in self.trial_names:
             p, s, t = self.population(n), self.spread_between_trials(n), self.new_trial(n)
-            lines.append(f"{n:<{width}} {p['value']:>11.5g} {p['q05']:>11.5g} {p['q95']:>11.5g} {s['value']:>8.3f} {t['q05']:>12.5g}–{t['q95']:<12.5g}")
+            lines.append(f"{n:<{width}} {p['value']:>11.5g} {p['q05']:>11.5g} {p['q95']:>11.5g} {s['value']:>8.3f} {t['q05']:>12.5g}–{t['q95']:<12.5g}  {unit_text(self._bounds_and_unit(n)[2])}".rstrip())
         for j, n in enumerate(self.shared_names):
             q = _interval(self.shared[..., j].ravel(), 0.9)
-            lines.append(f"{n:<{width}} {q['value']:>11.5g} {q['q05']:>11.5g} {q['q95']:>11.5g}   (shared)")
+            lines.append(f"{n:<{width}} {q['value']:>11.5g} {q['q05']:>11.5g} {q['q95']:>11.5g} {'shared':>8} {'':>25}  {unit_text(self._bounds_and_unit(n)[2])}".rstrip())
         if self.discrepancy:
             q = _interval(self.delta.ravel(), 0.9)
             lines.append(f"{'discrepancy δ':<{width}} {q['value']:>11.3g} {q['q05']:>11.3g} {q['q95']:>11.3g}   (relative floor; noise from trial scatter ν median {np.median(self.nu):.3g})")
+        lines.append("population: the median over trials (geometric mean), q05–q95 its 90 % interval; spread: sd of ln between trials (≈ relative sd)")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
