@@ -105,6 +105,7 @@ _LAZY = {
     "Posterior": (".fitting", "Posterior"),
     "SharedPosterior": (".fitting", "SharedPosterior"),
     "HierarchicalPosterior": (".fitting.bayes.hierarchical", "HierarchicalPosterior"),
+    "sample_hierarchical": (".fitting.bayes.hierarchical", "sample_hierarchical"),
     "Prior": (".fitting", "Prior"),
     "Refinement": (".fitting", "Refinement"),
     "Reparametrization": (".fitting", "Reparametrization"),
