@@ -246,6 +246,21 @@ def test_report_gives_units_and_the_sampler_diagnostics(clean_post):
     assert any(line.startswith("population: the median over trials") and "spread: sd of ln between trials" in line for line in lines)
 
 
+def test_notebook_display(clean_post):
+    """A notebook showed the dataclass's repr of the draws (no ``_repr_html_``); it now shows the
+    report's content: the sampler's line, a row per quantity with its unit (R1 in Ω), the shared
+    ones marked, δ, the warnings."""
+    import html
+
+    page = clean_post._repr_html_()
+    assert page.startswith('<div class="impedax-result">') and "hierarchical posterior over 8 trials" in page
+    assert f"sampler: {clean_post.divergences} divergent transitions of 400 draws" in page
+    assert "<td>R1</td>" in page and "<td>Ω</td>" in page and "<td>shared</td>" in page and "discrepancy δ" in page
+    assert f"{clean_post.population('R1')['value']:.5g}" in page
+    for warning in clean_post.warnings:
+        assert html.escape(warning) in page
+
+
 def test_a_small_block_capacity_draws_the_same(clean, clean_post, monkeypatch):
     """A call runs at most `BLOCK_CAPACITY` steps, its keys, schedule and draws in arrays of that
     length: with a capacity of 8 the 200 warm-up steps and 200 draws run as 25 + 25 calls and

@@ -894,12 +894,37 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             "fixed": {n: float(v) for n, v in self.fixed.items()},
         }
 
-    def report(self) -> str:
-        lines = [f"{self.model}: hierarchical model over {self.z_data.shape[0]} trials" + (f" in {self.sessions} sessions" if self.sessions > 1 else "") + f", NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws ({self.elapsed_s:.1f} s)"]
+    def _sampler_line(self) -> str:
+        """The sampling's health in one line (the report's second, the notebook's first)."""
         rhat, ess = self._other_mixing()
         rhat, ess = {**self.rhat(), **rhat}, {**self.ess(), **ess}
-        lines.append(f"sampler: {self.divergences} divergent transitions of {self.n_draws} draws, R-hat up to {max(rhat.values()):.3f}, ESS down to {min(ess.values()):.0f}, "
-                     f"mean acceptance {self.mean_acceptance:.2f}")
+        return (f"sampler: {self.divergences} divergent transitions of {self.n_draws} draws, R-hat up to {max(rhat.values()):.3f}, ESS down to {min(ess.values()):.0f}, "
+                f"mean acceptance {self.mean_acceptance:.2f}")
+
+    def _repr_html_(self) -> str:
+        """The report in a notebook: the sampler's line, a row per quantity (population median
+        and its 90 % interval, spread between trials, a new trial's 90 % interval, unit; shared
+        ones marked), δ, the warnings."""
+        from ...plotting.html import result_html
+
+        rows = []
+        for n in self.trial_names:
+            p, s, t = self.population(n), self.spread_between_trials(n), self.new_trial(n)
+            rows.append({"parameter": n, "population": p["value"], "q05": p["q05"], "q95": p["q95"], "spread (sd of ln)": s["value"],
+                         "new trial q05": t["q05"], "new trial q95": t["q95"], "unit": unit_text(self._bounds_and_unit(n)[2])})
+        for j, n in enumerate(self.shared_names):
+            q = _interval(self.shared[..., j].ravel(), 0.9)
+            rows.append({"parameter": n, "population": q["value"], "q05": q["q05"], "q95": q["q95"], "spread (sd of ln)": "shared", "unit": unit_text(self._bounds_and_unit(n)[2])})
+        if self.discrepancy:
+            q = _interval(self.delta.ravel(), 0.9)
+            rows.append({"parameter": "discrepancy δ (relative)", "population": q["value"], "q05": q["q05"], "q95": q["q95"]})
+        sessions = f" in {self.sessions} sessions" if self.sessions > 1 else ""
+        title = f"{self.model}: hierarchical posterior over {self.z_data.shape[0]} trials{sessions}, NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws"
+        return result_html(title, rows, lines=[self._sampler_line(), *self.warnings])
+
+    def report(self) -> str:
+        lines = [f"{self.model}: hierarchical model over {self.z_data.shape[0]} trials" + (f" in {self.sessions} sessions" if self.sessions > 1 else "") + f", NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws ({self.elapsed_s:.1f} s)"]
+        lines.append(self._sampler_line())
         width = column_width((*self.trial_names, *self.shared_names), 14)
         lines.append(f"{'parameter':<{width}} {'population':>11} {'q05':>11} {'q95':>11} {'spread':>8} {'new trial q05–q95':>25}  unit")
         for n in self.trial_names:
