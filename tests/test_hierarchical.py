@@ -261,6 +261,33 @@ def test_notebook_display(clean_post):
         assert html.escape(warning) in page
 
 
+def test_population_figure(clean, clean_post):
+    """A hierarchical posterior had no figure at all (`sample`'s has its bands). `plot()`: a panel
+    per per-trial quantity, its unit on the axis, each trial's posterior median (the median of
+    its stored draws, numpy) with its 90 % interval, the population median as a line, the trials
+    named by their coordinate, the noise model in the title."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = clean_post.plot()
+    try:
+        axes = fig.axes
+        assert [ax.get_ylabel() for ax in axes] == ["R1 [Ω]", "CPE1.Q [F s^(α-1)]", "R2 [Ω]", "CPE2.Q [F s^(α-1)]"]
+        draws = np.asarray(clean_post.trial_values).reshape(-1, 8, 4)
+        for j, ax in enumerate(axes):
+            points = [line for line in ax.get_lines() if line.get_marker() == "o"]
+            np.testing.assert_allclose(points[0].get_ydata(), np.median(draws[:, :, j], axis=0), rtol=1e-12)
+            level = [line.get_ydata()[0] for line in ax.get_lines() if line.get_marker() != "o" and len(set(line.get_ydata())) == 1]
+            assert np.median(np.exp(np.asarray(clean_post.mu)[..., j])) == pytest.approx(level[0], rel=1e-12)
+        assert [t.get_text() for t in axes[-1].get_xticklabels()] == [str(v) for v in clean["trial"].values]
+        title = fig._suptitle.get_text()
+        assert "8 trials" in title and "noise ν_k from the trials' scatter" in title and "δ" in title
+    finally:
+        plt.close(fig)
+
+
 def test_a_small_block_capacity_draws_the_same(clean, clean_post, monkeypatch):
     """A call runs at most `BLOCK_CAPACITY` steps, its keys, schedule and draws in arrays of that
     length: with a capacity of 8 the 200 warm-up steps and 200 draws run as 25 + 25 calls and

@@ -922,6 +922,24 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         title = f"{self.model}: hierarchical posterior over {self.z_data.shape[0]} trials{sessions}, NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws"
         return result_html(title, rows, lines=[self._sampler_line(), *self.warnings])
 
+    def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None):
+        """The population (matplotlib Figure): a panel per per-trial quantity, log axis in its
+        unit, each trial's posterior median and 90 % interval, the population median with its
+        90 % interval and a new trial's 90 % interval as bands; the title names the noise model
+        (ν_k from the trials' scatter, δ floor). ``figsize`` (width, height) [in]."""
+        from ...plotting.hierarchical import plot_population
+
+        names = self.trial_names
+        index = self.trial_index.to_index()
+        keys = [key if isinstance(key, tuple) else (key,) for key in index]
+        labels = [str(key[0]) if len(key) == 1 else ", ".join(f"{n}={v}" for n, v in zip(index.names, key)) for key in keys]
+        draws = self.trial_values.reshape(-1, *self.trial_values.shape[2:])
+        noise = "noise ν_k from the trials' scatter" + (" + discrepancy floor δ" if self.discrepancy else "")
+        return plot_population(
+            names, [self._bounds_and_unit(n)[2] for n in names], draws, {n: self.population(n) for n in names}, {n: self.new_trial(n) for n in names}, labels, xlabel=", ".join(str(n) for n in index.names),
+            title=title or f"{self.model}: {self.z_data.shape[0]} trials, NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws\n{noise}", figsize=figsize,
+        )
+
     def report(self) -> str:
         lines = [f"{self.model}: hierarchical model over {self.z_data.shape[0]} trials" + (f" in {self.sessions} sessions" if self.sessions > 1 else "") + f", NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws ({self.elapsed_s:.1f} s)"]
         lines.append(self._sampler_line())

@@ -1,0 +1,38 @@
+"""The figure of a hierarchical posterior (`HierarchicalPosterior.plot`): its population."""
+
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ..data import unit_text
+
+__all__ = ["plot_population"]
+
+
+def plot_population(names: Sequence[str], units: Sequence[str], trial_draws: np.ndarray, population: Mapping[str, Mapping[str, float]],
+                    new_trial: Mapping[str, Mapping[str, float]], trial_labels: Sequence[str], *, title: str, xlabel: str = "trial", figsize=None):
+    """A panel per per-trial quantity (log axis, its unit): each trial's posterior median with its
+    90 % interval (``trial_draws`` (draws, trials, quantities)), the population median and its
+    90 % interval (``population[name]``: value, q05, q95) as a line in a dark band, a new trial's
+    90 % interval (``new_trial[name]``) as a light band. Returns the Figure."""
+    k, t = len(names), trial_draws.shape[1]
+    fig, axes = plt.subplots(k, 1, figsize=figsize or (max(7.0, 0.35 * t + 2.5), 0.8 + 2.2 * k), sharex=True, squeeze=False, layout="constrained")
+    x = np.arange(t)
+    for j, (ax, name, unit) in enumerate(zip(axes[:, 0], names, units)):
+        lo, med, hi = np.quantile(trial_draws[:, :, j], [0.05, 0.5, 0.95], axis=0)
+        new, pop = new_trial[name], population[name]
+        ax.axhspan(new["q05"], new["q95"], color="C0", alpha=0.12, label="new trial, 90 %")
+        ax.axhspan(pop["q05"], pop["q95"], color="C0", alpha=0.3, label="population median, 90 %")
+        ax.axhline(pop["value"], color="C0", lw=1.2)
+        ax.errorbar(x, med, yerr=[med - lo, hi - med], fmt="o", color="k", ms=3.5, capsize=2, label="each trial: median, 90 %")
+        ax.set_yscale("log")
+        shown = unit_text(unit)
+        ax.set_ylabel(f"{name} [{shown}]" if shown else name)
+    axes[0, 0].legend(loc="best", fontsize="small")
+    axes[-1, 0].set_xticks(x, list(trial_labels), rotation=90 if t > 12 else 0)
+    axes[-1, 0].set_xlabel(xlabel)
+    fig.suptitle(title)
+    return fig
