@@ -585,3 +585,28 @@ def test_prior_edges_of_the_population_medians_and_shared_parameters(tmp_path):
     assert back.piled_up == post.piled_up and back.warnings == post.warnings
     older = _constructed_edges_posterior(centres=False)
     assert older.piled_up == {"CPE1.alpha": "upper"}
+
+
+def test_population_figure_stands_long_trial_labels_upright():
+    """Trials of a session level are labelled "session=0, trial=0": eight of them ran into each
+    other along the axis (SYNTHETIC 2 × 4 trials read back from a file); long labels now stand
+    upright and the figure grows by their length. Arrays written here, no sampling."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from impedax.plotting.hierarchical import plot_population
+
+    draws = np.exp(np.random.default_rng(0).normal(np.log(100.0), 0.1, (50, 8, 1)))
+    band = {"R1": {"value": 100.0, "q05": 95.0, "q95": 105.0}}
+    wide = {"R1": {"value": 100.0, "q05": 80.0, "q95": 125.0}}
+    short = plot_population(["R1"], ["Ohm"], draws, band, wide, [str(i) for i in range(8)], title="t")
+    long = plot_population(["R1"], ["Ohm"], draws, band, wide, [f"session={i // 4}, trial={i % 4}" for i in range(8)], title="t", xlabel="session, trial")
+    try:
+        assert short.axes[0].get_xticklabels()[0].get_rotation() == 0.0 and long.axes[0].get_xticklabels()[0].get_rotation() == 90.0
+        assert long.get_size_inches()[1] > short.get_size_inches()[1] + 1.0
+        assert long.axes[0].get_ylabel() == "R1 [Ω]" and long.axes[0].get_xlabel() == "session, trial"
+    finally:
+        plt.close(short)
+        plt.close(long)

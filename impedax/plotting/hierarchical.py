@@ -19,7 +19,10 @@ def plot_population(names: Sequence[str], units: Sequence[str], trial_draws: np.
     90 % interval (``population[name]``: value, q05, q95) as a line in a dark band, a new trial's
     90 % interval (``new_trial[name]``) as a light band. Returns the Figure."""
     k, t = len(names), trial_draws.shape[1]
-    fig, axes = plt.subplots(k, 1, figsize=figsize or (max(7.0, 0.35 * t + 2.5), 0.8 + 2.2 * k), sharex=True, squeeze=False, layout="constrained")
+    longest = max(map(len, trial_labels), default=0)
+    crowded = t > 12 or longest * t > 60  # (characters across ~7 in: the labels stand upright, the figure grows by their length)
+    label_room = 0.09 * longest if crowded else 0.0
+    fig, axes = plt.subplots(k, 1, figsize=figsize or (max(7.0, 0.35 * t + 2.5), 0.8 + 2.2 * k + label_room), sharex=True, squeeze=False, layout="constrained")
     x = np.arange(t)
     for j, (ax, name, unit) in enumerate(zip(axes[:, 0], names, units)):
         lo, med, hi = np.quantile(trial_draws[:, :, j], [0.05, 0.5, 0.95], axis=0)
@@ -32,7 +35,7 @@ def plot_population(names: Sequence[str], units: Sequence[str], trial_draws: np.
         shown = unit_text(unit)
         ax.set_ylabel(f"{name} [{shown}]" if shown else name)
     axes[0, 0].legend(loc="best", fontsize="small")
-    axes[-1, 0].set_xticks(x, list(trial_labels), rotation=90 if t > 12 else 0)
+    axes[-1, 0].set_xticks(x, list(trial_labels), rotation=90 if crowded else 0)
     axes[-1, 0].set_xlabel(xlabel)
     fig.suptitle(title)
     return fig
