@@ -610,3 +610,14 @@ def test_population_figure_stands_long_trial_labels_upright():
     finally:
         plt.close(short)
         plt.close(long)
+
+
+def test_summary_gives_units_and_the_run_size(clean_post):
+    """summary() gave numbers without units and not the run's size: it now adds ``units`` (the
+    element's: a resistor in Ohm, a CPE's Q in F s^(alpha-1), α dimensionless "1"), ``chains``,
+    ``draws`` per chain (2 and 200: the settings) and ``mean_acceptance``; the keys it had stay."""
+    summary = clean_post.summary()
+    assert summary["units"] == {"R1": "Ohm", "CPE1.Q": "F s^(alpha-1)", "R2": "Ohm", "CPE2.Q": "F s^(alpha-1)", "R0": "Ohm", "CPE1.alpha": "1", "CPE2.alpha": "1"}
+    assert (summary["chains"], summary["draws"]) == (SETTINGS["chains"], SETTINGS["draws"])
+    assert 0.0 < summary["mean_acceptance"] <= 1.0
+    assert {"population", "spread", "new_trial", "shared", "rhat", "ess", "divergences", "warnings", "piled_up", "fixed"} <= set(summary)

@@ -892,6 +892,11 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             "warnings": list(self.warnings),
             "piled_up": self.piled_up,
             "fixed": {n: float(v) for n, v in self.fixed.items()},
+            # (added 2026-12-06: the values above had no unit, and the run's size was not said)
+            "units": {n: self._bounds_and_unit(n)[2] for n in (*self.trial_names, *self.shared_names)},
+            "chains": int(self.mu.shape[0]),
+            "draws": int(self.mu.shape[1]),
+            "mean_acceptance": float(self.mean_acceptance),
         }
 
     def _sampler_line(self) -> str:
