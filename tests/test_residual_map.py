@@ -156,12 +156,17 @@ def test_the_rms_panel_of_equal_fits_reads_plain_numbers_around_their_value():
         plt.close(fig)
 
 
-def test_the_rms_panel_goes_log_when_one_fit_is_decades_off():
-    # (SYNTHETIC: a 1000 % outlier at one point of one spectrum puts its rms_rel ~100× the others')
-    data = series(False)
-    z = data["Z"].values.copy()
+def outlier_series():
+    """SYNTHETIC: `series` without the second arc, one point of cycle 3 ×11 (a 1000 % outlier),
+    and its batch fit: (Z, batch)."""
+    z = series(False)["Z"].values.copy()
     z[3, 20] *= 11
-    batch = fitted(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": np.arange(6)}))
+    return z, fitted(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": np.arange(6)}))
+
+
+def test_the_rms_panel_goes_log_when_one_fit_is_decades_off():
+    # (the outlier puts cycle 3's rms_rel ~100× the others')
+    _, batch = outlier_series()
     fig = batch.plot_residual_map()
     try:
         ax_rms = fig.axes[2]
@@ -177,10 +182,7 @@ def test_the_rms_panel_goes_log_when_one_fit_is_decades_off():
 def test_the_colour_bar_says_where_the_colour_saturates():
     # (SYNTHETIC: one point of one spectrum ×11, a 1000 % outlier far beyond the 99th percentile;
     # the bar's ends are arrows and its label names the largest |residual|, from numpy)
-    data = series(False)
-    z = data["Z"].values.copy()
-    z[3, 20] *= 11
-    batch = fitted(ix.make_spectrum(F, z, dims=("cycle",), coords={"cycle": np.arange(6)}))
+    z, batch = outlier_series()
     fig = batch.plot_residual_map()
     try:
         bar = fig.axes[-1]
