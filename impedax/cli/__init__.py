@@ -283,6 +283,29 @@ def _end_program(code: int) -> NoReturn:
     os._exit(code)
 
 
+def _repeated_file(subparser: argparse.ArgumentParser, argv: list[str]) -> str | None:
+    """The error when an option that takes one file (``--out``, ``--plot``, ``-o``, ...: its
+    value named FILE…, FIG… or OUT…) is given more than once, naming each value; else None.
+    argparse kept the last, so ``impedax fit DATA --out a.csv --out a.json`` wrote a.json alone
+    and said nothing of a.csv (a walkthrough, 2026-12-06): the command now stops (exit 2)."""
+    for action in subparser._actions:
+        metavar = action.metavar if isinstance(action.metavar, str) else ""
+        if not action.option_strings or not isinstance(action, argparse._StoreAction) or not metavar.startswith(("FILE", "FIG", "OUT")):
+            continue
+        given = []
+        for k, word in enumerate(argv):
+            for flag in action.option_strings:
+                if word == flag and k + 1 < len(argv):
+                    given.append(argv[k + 1])
+                elif flag.startswith("--") and word.startswith(flag + "="):
+                    given.append(word[len(flag) + 1:])
+        if len(given) > 1:
+            flag = action.option_strings[-1]
+            return (f"{flag} given {len(given)} times ({', '.join(given)}): it takes one file, and only the last would be written or read; "
+                    f"give {flag} once (a result in several formats: run the command once per file, or write the others with impedax.write_result)")
+    return None
+
+
 def _subparser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
     return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
 
@@ -480,6 +503,10 @@ def _run(argv: list[str], command: list[str]) -> int:
     if unknown:
         _refuse_unknown(parser, args.command, unknown, getattr(args, "model", None))
     positional_model(_subparser(parser, args.command), args)
+    repeated = _repeated_file(_subparser(parser, args.command), argv)
+    if repeated:
+        print(f"impedax {args.command}: error: {repeated}", file=sys.stderr)
+        return 2
     _configure_jax_cache()
     try:
         _load_plugins(args)
