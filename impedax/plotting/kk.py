@@ -134,8 +134,9 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     residual magnitude ``magnitudes`` (spectra × frequency, fractions of |Z|) as a map over the
     spectra (x, in batch order, marked with their labels) and frequency (y, log), each flagged
     point circled, and each spectrum's rms_rel and noise estimate below, the spectra not valid in
-    red; ``residual``: what the magnitudes are, for the colour bar. Where a measurement went wrong across a series (a spike at one frequency in many cycles,
-    a drifting end) shows at a glance, where the text gives a line per spectrum."""
+    red; ``residual``: what the magnitudes are, for the colour bar. Where a measurement went
+    wrong across a series (a spike at one frequency in many cycles, a drifting end) shows at a
+    glance, where the text gives a line per spectrum."""
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
 
