@@ -1068,6 +1068,16 @@ class SpectraLocator(Locator):
         return np.arange(math.ceil(first / step) * step, last + 1, step, dtype=float)
 
 
+def frequency_cell_edges(f: np.ndarray) -> np.ndarray:
+    """The edges of a map's cells around ascending frequencies ``f`` [Hz]: halfway (in log f)
+    between neighbours, the outer ones as far beyond the ends (±20 % for one frequency); the
+    KK/Z-HIT and residual maps of a batch (`plotting.kk`, `plotting.fit`)."""
+    if f.size < 2:
+        return np.array([f[0] / 1.2, f[0] * 1.2])
+    inner = np.sqrt(f[1:] * f[:-1])
+    return np.concatenate([[f[0] ** 2 / inner[0]], inner, [f[-1] ** 2 / inner[-1]]])
+
+
 def label_spectra_axis(ax, labels: Sequence[str], dims: Sequence[str]) -> None:
     """Mark an x axis whose positions 0, 1, ... are the spectra of a batch with their labels
     (``129``, or ``1, 2`` over several dimensions): every spectrum, or every k-th where their

@@ -374,7 +374,7 @@ def plot_residual_map(batch, *, title: str | None = None):
     import matplotlib.pyplot as plt
     from matplotlib.colors import Normalize
 
-    from . import characters_across, label_spectra_axis, plain_linear_ticks, plain_log_ticks, wrap_model
+    from . import characters_across, frequency_cell_edges, label_spectra_axis, plain_linear_ticks, plain_log_ticks, wrap_model
 
     ds = batch.dataset
     dims = tuple(batch.dims)
@@ -384,12 +384,11 @@ def plot_residual_map(batch, *, title: str | None = None):
     z = ds["Z"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)[:, order]
     z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)[:, order]
     relative = (z - z_model) / np.abs(z) * 100
-    inner = np.sqrt(f[1:] * f[:-1])
-    f_edges = np.concatenate([[f[0] ** 2 / inner[0]], inner, [f[-1] ** 2 / inner[-1]]]) if f.size > 1 else np.array([f[0] / 1.2, f[0] * 1.2])
+    f_edges = frequency_cell_edges(f)
     x_edges = np.arange(batch.n_spectra + 1) - 0.5
-    finite = np.abs(np.concatenate([relative.real.ravel(), relative.imag.ravel()]))
-    finite = finite[np.isfinite(finite)]
-    scale = float(np.percentile(finite, 99)) if finite.size else 1.0
+    parts = np.concatenate([relative.real.ravel(), relative.imag.ravel()])
+    parts = parts[np.isfinite(parts)]
+    scale = float(np.percentile(np.abs(parts), 99)) if parts.size else 1.0
     scale = scale if scale > 0 else 1.0
     fig, (ax_re, ax_im, ax_rms) = plt.subplots(3, 1, figsize=(8, 8), height_ratios=[2.2, 2.2, 1.1], sharex=True, layout="constrained")
     norm = Normalize(-scale, scale)
@@ -401,8 +400,6 @@ def plot_residual_map(batch, *, title: str | None = None):
         plain_log_ticks(ax.yaxis)
     # (the saturated ends shown as arrows, and the largest |residual| named: a SYNTHETIC 1000 %
     # outlier drew as ±0.8 % with nothing to say the colour stopped there)
-    parts = np.concatenate([relative.real.ravel(), relative.imag.ravel()])
-    parts = parts[np.isfinite(parts)]
     above, below = bool(parts.size and parts.max() > scale), bool(parts.size and parts.min() < -scale)
     bar = fig.colorbar(mesh, ax=[ax_re, ax_im], shrink=0.9, extend={(True, True): "both", (True, False): "max", (False, True): "min"}.get((above, below), "neither"))
     beyond = f"; beyond it, up to {float(np.max(np.abs(parts))):.3g} %" if above or below else ""

@@ -140,7 +140,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
 
-    from . import label_spectra_axis, plain_log_ticks
+    from . import frequency_cell_edges, label_spectra_axis, plain_log_ticks
     from .fit import MAP_VECTOR_CELLS
 
     results = batch.results
@@ -149,9 +149,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     order = np.argsort(freq)
     f = freq[order]
     values = np.asarray(magnitudes, float)[:, order] * 100
-    # the cells' edges: halfway (geometric) between neighbouring frequencies, and between spectra
-    inner = np.sqrt(f[1:] * f[:-1])
-    f_edges = np.concatenate([[f[0] ** 2 / inner[0]], inner, [f[-1] ** 2 / inner[-1]]]) if f.size > 1 else np.array([f[0] / 1.2, f[0] * 1.2])
+    f_edges = frequency_cell_edges(f)
     x_edges = np.arange(n + 1) - 0.5
     fig, (ax_map, ax_rms) = plt.subplots(2, 1, figsize=(8, 6.5), height_ratios=[3, 1.3], sharex=True, layout="constrained")
     positive = values[np.isfinite(values) & (values > 0)]
