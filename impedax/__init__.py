@@ -179,18 +179,24 @@ def use_compilation_cache(path: str | None = None) -> str | None:
     back instead of compiling again, as the ``impedax`` command does by itself. Call it once,
     before the first fit of a script or notebook. ``path``: the folder (default
     ``IMPEDAX_CACHE_DIR``, else ``~/.cache/impedax/jax``, the command's). Returns the folder,
-    or None when it cannot be created (nothing is changed then)."""
-    import jax
+    or None when it cannot be created (nothing is changed then).
 
+    It does not import JAX: before JAX is imported, the two settings go through the
+    environment variables JAX reads at its import (as ``jax_enable_x64`` does above), so a
+    command that computes nothing (``impedax inspect``, ``info``) never loads JAX."""
     folder = path or _os.environ.get("IMPEDAX_CACHE_DIR") or _os.path.join(_os.path.expanduser("~"), ".cache", "impedax", "jax")
     try:
         _os.makedirs(folder, exist_ok=True)
     except OSError:
         return None
-    jax.config.update("jax_compilation_cache_dir", folder)
     # programs compiled in 0.05 s or more are kept: reading one back costs less (the single
     # fit's chi² evaluator compiles in ~0.13 s with `stored.QUICK_COMPILE`)
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.05)
+    settings = {"jax_compilation_cache_dir": folder, "jax_persistent_cache_min_compile_time_secs": 0.05}
+    for name, value in settings.items():
+        if "jax" in _sys.modules:
+            _sys.modules["jax"].config.update(name, value)
+        else:
+            _os.environ[name.upper()] = str(value)
     return folder
 
 
