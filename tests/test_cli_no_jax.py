@@ -41,3 +41,43 @@ print(json.dumps({{"given": given, "jax_before": before, "dir": jax.config.jax_c
 """)
     assert result == {"given": str(folder), "jax_before": False, "dir": str(folder), "min_s": 0.05}
     assert folder.is_dir()
+
+
+def run_command(argv: list[str], tmp_path: Path) -> dict:
+    """``impedax *argv`` in a fresh process (its cache in ``tmp_path``): exit code, stdout, and
+    whether JAX was imported by the end."""
+    code = f"""
+import contextlib, io, json, sys
+from impedax.cli import main
+out = io.StringIO()
+with contextlib.redirect_stdout(out):
+    try:
+        code = main({[str(a) for a in argv]!r})
+    except SystemExit as exc:  # (argparse's --help)
+        code = exc.code
+print(json.dumps({{"code": code, "out": out.getvalue(), "jax": "jax" in sys.modules}}))
+"""
+    return fresh_process(code, env={"IMPEDAX_CACHE_DIR": str(tmp_path / "cache")})
+
+
+def test_info_lists_the_elements_without_jax(tmp_path):
+    """`impedax info` reads the registry only: parameters and equations, no JAX (the element
+    formulas import it when first evaluated; the compiled forms of impedax.circuits load on
+    first use)."""
+    result = run_command(["info", "R0 + R1 || CPE1", "--json"], tmp_path)
+    assert result["code"] == 0 and not result["jax"]
+    info = json.loads(result["out"])
+    assert [p["name"] for p in info["parameters"]] == ["R0", "R1", "CPE1.Q", "CPE1.alpha"]
+
+
+def test_draw_and_stack_do_not_import_jax(tmp_path):
+    """`impedax draw` (a diagram of the parsed circuit) and `impedax stack` of two copies of a REAL
+    file (impedance.py's exampleData.csv) compute no impedance."""
+    drawn = run_command(["draw", "R0 + R1 || C1", "--out", tmp_path / "circuit.svg"], tmp_path)
+    assert drawn["code"] == 0 and not drawn["jax"] and (tmp_path / "circuit.svg").stat().st_size > 0
+    days = [tmp_path / "day1.csv", tmp_path / "day2.csv"]
+    for day in days:
+        day.write_bytes((REAL / "exampleData.csv").read_bytes())
+    series = tmp_path / "series.nc"
+    stacked = run_command(["stack", *days, "--out", series], tmp_path)
+    assert stacked["code"] == 0 and not stacked["jax"] and series.stat().st_size > 0

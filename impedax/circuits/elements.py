@@ -5,14 +5,15 @@ equation, parameters (unit, default, bounds, description, starting-guess role) a
 impedance function ``impedance(omega, *params) -> complex``, plus its facts (DC path, drawing,
 CDC letter, impedance.py symbol, program slots). A user's element needs no file here: build an
 `ElementSpec` and ``DEFAULT_REGISTRY.register(spec)`` (docs/circuits.md, "Adding an element").
-Formulas: docs/physics.md, section "Element formulas" (time dependence e^{jωt}).
+Formulas: docs/physics.md, section "Element formulas" (time dependence e^{jωt}). Each formula
+imports ``jax.numpy`` when it is first evaluated, so that reading the registry (``impedax info``,
+parsing, drawing) does not import JAX.
 """
 
 from __future__ import annotations
 
 import math
 
-import jax.numpy as jnp
 import numpy as np
 
 from .spec import DCPath, ElementLimit, ElementSpec, ParameterSpec, Registry, StartRole
@@ -27,12 +28,16 @@ __all__ = ["DEFAULT_REGISTRY"]
 
 def _j_power(x, a):
     """(j x)^a for real x > 0 and real a."""
+    import jax.numpy as jnp
+
     return jnp.exp(a * jnp.log(x)) * jnp.exp(1j * (jnp.pi / 2) * a)
 
 
 def _sqrt_j(y):
     """√(j y) for real y ≥ 0, as √(y/2)(1 + j): a real square root, where the complex one
     costs several times more (Wo and Ws evaluate it at every frequency of every solver step)."""
+    import jax.numpy as jnp
+
     s = jnp.sqrt(0.5 * y)
     return s + 1j * s
 
@@ -42,6 +47,8 @@ def _coth_over_x(x):
     complex expm1, accurate for small x; |m| ≤ 2), coth(x) = (2 + m)/(−m), so coth(x)/x =
     (2 + m)/(−m x). One transcendental evaluation, where e^{-2x} and expm1(−2x) apart cost
     twice as much, their derivatives included."""
+    import jax.numpy as jnp
+
     m = jnp.expm1(-2.0 * x)
     return (2.0 + m) / (-m * x)
 
@@ -49,6 +56,8 @@ def _coth_over_x(x):
 def _tanh_over_x(x):
     """tanh(x)/x for complex x with Re x > 0, without overflow: tanh(x) = −m/(2 + m) with
     m = e^{-2x} − 1 (see `_coth_over_x`)."""
+    import jax.numpy as jnp
+
     m = jnp.expm1(-2.0 * x)
     return -m / ((2.0 + m) * x)
 
@@ -82,6 +91,8 @@ def _cpe_admittance(w, q, alpha):
 
 
 def _warburg(w, sigma):
+    import jax.numpy as jnp
+
     return sigma * (1.0 - 1j) / jnp.sqrt(w)
 
 
@@ -94,6 +105,8 @@ def _warburg_short(w, r, tau):
 
 
 def _gerischer(w, r, tau):
+    import jax.numpy as jnp
+
     return r / jnp.sqrt(1.0 + 1j * w * tau)
 
 
@@ -102,6 +115,8 @@ def _cole_cole(w, r, tau, alpha):
 
 
 def _havriliak_negami(w, r, tau, alpha, beta):
+    import jax.numpy as jnp
+
     base = 1.0 + _j_power(w * tau, alpha)
     return r * jnp.exp(-beta * jnp.log(base))
 

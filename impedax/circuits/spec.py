@@ -18,13 +18,15 @@ import numbers
 import re
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Callable, Iterator, Mapping
+from typing import TYPE_CHECKING, Callable, Iterator, Mapping
 
-import jax.numpy as jnp
 import numpy as np
 
 from ..arguments import number_text
 from ..errors import CircuitError
+
+if TYPE_CHECKING:  # (JAX is imported where an impedance is first evaluated: a registry is read without it)
+    import jax.numpy as jnp
 
 __all__ = ["ParameterSpec", "ElementLimit", "ElementSpec", "Registry", "DCPath", "StartRole", "MAX_ELEMENT_PARAMS", "ADDING_AN_ELEMENT", "PASS_OWN_REGISTRY", "PASS_DECLARING_REGISTRY"]
 
@@ -364,6 +366,8 @@ class ElementSpec:
         Declare ``dc`` for an element whose defaults put a time constant beyond ~10⁸ s."""
         if self.dc is not None:
             return self.dc
+        import jax.numpy as jnp
+
         omega = np.array([1e-9, 1e-12])
         z = np.abs(np.asarray(self.impedance(jnp.asarray(omega), *(p.default for p in self.parameters))))
         z = np.broadcast_to(z, omega.shape)
