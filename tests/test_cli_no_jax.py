@@ -81,3 +81,15 @@ def test_draw_and_stack_do_not_import_jax(tmp_path):
     series = tmp_path / "series.nc"
     stacked = run_command(["stack", *days, "--out", series], tmp_path)
     assert stacked["code"] == 0 and not stacked["jax"] and series.stat().st_size > 0
+
+
+def test_inspect_reads_real_files_without_jax(tmp_path):
+    """`impedax inspect` of REAL files (impedance.py's ZPlot .z with --json, AutoEIS's battery
+    cycles in netCDF) reads and describes them; until 2026-12-06 its closing "next:" line took
+    the KK test's and the DRT's fewest frequencies from impedax.fitting, which loads JAX."""
+    zplot = run_command(["inspect", REAL / "exampleDataZPlot.z", "--json"], tmp_path)
+    assert zplot["code"] == 0 and not zplot["jax"]
+    rows = (REAL / "exampleDataZPlot.z").read_text().split("End Comments\n")[1].split("\n")
+    assert json.loads(zplot["out"])["points"] == len([row for row in rows if row.strip()]) == 21
+    cycles = run_command(["inspect", ROOT / "examples" / "data" / "autoeis_battery_cycles.nc"], tmp_path)
+    assert cycles["code"] == 0 and not cycles["jax"] and "next: impedax kk" in cycles["out"]

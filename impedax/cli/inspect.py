@@ -366,9 +366,8 @@ def _next_line(run, data) -> str:
     """The report's last line: what to run next on these points. ``impedax kk`` then ``impedax
     drt``; on fewer points than the DRT takes (`DRT_POINTS_MIN`), a fit of at most 2N real
     parameters (1 point was told to run `impedax kk`, which needs 4: a walkthrough, 2026-12-05);
-    below `kk.CONCLUSIVE_POINTS_MIN` the KK test's verdict is inconclusive, and the line says so."""
-    from ..fitting.drt import DRT_POINTS_MIN
-    from ..fitting.kk import CONCLUSIVE_POINTS_MIN
+    below `CONCLUSIVE_POINTS_MIN` the KK test's verdict is inconclusive, and the line says so."""
+    from ..constants import CONCLUSIVE_POINTS_MIN, DRT_POINTS_MIN
     from .common import fit_command
 
     n = int(data.sizes["frequency"])

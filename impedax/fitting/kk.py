@@ -25,6 +25,7 @@ import numpy as np
 import xarray as xr
 
 from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
+from ..constants import CONCLUSIVE_POINTS_MIN
 from ..data import checked_frequencies, column_width, concise_repr, report_text, counted, format_band, format_frequency
 from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
@@ -34,9 +35,6 @@ from .frozen import FrozenResult, freeze_fields
 
 __all__ = ["KKResult", "KKBatchResult", "ValidityGrid", "kk_test", "kk_test_batch", "passing_band", "retested_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
-# below this many frequencies the chain (M ≤ N − 3 RC elements) is too stiff for the data, its
-# misfit is the chain's own and the noise estimate follows it: the test cannot fail
-CONCLUSIVE_POINTS_MIN = 10
 
 # Validity rule (see `kk_test`): scale = max(noise_estimate, noise_floor).
 DEFAULT_THRESHOLDS: Mapping[str, float] = {

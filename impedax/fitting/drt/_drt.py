@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from ...arguments import checked_arguments, count, flag, real
+from ...constants import DRT_POINTS_MIN
 from ...errors import DataError, ParameterError
 from ...io.sign_check import values_sign_hint
 from ..grid import refuse_result_names
@@ -27,8 +28,6 @@ _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
 _TAIL_WIDTH = math.sqrt(math.log(1e5))  # the output grid reaches this far past the outer centres, in units of 1/ε
 
 
-DRT_POINTS_MIN = 5
-"""The fewest frequencies `drt` takes (10 real equations for R_∞, L and a few RBFs)."""
 
 
 @functools.lru_cache(maxsize=8)
