@@ -10,6 +10,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
+from impedax.cli import COMMAND_HELP
+
 ROOT = Path(__file__).resolve().parent.parent
 REAL = ROOT / "tests" / "fixtures" / "real"
 
@@ -93,3 +97,15 @@ def test_inspect_reads_real_files_without_jax(tmp_path):
     assert json.loads(zplot["out"])["points"] == len([row for row in rows if row.strip()]) == 21
     cycles = run_command(["inspect", ROOT / "examples" / "data" / "autoeis_battery_cycles.nc"], tmp_path)
     assert cycles["code"] == 0 and not cycles["jax"] and "next: impedax kk" in cycles["out"]
+
+
+HELP_WITH_JAX = ("sample",)  # (its help text quotes the sampler's noise models and prior kinds, defined beside JAX code)
+
+
+@pytest.mark.parametrize("command", [c for c in COMMAND_HELP if c not in HELP_WITH_JAX])
+def test_a_commands_help_does_not_import_jax(command, tmp_path):
+    """``impedax COMMAND --help`` prints the command's options without importing JAX; until
+    2026-12-06 `force --help` imported it (with impedax.models and impedax.fitting) for a 1 %
+    plateau threshold its peak line quotes."""
+    result = run_command([command, "--help"], tmp_path)
+    assert result["code"] == 0 and f"usage: impedax {command}" in result["out"] and not result["jax"]

@@ -17,7 +17,6 @@ import numpy as np
 
 from ..arguments import number_text
 from ..data import format_band, format_frequency, format_quantity
-from ..models.peak import FORCE_PLATEAU_REL
 from .common import accept_negative_numbers, add_output_options, add_positional_model, check_band_options, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
@@ -308,6 +307,8 @@ def _figure(model: str, freq, force, peak: dict, params: dict[str, float], conve
 def _peak_text(peak: dict) -> str:
     """The stderr line's peak, in SI prefixes as the figure's legend: ``peak 164.2 mN at 37 kHz
     (refined between grid points; grid maximum 164.2 mN at 35.5 kHz)``."""
+    from ..models.peak import FORCE_PLATEAU_REL
+
     where = f"{format_quantity(peak['force_n'], 'N', 4)} at {format_frequency(peak['frequency_hz'])}"
     if peak["band_edge"] == "fmin=fmax":
         return f"{where} (one frequency: no peak located)"
