@@ -74,6 +74,19 @@ def test_info_lists_the_elements_without_jax(tmp_path):
     assert [p["name"] for p in info["parameters"]] == ["R0", "R1", "CPE1.Q", "CPE1.alpha"]
 
 
+def test_info_lists_a_plugin_element_without_jax(tmp_path):
+    """`impedax info --plugin FILE.py` lists a user's element whose formula imports jax.numpy
+    inside (as the built-in ones do) without loading JAX: the registry is read, not evaluated."""
+    plugin = tmp_path / "lab.py"
+    plugin.write_text(
+        "import impedax as ix\n\ndef gx(omega, r, tau):\n    import jax.numpy as jnp\n\n    return r / jnp.sqrt(1 + 1j * omega * tau)\n\n"
+        "GX = ix.ElementSpec('Gx', 'Gerischer-like', 'Z = R/sqrt(1 + jωτ)', (ix.ParameterSpec('R', 'Ohm', 100.0), ix.ParameterSpec('tau', 's', 1e-3)), gx)\n",
+        encoding="utf-8")
+    result = run_command(["info", "R0 + Gx1", "--plugin", plugin, "--json"], tmp_path)
+    assert result["code"] == 0 and not result["jax"]
+    assert [p["name"] for p in json.loads(result["out"])["parameters"]] == ["R0", "Gx1.R", "Gx1.tau"]
+
+
 def test_draw_and_stack_do_not_import_jax(tmp_path):
     """`impedax draw` (a diagram of the parsed circuit) and `impedax stack` of two copies of a REAL
     file (impedance.py's exampleData.csv) compute no impedance."""
