@@ -122,3 +122,20 @@ def test_a_commands_help_does_not_import_jax(command, tmp_path):
     plateau threshold its peak line quotes."""
     result = run_command([command, "--help"], tmp_path)
     assert result["code"] == 0 and f"usage: impedax {command}" in result["out"] and not result["jax"]
+
+
+def test_the_circuits_package_loads_jax_with_its_compiled_forms_only(tmp_path):
+    """Parsing and converting leave JAX unloaded; a compiled form (here through ``from
+    impedax.circuits import *``, which lists them in ``__all__``) loads it and evaluates R0 + C1
+    as 50 − j/(2π·1 kHz·1 µF) = 50 − 159.15 j Ω."""
+    result = fresh_process("""
+import json, sys
+import impedax.circuits as circuits
+names = circuits.parse("R0 + C1").parameter_names(), circuits.to_cdc(circuits.from_impedance_py("R0-p(R1,C1)"))
+before = "jax" in sys.modules
+from impedax.circuits import *
+z = complex(compile_circuit(parse("R0 + C1"))({"R0": 50.0, "C1": 1e-6}, [1e3])[0])
+print(json.dumps({"names": names, "jax_before": before, "z": [z.real, z.imag]}))
+""")
+    assert result["names"] == [["R0", "C1"], "R(RC)"] and not result["jax_before"]
+    assert result["z"] == pytest.approx([50.0, -1 / (2 * 3.141592653589793 * 1e3 * 1e-6)], rel=1e-12)

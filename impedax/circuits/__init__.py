@@ -57,3 +57,11 @@ def __getattr__(name: str):
 
 def __dir__():
     return sorted(set(globals()) | {n for names in _COMPILED_FORMS.values() for n in names})
+
+
+# (``from impedax.circuits import *`` gives the compiled forms too, as before they were lazy)
+__all__ = [
+    "CDCConvention", "Circuit", "DCPath", "DEFAULT_REGISTRY", "Element", "ElementLimit", "ElementSpec", "Parallel", "ParameterSpec", "Registry", "Series", "StartRole",
+    "from_autoeis", "from_cdc", "from_ec_lab", "from_impedance_py", "looks_like_autoeis", "looks_like_cdc", "parallel", "parse", "series", "to_cdc", "to_impedance_py", "tokenize",
+    *(n for names in _COMPILED_FORMS.values() for n in names),
+]
