@@ -139,3 +139,26 @@ print(json.dumps({"names": names, "jax_before": before, "z": [z.real, z.imag]}))
 """)
     assert result["names"] == [["R0", "C1"], "R(RC)"] and not result["jax_before"]
     assert result["z"] == pytest.approx([50.0, -1 / (2 * 3.141592653589793 * 1e3 * 1e-6)], rel=1e-12)
+
+
+def test_a_least_squares_fit_imports_neither_the_sampler_nor_the_diagnosis():
+    """``from impedax import fit`` (as `impedax fit` does) loads the least-squares fitter and
+    what it uses, not the Bayesian sampler, the diagnosis nor the comparison:
+    until 2026-12-06 impedax.fitting imported all of them at once. Named later, each is there,
+    and `compare` brings the batch comparison with it (its batch path is registered)."""
+    result = fresh_process("""
+import json, sys
+from impedax import fit
+loaded = lambda: sorted({".".join(m.split(".")[:3]) for m in sys.modules if m.startswith("impedax.fitting.")})
+with_fit = loaded()
+import impedax.fitting as fitting
+from impedax.fitting import compare, diagnose, sample
+print(json.dumps({"with_fit": with_fit, "later": loaded(), "compare_is_registered": fitting.comparison._batch_compare is fitting.batch_comparison.compare_batches,
+                  "kk_count": fitting.kk.CONCLUSIVE_POINTS_MIN,
+                  "drt_is_the_function": callable(fitting.drt) and fitting.drt.__name__ == "drt"}))
+""")
+    for unused in ("bayes", "diagnosis", "comparison", "batch_comparison", "derived"):
+        assert f"impedax.fitting.{unused}" not in result["with_fit"]
+        assert unused == "derived" or f"impedax.fitting.{unused}" in result["later"]
+    assert "impedax.fitting.least_squares" in result["with_fit"]
+    assert result["compare_is_registered"] and result["kk_count"] == 10 and result["drt_is_the_function"]
