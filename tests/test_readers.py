@@ -675,6 +675,33 @@ def test_a_user_reader_is_one_function_and_one_registration(tmp_path):
     assert ix.load(FIXTURES / "zplot_sweep.z", readers=readers).attrs["format"] == "Scribner ZPlot z"
 
 
+def test_a_user_reader_that_raises_is_one_data_error_naming_it_and_the_file(tmp_path):
+    """A user's reader that raises something other than impedax's own errors (its float() of a
+    bad field): `ix.load` raises one `DataError` naming the file, the reader, the line of the
+    reader's code that raised and the original message, the original exception kept as
+    ``__cause__`` (until 2026-12-06 only the command line did: in Python the ValueError came
+    through as a bare traceback from inside the reader)."""
+    def sniff(path, head):
+        return None if head.startswith(b"MYFORMAT") else "no 'MYFORMAT' signature"
+
+    def read(path):
+        rows = [line.split() for line in path.read_text().splitlines()[1:]]
+        values = [[float(cell) for cell in row] for row in rows]  # (the line that raises)
+        return ix.make_spectrum([v[0] for v in values], [v[1] + 1j * v[2] for v in values])
+
+    raising_line = read.__code__.co_firstlineno + 2
+    readers = register_reader(Reader("My format", (".my",), sniff, read))
+    path = tmp_path / "run.my"
+    path.write_text("MYFORMAT\n1 2 -3\n10 oops -0.3\n")
+    with pytest.raises(ix.DataError) as caught:
+        ix.load(path, readers=readers)
+    assert str(caught.value) == (f"{path}: the reader 'My format' ({__file__}, line {raising_line}) raised ValueError: "
+                                 "could not convert string to float: 'oops'")
+    assert isinstance(caught.value.__cause__, ValueError)
+    with pytest.raises(ix.DataError, match="the reader 'My format'"):  # (picking one sweep reads it the same way)
+        ix.load(path, readers=readers, sweep="0")
+
+
 def _mystery(tmp_path):
     path = tmp_path / "mystery.txt"
     path.write_text("voltage,current\n1,2\n")

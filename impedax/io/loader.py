@@ -123,7 +123,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
         return _one_sweep(path, readers, str(sweep))
     reader, tried, faults = _identify(path, readers)
     if reader is not None:
-        ds = reader.read(path)
+        ds = _read_with(reader, path)
         if not isinstance(ds, xr.Dataset):
             raise DataError(f"reader {reader.name!r} returned {type(ds).__name__}, not a spectrum Dataset (build it with impedax.make_spectrum)", path=path)
         held = not_a_spectrum(ds) if isinstance(ds, xr.Dataset) else None
@@ -163,6 +163,22 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
             raise DataError(result, path=path) from None
         raise DataError(_unrecognised(exc.reason, tried, faults), path=exc.path, line=exc.line) from None
     return _checked(ds, path)
+
+
+def _read_with(reader: Reader, path: Path) -> xr.Dataset:
+    """``reader.read(path)``; an exception other than impedax's own (a bug or an unchecked
+    input in a user's reader) becomes one `DataError` naming the file, the reader and the line
+    of its code that raised, the original kept as ``__cause__`` (until 2026-12-06 only the
+    command line did this: in Python a user's ``float('oops')`` came out as a bare traceback)."""
+    from ..errors import ImpedaxError
+
+    try:
+        return reader.read(path)
+    except ImpedaxError:
+        raise
+    except Exception as exc:
+        reason = (str(exc).strip().splitlines() or [""])[0][:300]
+        raise DataError(f"the reader {reader.name!r}{_raised_at(reader.read, exc)} raised {type(exc).__name__}{': ' + reason if reason else ''}", path=path) from exc
 
 
 def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str) -> xr.Dataset:
