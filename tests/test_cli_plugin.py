@@ -326,6 +326,30 @@ def test_what_a_plugin_prints_goes_to_stderr_and_stdout_stays_json(lab, tmp_path
     assert code == 0 and out.splitlines()[0] == "frequency_hz,z_real_ohm,z_imag_ohm" and len(out.splitlines()) == 3
 
 
+def test_what_a_plugin_formula_and_sniff_print_goes_to_stderr_and_stdout_stays_json(lab, tmp_path, capsys):
+    """A formula that prints while JAX traces it and a sniff that prints (a user's debugging
+    lines): the JSON of fit --json and inspect --json and the CSV of simulate are alone on
+    standard output, the lines on stderr (until 2026-12-06 only what the plugin printed at import
+    and what its reader printed were redirected: "tracing Gx" and "sniffing" came before them)."""
+    plugin, data = lab
+    noisy = tmp_path / "noisy_formula.py"
+    noisy.write_text(PLUGIN.replace('    """Gerischer-like: Z = R / sqrt(1 + j omega tau)."""\n', '    print("tracing Gx")\n', 1)
+                     .replace("def sniff_lab(path, head):\n", "def sniff_lab(path, head):\n    print('sniffing', path)\n", 1), encoding="utf-8")
+    assert noisy.read_text().count("print(") == 2
+    code, out, err = run(["fit", data, "--model", "R0 + Gx1", "--plugin", noisy, "--json"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["model"] == "R0 + Gx1"
+    assert "tracing Gx" in err and f"sniffing {data}" in err
+    csv_file = tmp_path / "plain.csv"
+    csv_file.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n1,10,-1\n10,9,-2\n100,8,-3\n")
+    code, out, err = run(["inspect", csv_file, "--plugin", noisy, "--json"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["format"] == "delimited text" and f"sniffing {csv_file}" in err
+    code, out, err = run(["simulate", "R0 + Gx1", "--plugin", noisy, "--points", "2", "-q"], capsys)
+    assert code == 0 and out.splitlines() == ["frequency_hz,z_real_ohm,z_imag_ohm", *out.splitlines()[1:]] and len(out.splitlines()) == 3
+    assert "tracing Gx" in err
+
+
 def test_the_command_is_found_after_the_program_option_and_fit_advice_carries_it():
     assert _first_word(["--plugin", "fit.py", "fit", "data.lab"]) == "fit"
     args = SimpleNamespace(data="run 1.lab", weighting="modulus", plugin=["my lab.py"])

@@ -10,6 +10,7 @@ the elements' own derivatives. The other compiled forms build on the node functi
 from __future__ import annotations
 
 import functools
+import inspect
 import traceback
 from dataclasses import dataclass, field
 from typing import Callable, Iterable, Mapping
@@ -58,7 +59,7 @@ def _formula_at(formula, exc: BaseException | None = None) -> str:
     """`` (FILE, line N)``: where a user's ``formula`` is — the line of its own file ``exc`` was
     raised on (its innermost such frame), else the line it is defined on; "" for a formula with
     no source file (a callable object, one typed at a prompt)."""
-    code = getattr(formula, "__code__", None)
+    code = getattr(inspect.unwrap(formula), "__code__", None)  # (a --plugin formula is wrapped to print to stderr)
     if code is None or code.co_filename.startswith("<"):
         return ""
     raised = [frame.lineno for frame in traceback.extract_tb(exc.__traceback__) if frame.filename == code.co_filename] if exc is not None else []

@@ -14,6 +14,7 @@ exception while executing it, a symbol declared twice, a file declaring nothing)
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import importlib.machinery
 import importlib.util
@@ -173,7 +174,12 @@ def _guarded(reader, plugin: str, where: str):
 
     from ..errors import DataError, ImpedaxError
 
-    read = reader.read
+    read, sniff = reader.read, reader.sniff
+
+    @functools.wraps(sniff)
+    def quiet_sniff(path, head):
+        with contextlib.redirect_stdout(sys.stderr):  # (a sniff's print came before inspect --json's JSON)
+            return sniff(path, head)
 
     def guarded_read(path):
         try:
@@ -185,7 +191,45 @@ def _guarded(reader, plugin: str, where: str):
             line = _line_in(exc, Path(plugin))
             raise DataError(f"the reader {reader.name!r} of {where}{f' (line {line})' if line else ''} raised {type(exc).__name__}: {exc}", path=path) from None
 
-    return dataclasses.replace(reader, read=guarded_read)
+    return dataclasses.replace(reader, read=guarded_read, sniff=quiet_sniff)
+
+
+# each plugin formula's quiet wrapper (`_quiet_formula`), by the formula: the same wrapper for a
+# second run in one process, so that its registry equals the first's and compiled solvers are reused
+_QUIET: dict = {}
+
+
+def _quiet_formula(formula):
+    """``formula`` printing to stderr, not stdout: a user's formula runs while JAX traces it,
+    and a ``print`` there (a debugging line) came before the command's JSON or CSV (until
+    2026-12-06). The wrapper keeps the formula's signature and names it (``__wrapped__``) for
+    the messages that give its file and line."""
+    if formula is None:
+        return None
+    try:
+        return _QUIET[formula]
+    except KeyError:
+        pass
+    except TypeError:  # (a callable object that is not hashable: wrapped each time)
+        return _quiet(formula)
+    _QUIET[formula] = _quiet(formula)
+    return _QUIET[formula]
+
+
+def _quiet(formula):
+    @functools.wraps(formula)
+    def quiet(*args, **kwargs):
+        with contextlib.redirect_stdout(sys.stderr):
+            return formula(*args, **kwargs)
+
+    return quiet
+
+
+def _quiet_spec(spec):
+    """``spec`` with its impedance and admittance formulas `_quiet_formula`."""
+    import dataclasses
+
+    return dataclasses.replace(spec, impedance=_quiet_formula(spec.impedance), admittance=_quiet_formula(spec.admittance))
 
 
 def load_plugins(files: Sequence[str], from_environment: Collection[str] = ()) -> Plugins:
@@ -208,7 +252,7 @@ def load_plugins(files: Sequence[str], from_environment: Collection[str] = ()) -
     for path in files:
         where = _where(path, from_environment)
         module = _execute(path, where)
-        specs = _declared(module, ElementSpec, DEFAULT_REGISTRY.specs)
+        specs = [_quiet_spec(spec) for spec in _declared(module, ElementSpec, DEFAULT_REGISTRY.specs)]
         own_readers = _declared(module, Reader, READERS)
         if not specs and not own_readers:
             raise ParameterError(f"{where}: declares no ElementSpec and no impedax.io.Reader at its top level (docs/circuits.md \"Adding an element\", docs/io.md)")

@@ -10,6 +10,7 @@ read.
 
 from __future__ import annotations
 
+import inspect
 import os
 import traceback
 from pathlib import Path
@@ -54,7 +55,7 @@ def _head(path: Path) -> bytes:
 def _raised_at(function, exc: BaseException) -> str:
     """`` (FILE, line N)``: where in ``function``'s own file ``exc`` was raised (the innermost
     such frame: a user's sniff named by its file and line, a plugin's too); "" when unknown."""
-    code = getattr(function, "__code__", None)
+    code = getattr(inspect.unwrap(function), "__code__", None)  # (a --plugin sniff is wrapped to print to stderr)
     if code is None:
         return ""
     lines = [frame.lineno for frame in traceback.extract_tb(exc.__traceback__) if frame.filename == code.co_filename]
