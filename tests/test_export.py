@@ -326,3 +326,35 @@ def test_fit_residuals_are_model_minus_data_as_their_long_name_says(rc_fit):
     assert np.abs(by_hand).max() > 1e-3  # 1 % noise: the sign is measurable
     np.testing.assert_allclose(rc_fit.residuals, by_hand, atol=1e-9)
     assert rc_fit.to_xarray()["residual_rel"].attrs["long_name"] == "(Z_model - Z_data)/|Z_data|"
+
+
+@pytest.mark.slow  # (about 7 s: a KK test, a batch of two, a Z-HIT test and a DRT)
+def test_saved_kk_zhit_and_drt_results_are_named_as_results_by_inspect(tmp_path, capsys):
+    """A KK test's, a Z-HIT test's and a DRT's .nc (one SYNTHETIC R0 + R1 ∥ C1 spectrum, and a
+    batch of two for the KK test) carry ``impedax_kind`` as every other saved result does, so
+    ``impedax inspect`` says what the file holds and how to read it in full, where until
+    2026-12-06 it showed them as plain spectra (``result_kind`` absent from its --json).
+    The spectrum inside is still the data tested: ix.load gives back their Z bit for bit."""
+    from cli_run import run
+
+    data = _rc_data(n=30)
+    batch = ix.make_spectrum(data["frequency"].values, np.stack([data["Z"].values, 1.1 * data["Z"].values]), dims=("cell",), coords={"cell": ["a", "b"]})
+    results = {
+        "kk": (ix.kk_test(data), "Kramers-Kronig test (impedax kk)"),
+        "kk_batch": (ix.kk_test_batch(batch), "Kramers-Kronig test (impedax kk)"),
+        "zhit": (ix.zhit(data), "Z-HIT test (impedax kk --method zhit)"),
+        "drt": (ix.drt(data), "distribution of relaxation times (impedax drt)"),
+    }
+    for name, (result, described) in results.items():
+        path = tmp_path / f"{name}.nc"
+        ix.write_result(result, path)
+        kind = name.removesuffix("_batch")
+        assert xr.open_dataset(path).attrs["impedax_kind"] == kind
+        code, out, err = run(["inspect", path, "--json"], capsys)
+        assert code == 0, err
+        summary = json.loads(out)
+        assert (summary["result_kind"], summary["result"], summary["read_with"]) == (kind, described, "impedax.io.read_netcdf(path)")
+        code, out, err = run(["inspect", path], capsys)
+        assert code == 0 and f"holding a saved {described} (its data shown here" in out.splitlines()[0]
+        expected = (batch if name == "kk_batch" else data)["Z"].values
+        np.testing.assert_array_equal(ix.load(path)["Z"].values, expected)

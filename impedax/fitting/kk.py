@@ -268,6 +268,7 @@ class KKResult(FrozenResult):
             },
             coords={"frequency": f},
             attrs={
+                "impedax_kind": "kk",  # (added 2026-12-06: impedax inspect names the file a KK test's, as other results)
                 "method": "linear Kramers-Kronig test (Schoenleber et al. 2014), impedax validity rule",
                 "c": self.c,
                 "series_resistance_ohm": self.series_resistance,

@@ -159,7 +159,7 @@ class ZHITResult(FrozenResult):
                 "conclusive": ((), self.conclusive),
             },
             coords={"frequency": ("frequency", self.frequency, {"units": "Hz"})},
-            attrs={"method": "Z-HIT, first order (Ehm et al. 2000), smoothing-spline phase", "offset_ln_ohm": self.offset,
+            attrs={"impedax_kind": "zhit", "method": "Z-HIT, first order (Ehm et al. 2000), smoothing-spline phase", "offset_ln_ohm": self.offset,
                    "point_threshold": self.threshold, "run_threshold": self.run_threshold, "run_length": self.run_length},
         ).copy(deep=True)
 
@@ -343,7 +343,7 @@ class ZHITBatchResult(ValidityGrid):
                 "run_threshold": (dims, self.per_spectrum("run_threshold"), {"units": "1"}),
             },
             coords=self._coordinates(),
-            attrs={"method": first.to_xarray().attrs["method"], "run_length": first.run_length, "noise_floor": first.noise_floor},
+            attrs={"impedax_kind": "zhit", "method": first.to_xarray().attrs["method"], "run_length": first.run_length, "noise_floor": first.noise_floor},
         )
         return ds.copy(deep=True)
 

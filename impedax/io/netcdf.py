@@ -195,6 +195,10 @@ RESULT_KINDS = {
     "diagnosis": ("diagnosis (impedax diagnose) with its baseline fit", "Diagnosis.baseline_of"),
     "comparison": ("comparison of models on one spectrum (impedax compare)", "impedax.io.read_netcdf"),
     "batch_comparison": ("comparison of models over many spectra (impedax compare)", "BatchComparison.from_xarray"),
+    # (added 2026-12-06: these held Z and were shown as plain spectra; their data are the spectra tested)
+    "kk": ("Kramers-Kronig test (impedax kk)", "impedax.io.read_netcdf"),
+    "zhit": ("Z-HIT test (impedax kk --method zhit)", "impedax.io.read_netcdf"),
+    "drt": ("distribution of relaxation times (impedax drt)", "impedax.io.read_netcdf"),
 }
 
 

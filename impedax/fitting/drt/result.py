@@ -199,6 +199,7 @@ class DRTResult(FrozenResult):
             },
             coords={"tau": ("tau", self.tau, {"units": "s"}), "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
+                "impedax_kind": "drt",  # (added 2026-12-06: impedax inspect names the file a DRT's, as other results)
                 "method": "Tikhonov-regularised DRT on a Gaussian RBF basis (impedax, docs/drt.md)",
                 "lambda_method": self.lambda_method,
                 "lambda_note": self.lambda_note,
@@ -453,6 +454,7 @@ def _suggestion_keys(suggestion) -> dict:
 def _common_attrs(result: "DRTResult") -> dict:
     """The global attributes of a batch's .nc: the options every spectrum shares."""
     return {
+        "impedax_kind": "drt",
         "method": "Tikhonov-regularised DRT on a Gaussian RBF basis (impedax, docs/drt.md)",
         "lambda_method": result.lambda_method,
         "lambda_scale": "relative to z_ref^2 per spectrum, z_ref = max|Z| of that spectrum (variable z_ref, ohm)",
