@@ -958,6 +958,32 @@ def test_rows_separated_otherwise_than_the_header_are_named_as_such(tmp_path, he
         ix.load(path)
 
 
+def test_decimal_commas_in_a_comma_separated_file_are_named_as_the_cause(tmp_path):
+    """A spreadsheet in a decimal-comma locale saved as comma-separated values (SYNTHETIC rows
+    "1000,5,120,25,-3,75": 1000.5 Hz, 120.25 Ω, -3.75 Ω): refused, as before, for its field
+    count, and the message now says why (until 2026-12-06 only "6 fields, but the header has 3",
+    which left users to find the decimal commas themselves); the same numbers separated by ';'
+    read as the numbers written."""
+    values = [(1000.5, 120.25, -3.75), (100.5, 130.5, -12.25), (10.5, 160.75, -30.5)]
+    text = ["{:g}".format(v).replace(".", ",") for row in values for v in row]
+    rows = [text[3 * k: 3 * k + 3] for k in range(3)]
+    path = tmp_path / "decimal_commas.csv"
+    path.write_text("frequency,z_real,z_imag\n" + "\n".join(",".join(r) for r in rows) + "\n")
+    with pytest.raises(ix.DataError) as err:
+        ix.load(path)
+    assert str(err.value) == (f"{path}, line 2: 6 fields, but the header has 3 (a missing or extra cell would shift values); the numbers look written "
+                              "with decimal commas in a file whose cells are separated by ',' too, so each comma splits a number ('1000,5' read as "
+                              "'1000' and '5'): save it with ';' between cells, or with decimal points")
+    path.write_text("frequency;z_real;z_imag\n" + "\n".join(";".join(r) for r in rows) + "\n")
+    loaded = ix.load(path)
+    np.testing.assert_array_equal(loaded["frequency"].values, [1000.5, 100.5, 10.5])
+    np.testing.assert_array_equal(loaded["Z"].values, [120.25 - 3.75j, 130.5 - 12.25j, 160.75 - 30.5j])
+    # a row with one cell too many that no decimal comma explains ('-12,-7' is no number): no such note
+    path.write_text("frequency,z_real,z_imag\n1000,120,-3\n100,130,-12,-7\n")
+    with pytest.raises(ix.DataError, match=r"line 3: 4 fields, but the header has 3 \(a missing or extra cell would shift values\)$"):
+        ix.load(path)
+
+
 def test_a_header_less_table_with_the_frequency_last_is_refused_naming_the_column(tmp_path):
     """Z', Z'', f without a header was read as f = Z', Z' = Z'', Z'' = f, silently."""
     freq, z = _lab_spectrum()

@@ -13,6 +13,7 @@ shifted onto other columns. A row of delimiters only (``,,``) is skipped and rep
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -371,17 +372,31 @@ DELIMITER_NAMES = {"\t": "a tab", ";": "';'", ",": "','", None: "spaces"}
 """The delimiters of delimited text (`csv.find_delimiter`: None is runs of spaces), as messages name them."""
 
 
-def delimiter_hint(cells: Sequence[str], delimiter: str | None, n_fields: int) -> str:
+def delimiter_hint(cells: Sequence[str], delimiter: str | None, n_fields: int, *, first_row: bool = False) -> str:
     """What a refusal of a row of other fields than its header's (``cells``, split by the
     header's ``delimiter``) says when another delimiter splits the row into ``n_fields``
     numbers: the row was written with another delimiter than its header (a header typed with ';'
-    over rows exported with ','); "" otherwise (a line of text under the table gets none)."""
+    over rows exported with ','); or, for the table's ``first_row``, when it reads as
+    ``n_fields`` numbers written with decimal commas in a comma-separated file (a later row
+    follows rows that read right: a cell too many, not the file's decimal mark); "" otherwise
+    (a line of text under the table gets none)."""
     text = (delimiter or " ").join(cells)
     for other, name in DELIMITER_NAMES.items():
         split = text.split(other) if other else text.split()
         if other != delimiter and len(split) == n_fields and all(NUMBER_CELL.fullmatch(c.strip().strip('"')) for c in split):
             return f"this row is separated by {name} where the header is by {DELIMITER_NAMES[delimiter]}: save the file with one delimiter throughout"
+    if first_row and delimiter == "," and len(cells) > n_fields and _decimal_comma_row(n_fields).fullmatch(text):
+        return ("the numbers look written with decimal commas in a file whose cells are separated by ',' too, so each comma splits a number "
+                f"({','.join(cells[:2])!r} read as {cells[0]!r} and {cells[1]!r}): save it with ';' between cells, or with decimal points")
     return ""
+
+
+@functools.lru_cache(maxsize=16)
+def _decimal_comma_row(n_fields: int) -> re.Pattern:
+    """A row of ``n_fields`` numbers written with decimal commas and separated by ',' as well
+    (``3,16,-4,95,2``: 3.16 and -4.95 and 2 in some split): `delimiter_hint`'s last case."""
+    number = r"[-+]?\d+(?:,\d+)?(?:[eE][-+]?\d+)?"
+    return re.compile(rf"{number}(?:,{number}){{{n_fields - 1}}}")
 
 PREAMBLE_ROWS_MAX = 100
 """How far below the first row `find_header` looks for a table's header when the first row is
@@ -625,7 +640,7 @@ def spectrum_from_rows(
         if not any(c.strip('"').strip() for c in cells):
             skipped.add(line, EMPTY_ROW)  # (',,' or ';;' as a spreadsheet program leaves them: a blank line)
             continue
-        hint = delimiter_hint(cells, delimiter, n_fields) if delimited and len(cells) != n_fields else ""
+        hint = delimiter_hint(cells, delimiter, n_fields, first_row=not last_fields) if delimited and len(cells) != n_fields else ""
         check_field_count(cells, n_fields, path, line, where=where, last_of_cut_file=line == cut_line, hint=hint,
                           expected=layout.field_count_text(n_fields))
         last_fields.append(cells[-1])
