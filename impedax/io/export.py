@@ -42,12 +42,23 @@ _DRT = ("a DRT (γ over τ)", "drt", "xarray.open_dataset({nc})")
 _KK = ("a Kramers–Kronig test", "kk", "xarray.open_dataset({nc})")
 _DRT_BATCH = ("a batch of DRTs (γ over τ)", "drt", "xarray.open_dataset({nc})")
 _KK_BATCH = ("a batch of Kramers–Kronig tests", "kk", "xarray.open_dataset({nc})")
+# (added 2026-12-06: these were told "no frequency column in header ['{']")
+_ZHIT = ("a Z-HIT test", "kk --method zhit", "ix.io.read_netcdf({nc})")
+_ZHIT_BATCH = ("a batch of Z-HIT tests", "kk --method zhit", "ix.io.read_netcdf({nc})")
+_COMPARISON = ("a comparison of models on one spectrum", "compare", "ix.io.read_netcdf({nc})")
+_BATCH_COMPARISON = ("a comparison of models over many spectra", "compare", "ix.BatchComparison.from_xarray(ix.load({nc}))")
 
 
 def _table_kind(header: Sequence[str], command: str | None) -> tuple[str, str, str] | None:
     """What a result CSV with these columns holds (``command``: its provenance column's value)."""
     if {"tau_s", "gamma_ohm"} <= set(header):
         return _DRT
+    if {"frequency_hz", "modulus_zhit_ohm", "residual_modulus"} <= set(header):
+        return _ZHIT if header[0] == "frequency_hz" else _ZHIT_BATCH  # (a batch's: a column per dimension first)
+    if {"model", "label", "n_params", "aic", "delta_aic"} <= set(header):
+        return _COMPARISON
+    if {"model", "circuit", "best", "aic", "delta_aic"} <= set(header):  # (a row per spectrum and model, its labels first)
+        return _BATCH_COMPARISON
     if {"section", "name", "value"} <= set(header):  # (candidate columns only when there are candidates)
         return _DIAGNOSIS
     if {"name", "median", "q05", "q95"} <= set(header):
@@ -69,6 +80,14 @@ def _summary_kind(summary: Mapping) -> tuple[str, str, str] | None:
             return _DRT_BATCH
         if _summary_kind(spectra[0]) is _KK:
             return _KK_BATCH
+        if _summary_kind(spectra[0]) is _ZHIT:
+            return _ZHIT_BATCH
+    if {"models", "ranked_by", "n_spectra"} <= keys:
+        return _BATCH_COMPARISON
+    if {"models", "best", "ranked_by"} <= keys:
+        return _COMPARISON
+    if summary.get("method") == "zhit" and {"modulus_zhit_ohm", "residuals_modulus"} <= keys:
+        return _ZHIT
     if {"tau_s", "gamma_ohm", "peaks"} <= keys:
         return _DRT
     if {"mu", "n_rc", "bad_bands"} <= keys:
@@ -118,7 +137,7 @@ def written_result(path: str | Path, head: str) -> str | None:
     if nc.is_file():
         reload = f"the form that reads back is the .nc beside it: {call.format(nc=repr(str(nc)))}"
     else:
-        name = f"{command}.nc"
+        name = f"{command.split()[0]}.nc"  # ("kk --method zhit": kk.nc)
         reload = (f"the form that reads back is a .nc: write the result with ix.write_result(result, {name!r}) "
                   f"(impedax {command} --out {name}), then {call.format(nc=repr(name))}")
     return f"this file is the {path.suffix.lstrip('.').upper()} summary of {what} (write_result, impedax {command} --out), not a spectrum: it is to read, not to load back; {reload}"
