@@ -702,6 +702,28 @@ def test_a_user_reader_that_raises_is_one_data_error_naming_it_and_the_file(tmp_
         ix.load(path, readers=readers, sweep="0")
 
 
+@pytest.mark.parametrize("text", [
+    '{"frequency": [1, 10, 100], "z_real": [10, 9, 8], "z_imag": [-1, -2, -3]}\n',
+    '[{"f": 1, "re": 10, "im": -1}, {"f": 10, "re": 9, "im": -2}]\n',
+])
+def test_a_json_file_that_is_no_result_is_named_as_json(tmp_path, text):
+    """A JSON file of a user's own layout (SYNTHETIC numbers) given as a spectrum: it was told
+    "as delimited text, no frequency column in header ['{"frequency": [1', '10', '100]', ...]",
+    as if impedax had taken it for a table; now the message says it is JSON, which format of
+    JSON impedax reads (PalmSens), and the table to write instead."""
+    path = tmp_path / "my.json"
+    path.write_text(text)
+    with pytest.raises(ix.DataError) as err:
+        ix.load(path)
+    assert str(err.value) == (f"{path}: not a recognised spectrum file: a JSON file (it opens with '{{' or '['), which impedax reads only as a "
+                              f"PalmSens .pssession ({len(READERS)} formats tried); write the spectrum as a table, frequency_hz,z_real_ohm,z_imag_ohm "
+                              "(impedax.save(impedax.make_spectrum(f, Z), 'run.csv'))")
+    # an instrument's "[Header]" section line is no JSON: the table's own reason stays
+    path.write_text("[Header]\nvoltage,current\n1,2\n")
+    with pytest.raises(ix.DataError, match=r"not a recognised spectrum file: as delimited text"):
+        ix.load(path)
+
+
 def _mystery(tmp_path):
     path = tmp_path / "mystery.txt"
     path.write_text("voltage,current\n1,2\n")

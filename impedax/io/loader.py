@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import inspect
 import os
+import re
 import traceback
 from pathlib import Path
 from typing import Mapping, Sequence
@@ -162,6 +163,9 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
         result = written_result(path, head_text(head))  # (a result's .csv or .json: say which and what reads back)
         if result:
             raise DataError(result, path=path) from None
+        if not faults and _looks_like_json(head_text(head)):
+            # (a JSON file was told "as delimited text, no frequency column in header ['{"frequency": [1', '10', ...]")
+            raise DataError(_unrecognised_json(len(tried)), path=path) from None
         raise DataError(_unrecognised(exc.reason, tried, faults), path=exc.path, line=exc.line) from None
     return _checked(ds, path)
 
@@ -230,6 +234,22 @@ def _unrecognised(as_text: str | None, tried: Sequence[str], faults: Sequence[st
     if as_text is None:
         return f"not a recognised spectrum file: a binary file that no reader claims{listed}"
     return f"not a recognised spectrum file: as delimited text, {as_text}{listed}"
+
+
+_JSON_OPENING = re.compile(r'\ufeff?\s*(\{\s*["}]|\[\s*[-{\["\d\]])')
+
+
+def _looks_like_json(text: str) -> bool:
+    """Whether ``text`` opens as JSON does: an object's ``{"`` or ``{}``, or an array of
+    objects, arrays, strings or numbers; not an instrument's ``[Header]`` section line."""
+    return _JSON_OPENING.match(text) is not None
+
+
+def _unrecognised_json(tried: int) -> str:
+    """The message for a JSON file that no reader claims and that is no result impedax wrote
+    (`written_result`): it is JSON, not a table, and the way to give impedax its spectrum."""
+    return ("not a recognised spectrum file: a JSON file (it opens with '{' or '['), which impedax reads only as a PalmSens .pssession "
+            f"({tried} formats tried); write the spectrum as a table, frequency_hz,z_real_ohm,z_imag_ohm (impedax.save(impedax.make_spectrum(f, Z), 'run.csv'))")
 
 
 def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> xr.Dataset:
