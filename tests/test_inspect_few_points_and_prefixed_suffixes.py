@@ -68,3 +68,15 @@ def test_six_points_are_told_the_kk_verdict_will_be_inconclusive(tmp_path, capsy
     assert main(["inspect", str(path)]) == 0
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert last.startswith(f"next: impedax kk {path}") and "inconclusive: it needs 10" in last and "impedax drt" in last
+
+
+def test_the_first_line_counts_one_point_in_the_singular(tmp_path, capsys):
+    """One point was "1 frequencies 1–1 Hz, |Z| 3.606–3.606 Ω"; it is "1 frequency, 1 Hz, |Z|
+    3.606 Ω" (|Z| of 2 - 3j is √13 = 3.6056 by hand), and three points keep their ranges."""
+    path = written(tmp_path, "frequency_hz,z_real_ohm,z_imag_ohm", rows=[(1.0, 2.0, -3.0)])
+    assert main(["inspect", str(path)]) == 0
+    assert capsys.readouterr().out.splitlines()[0] == f"{path}: delimited text, 1 frequency, 1 Hz, |Z| 3.606 Ω, dims {{'frequency': 1}}"
+    path = written(tmp_path, "frequency_hz,z_real_ohm,z_imag_ohm")
+    assert main(["inspect", str(path)]) == 0
+    # |Z| from √(10² + 1²) = 10.05 to √(15² + 2²) = 15.13
+    assert capsys.readouterr().out.splitlines()[0] == f"{path}: delimited text, 3 frequencies 1–100 Hz, |Z| 10.05–15.13 Ω, dims {{'frequency': 3}}"

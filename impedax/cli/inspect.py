@@ -101,9 +101,7 @@ def run(args) -> int:
         return 0
     held = f" holding a saved {summary['result']} (its data shown here; read it in full with {summary['read_with']})" if kind else ""
     first = f" (its data first read from {summary['data_format']})" if summary["data_format"] else ""
-    print(f"{summary['file']}: {summary['format']}{first}{held}, {summary['points']} frequencies "
-          f"{summary['frequency_min_hz']:.4g}–{summary['frequency_max_hz']:.4g} Hz, "
-          f"|Z| {summary['z_abs_min_ohm']:.4g}–{summary['z_abs_max_ohm']:.4g} Ω, dims {summary['dims']}")
+    print(f"{summary['file']}: {summary['format']}{first}{held}, {_points_text(summary)}, dims {summary['dims']}")
     for key in _HOW_KEYS:
         if key in ds.attrs or key in ("sign_convention", "units"):
             print(f"  {key.replace('_', ' ')}:{_per_spectrum(summary[key] if key in summary else ds.attrs[key], ds, extra)}")
@@ -263,6 +261,17 @@ def _foreign_models(ds) -> list[str]:
             except CircuitSyntaxError:
                 foreign.append(text)
     return foreign
+
+
+def _points_text(summary: dict) -> str:
+    """``21 frequencies 3000–3e+05 Hz, |Z| 148.2–628.8 Ω``; for one point ``1 frequency, 1 Hz,
+    |Z| 3.606 Ω`` (it read "1 frequencies 1–1 Hz, |Z| 3.606–3.606 Ω" until 2026-12-06)."""
+    def span(low: float, high: float) -> str:
+        return f"{low:.4g}" if f"{low:.4g}" == f"{high:.4g}" else f"{low:.4g}–{high:.4g}"
+
+    count = "1 frequency," if summary["points"] == 1 else f"{summary['points']} frequencies"
+    return (f"{count} {span(summary['frequency_min_hz'], summary['frequency_max_hz'])} Hz, "
+            f"|Z| {span(summary['z_abs_min_ohm'], summary['z_abs_max_ohm'])} Ω")
 
 
 def _read_with(kind: str, ds) -> str:
