@@ -214,3 +214,37 @@ def test_a_saved_spectrum_read_back_names_its_file(tmp_path):
     assert back.attrs["source"] == str(path) and back.attrs["saved_from"] == "memory"
     with pytest.raises(ix.DataError, match=str(path)):
         ix.fit("R0 + R1 || C1", back.assign_coords(frequency=-back["frequency"]))
+
+
+def test_a_csv_impedax_wrote_gives_back_its_provenance_as_a_netcdf_file_does(tmp_path, capsys):
+    """A spectrum saved as CSV with a provenance record (as every command's --out writes it:
+    the record's columns after the spectrum's) read back: the attrs impedax_version,
+    written_utc, provenance (the record, settings as typed back from their cells) and
+    saved_from (the data's source), as the same spectrum saved as .nc has them; until
+    2026-12-06 the columns were only listed in other_columns, and `impedax inspect` did not say
+    what wrote the file. SYNTHETIC spectrum; the record is written here by hand."""
+    import json
+
+    from impedax.cli import main
+
+    record = {"impedax_version": "0.1.0", "written_utc": "2026-12-06T10:00:00Z", "command": "impedax simulate",
+              "settings": {"model": "R0 + R1 || C1", "seed": 5, "c": 0.85, "quiet": False, "select": None, "param": ["R1=1k", "C1=1u"]},
+              "source": "run1.mpt", "data_files": ["/data/run1.mpt", "/data/run2.mpt"]}
+    path = tmp_path / "saved.csv"
+    ix.save(_spectrum(), path, provenance=record)
+    data = ix.load(path)
+    assert (data.attrs["impedax_version"], data.attrs["written_utc"], data.attrs["saved_from"]) == ("0.1.0", "2026-12-06T10:00:00Z", "run1.mpt")
+    # (a list setting comes back as its cell, the items joined by "; ", as docs/io.md says to split it)
+    assert json.loads(data.attrs["provenance"]) == {**record, "settings": {**record["settings"], "param": "R1=1k; C1=1u"}}
+    assert main(["inspect", str(path)]) == 0
+    assert ("  provenance: impedax simulate, 2026-12-06T10:00:00Z (impedax 0.1.0); settings model=R0 + R1 || C1, seed=5, c=0.85, param=R1=1k; C1=1u; "
+            "data /data/run1.mpt, /data/run2.mpt") in capsys.readouterr().out.splitlines()
+    np.testing.assert_array_equal(data["Z"].values, _spectrum()["Z"].values)
+    # a CSV without the record, or whose cells differ from row to row, has none
+    ix.save(_spectrum(), path)
+    assert "provenance" not in ix.load(path).attrs
+    ix.save(_spectrum(), path, provenance=record)
+    lines = path.read_text().splitlines()
+    lines[2] = lines[2].replace("impedax simulate", "impedax fit")
+    path.write_text("\n".join(lines) + "\n")
+    assert "provenance" not in ix.load(path).attrs

@@ -291,7 +291,56 @@ def read_csv(path: str | Path) -> xr.Dataset:
         raise
     if headerless and ds["Z"].ndim == 1:  # (the columns in file order, but for DC rows: `finish` never reorders)
         _check_headerless_order(path, rows[0][0], [ds["frequency"].values, ds["Z"].values.real, ds["Z"].values.imag])
+    if not headerless:
+        ds.attrs.update(_written_provenance(list(layout.header), [split_line(ln, delimiter) for _, ln in rows], path))
     return ds
+
+
+def _setting_value(cell: str):
+    """A ``setting_NAME`` cell as a value: empty → None, ``true``/``false`` → bool, a number →
+    int or float, anything else (a list joined by ``; ``, a circuit) the text."""
+    if cell == "":
+        return None
+    if cell.lower() in ("true", "false"):  # (`export.table_cell` writes true/false)
+        return cell.lower() == "true"
+    for kind in (int, float):
+        try:
+            return kind(cell)
+        except ValueError:
+            pass
+    return cell
+
+
+def _written_provenance(header: list[str], rows: list[list[str]], path: Path) -> dict[str, object]:
+    """The provenance of a CSV impedax wrote (`impedax.io.provenance.provenance_columns` after
+    the spectrum's columns, the same on every row) as a netCDF file of it holds it: the attrs
+    ``impedax_version``, ``written_utc``, ``provenance`` (the record as JSON text: command,
+    settings, source, data_files) and ``saved_from`` (the data's own ``source``). {} for any
+    other table, or one whose cells differ from row to row. (Until 2026-12-06 these columns were
+    only listed in ``other_columns``: ``impedax inspect`` of a CSV impedax wrote did not say
+    what wrote it, where the same data saved as .nc did.)"""
+    import json
+
+    from .provenance import PROVENANCE_KEY
+
+    names = [h.strip().strip('"') for h in header]
+    keys = ("impedax_version", "written_utc", "command", "source", "data_files")
+    if not rows or not all(k in names for k in keys):
+        return {}
+    at = {name: names.index(name) for name in names if name in keys or name.startswith("setting_")}
+    cells = {name: {row[i] if i < len(row) else "" for row in rows} for name, i in at.items()}
+    if any(len(values) != 1 for values in cells.values()):
+        return {}
+    value = {name: next(iter(values)) for name, values in cells.items()}
+    record = {
+        "impedax_version": value["impedax_version"], "written_utc": value["written_utc"], "command": value["command"] or None,
+        "settings": {name.removeprefix("setting_"): _setting_value(text) for name, text in value.items() if name.startswith("setting_")},
+        "source": value["source"] or None, "data_files": value["data_files"].split("; ") if value["data_files"] else [],
+    }
+    attrs = {"impedax_version": record["impedax_version"], "written_utc": record["written_utc"], PROVENANCE_KEY: json.dumps(record)}
+    if record["source"] and record["source"] != str(path):
+        attrs["saved_from"] = record["source"]
+    return attrs
 
 
 def write_csv(ds: xr.Dataset, path: str | Path | None = None, *, delimiter: str = ",", columns: Mapping[str, object] | None = None) -> str:
