@@ -724,6 +724,29 @@ def test_a_json_file_that_is_no_result_is_named_as_json(tmp_path, text):
         ix.load(path)
 
 
+def test_readers_that_are_no_sequence_of_readers_are_one_parameter_error():
+    """``readers=`` given a single Reader, a function or text: one ParameterError saying what
+    was given and what to give (until 2026-12-06 "TypeError: 'Reader' object is not iterable" or
+    "AttributeError: 'function' object has no attribute 'name'" from inside load)."""
+    def sniff(path, head):
+        return "not mine"
+
+    mine = Reader("Mine", (".my",), sniff, lambda path: None)
+    real = FIXTURES / "real" / "exampleDataZPlot.z"
+    cases = [
+        (mine, "readers must be a sequence of impedax.io.Reader, got the single Reader 'Mine': give impedax.io.register_reader(reader), "
+               "which tries it before the built-in readers"),
+        ([mine, sniff], "readers[1] is the function 'sniff', not an impedax.io.Reader: build one with impedax.io.Reader(name, extensions, sniff, read)"),
+        ("zplot", "readers must be a sequence of impedax.io.Reader (impedax.io.register_reader(...)), got 'zplot' (str)"),
+    ]
+    for readers, message in cases:
+        for call in (ix.load, ix.io.identify):
+            with pytest.raises(ix.ParameterError) as err:
+                call(real, readers=readers)
+            assert str(err.value) == message
+    assert ix.load(real, readers=list(register_reader(mine))).attrs["format"] == "Scribner ZPlot z"  # (a list of Readers is a sequence too)
+
+
 def _mystery(tmp_path):
     path = tmp_path / "mystery.txt"
     path.write_text("voltage,current\n1,2\n")

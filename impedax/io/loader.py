@@ -21,7 +21,7 @@ import xarray as xr
 
 from ..arguments import shown
 from ..data import CHECKED_FILE, validate_spectrum
-from ..errors import IN_MEMORY, DataError, SweepGridsDiffer
+from ..errors import IN_MEMORY, DataError, ParameterError, SweepGridsDiffer
 from ._common import MAX_FILE_BYTES, check_file, head_text
 from .csv import read_csv, write_csv
 from .export import written_result
@@ -72,8 +72,7 @@ def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -
 def _identify(path: str | os.PathLike, readers: Sequence[Reader] | None) -> tuple[Reader | None, list[str], list[str]]:
     """`identify`, and what the sniffs that broke their contract did (raised, or returned
     neither None, a reason text nor a bool): named first when no reader claims the file."""
-    if readers is None:
-        from .formats import READERS as readers
+    readers = _checked_readers(readers)
     path = Path(path)
     head = _head(path)
     tried, faults = [], []
@@ -98,6 +97,27 @@ def _identify(path: str | os.PathLike, readers: Sequence[Reader] | None) -> tupl
     return None, tried, faults
 
 
+def _checked_readers(readers) -> Sequence[Reader]:
+    """``readers`` as `load` and `identify` take them (None: `impedax.io.READERS`), else one
+    `ParameterError` saying what was given (a single Reader, a function, text: until 2026-12-06
+    a TypeError or AttributeError from inside the loop that tries them)."""
+    if readers is None:
+        from .formats import READERS
+
+        return READERS
+    if isinstance(readers, Reader):
+        raise ParameterError(f"readers must be a sequence of impedax.io.Reader, got the single Reader {readers.name!r}: "
+                             "give impedax.io.register_reader(reader), which tries it before the built-in readers")
+    if isinstance(readers, (str, bytes)) or not isinstance(readers, Sequence):
+        raise ParameterError(f"readers must be a sequence of impedax.io.Reader (impedax.io.register_reader(...)), got {shown(readers)} ({type(readers).__name__})")
+    for i, reader in enumerate(readers):
+        if not isinstance(reader, Reader):
+            given = f"the function {reader.__name__!r}" if callable(reader) and hasattr(reader, "__name__") else f"{shown(reader)} ({type(reader).__name__})"
+            raise ParameterError(f"readers[{i}] is {given}, not an impedax.io.Reader: "
+                                 "build one with impedax.io.Reader(name, extensions, sniff, read)")
+    return readers
+
+
 def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sweep: str | None = None) -> xr.Dataset:
     """Load a spectrum file into the impedax data model (see `impedax.data`).
 
@@ -118,6 +138,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
     if isinstance(path, xr.Dataset):
         return validate_spectrum(path)
     _check_path(path)
+    _checked_readers(readers)  # (before standard input is read)
     if str(path) == STDIN:
         return _load_stdin(readers, sweep)
     path = Path(path)
