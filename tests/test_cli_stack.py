@@ -364,3 +364,26 @@ def test_inspect_says_a_file_was_saved_from_data_built_in_python(capsys):
     assert code == 0, err
     assert "  saved_from: data built in a Python session (impedax.make_spectrum), not read from a file\n" in text
     assert "saved_from: memory" not in text
+
+
+def test_a_stack_of_saved_results_is_spectra_not_a_result(tmp_path, capsys):
+    """Two KK tests' .nc files (SYNTHETIC R0 + R1 ∥ C1 days) stacked: their Z over (file,
+    frequency), a spectrum stack with no impedax_kind and none of the files' provenance, which
+    describes each file, not the stack; until 2026-12-06 it kept the first file's
+    impedax_kind, and impedax inspect showed the stack as "a saved Kramers-Kronig test"."""
+    paths = []
+    for day, (r1, seed) in enumerate([(1000.0, 1), (1200.0, 2)]):
+        write_day(tmp_path / f"day{day}.csv", r1, seed)
+        data = ix.load(tmp_path / f"day{day}.csv")
+        paths.append(tmp_path / f"kk{day}.nc")
+        ix.write_result(ix.kk_test(data), paths[-1])
+        assert ix.load(paths[-1]).attrs["impedax_kind"] == "kk"
+    stacked = ix.io.stack_files(paths, dim="day")
+    assert not {"impedax_kind", "impedax_version", "written_utc", "provenance"} & set(stacked.attrs)
+    np.testing.assert_array_equal(stacked["Z"].sel(day="kk1").values, ix.load(tmp_path / "day1.csv")["Z"].values)
+    out = tmp_path / "days.nc"
+    code, printed, err = run(["stack", *paths, "--dim", "day", "--out", out], capsys)
+    assert code == 0, err
+    code, printed, err = run(["inspect", out, "--json"], capsys)
+    summary = json.loads(printed)
+    assert "result_kind" not in summary and json.loads(summary["attrs"]["provenance"])["command"] == "impedax stack"

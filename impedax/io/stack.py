@@ -16,6 +16,7 @@ from ..arguments import shown
 from ..data import make_spectrum
 from ..errors import DataError, ParameterError
 from ._common import merged_attrs
+from .provenance import PROVENANCE_ATTRS
 from .loader import STDIN, STDIN_NAME, load
 from .table import SWEEP_RTOL
 
@@ -92,7 +93,10 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         if sigma is not None:
             sigma[i][..., order0] = ds["sigma"].transpose(*extra, "frequency").values[..., order]
     attrs = merged_attrs([(str(label), ds.attrs) for label, ds in zip(labels, spectra)], dim)
-    for key in ("path", "saved_from"):  # (each file's own: the list below names them all)
+    # each file's own (the list below names them all); and what says a file is a saved result or
+    # what wrote it: the stack holds their spectra alone (2026-12-06: two KK tests' files stacked
+    # were shown by impedax inspect as "a saved Kramers-Kronig test", with the first test's provenance)
+    for key in ("path", "saved_from", "impedax_kind", *PROVENANCE_ATTRS):
         attrs.pop(key, None)
     attrs["sources"] = [str(p) for p in paths]
     attrs["stacked_along"] = dim
