@@ -91,3 +91,40 @@ def test_cli_text_json_and_a_batch(tmp_path, capsys):
     assert line.startswith("starting circuit from the DRT (the one 1 of 2 spectra suggest") and "R0 + R1 || CPE1 + R2 || CPE2" in line
     assert main(["drt", str(stack), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["suggestion_withheld"] is None  # (one cell reads right: a circuit is given)
+
+
+REAL = sorted(p for p in (__import__("pathlib").Path(__file__).parent / "fixtures" / "real").iterdir()
+              if p.suffix.lower() in (".dfr", ".idf", ".ids", ".pssession", ".csv", ".txt", ".mpt", ".dta", ".par", ".z", ".xlsx"))
+
+
+def test_columns_swapped_are_told_from_a_negated_z_on_every_real_file():
+    """Z' and Z'' stored in each other's columns read as Z'' + jZ': Z' < 0 and Z'' > 0, as −Z
+    reads too, and such files got the real-part hint, whose fix (−conj) gives neither reading
+    right. Bode's gain–phase relation tells the two apart: on each REAL file whose exchanged
+    columns show that signature (12 of the 15: their first spectrum, the file's own numbers), the hint names the swap and its fix, which gives the
+    file's Z back exactly; negated, it names −Z as before. The SYNTHETIC two-arc spectrum too."""
+    from impedax.io.sign_check import values_sign_hint
+
+    cases = [(path.name, ix.load(path)) for path in REAL] + [("SYNTHETIC", ix.make_spectrum(FREQ, Z))]
+    assert len(cases) >= 15
+    for name, data in cases:
+        freq = data["frequency"].values
+        z = data["Z"].values.reshape(-1, freq.size)[0]
+        swapped = z.imag + 1j * z.real
+        if np.count_nonzero(swapped.real < 0) < 0.9 * z.size or np.count_nonzero(swapped.imag > 0) < 0.9 * z.size:
+            continue  # (inductive points at high frequency: neither hint's evidence)
+        hint = values_sign_hint(freq, swapped)
+        assert hint.startswith("Z' and Z'' may be stored in each other's columns"), (name, hint)
+        fixed = ix.make_spectrum(freq, swapped).assign(Z=lambda d: d["Z"].imag + 1j * d["Z"].real)  # (the hint's own fix)
+        np.testing.assert_array_equal(fixed["Z"].values, z)
+        assert values_sign_hint(freq, -z).startswith("Z may be stored with the opposite sign (−Z"), name
+        assert values_sign_hint(freq, z) is None, name
+
+
+def test_inspect_names_the_swap(tmp_path, capsys):
+    """The SYNTHETIC spectrum written with the columns exchanged under a canonical header."""
+    path = tmp_path / "swapped.csv"
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n" + "".join(f"{f!r},{z.imag!r},{z.real!r}\n" for f, z in zip(FREQ.tolist(), Z.tolist())))
+    assert main(["inspect", str(path), "--json"]) == 0
+    hint = json.loads(capsys.readouterr().out)["sign_hint"]
+    assert hint.startswith(f"Z' and Z'' may be stored in each other's columns: Z' < 0 at {FREQ.size} of {FREQ.size} points") and "data['Z'].imag + 1j * data['Z'].real" in hint

@@ -304,7 +304,7 @@ def _sign_hint(ds, extra) -> str | None:
     (`io.sign_check.negative_real_evidence`), else `io.sign_check.opposite_sign_hint` when
     Z'' > 0 at nearly all points while |Z| falls (`io.sign_check.positive_imaginary_evidence`);
     in how many spectra for a file of several."""
-    from ..io.sign_check import imaginary_flipped_too, negative_real_evidence, negative_real_hint, opposite_sign_hint, positive_imaginary_evidence
+    from ..io.sign_check import imaginary_flipped_too, negative_real_evidence, negative_real_hint, opposite_sign_hint, positive_imaginary_evidence, swapped_evidence
 
     freq = ds["frequency"].values
     spectra = ds["Z"].transpose(*extra, "frequency").values.reshape(-1, freq.size)
@@ -315,7 +315,7 @@ def _sign_hint(ds, extra) -> str | None:
     real = [(e, z) for e, z in ((negative_real_evidence(freq, z), z) for z in spectra) if e]
     if real:
         first_z = real[0][1]
-        return negative_real_hint(counted([e for e, _ in real]), imaginary_too=imaginary_flipped_too(freq, first_z))
+        return negative_real_hint(counted([e for e, _ in real]), imaginary_too=imaginary_flipped_too(freq, first_z), swapped=swapped_evidence(freq, first_z))
     found = [e for e in (positive_imaginary_evidence(freq, z) for z in spectra) if e]
     return opposite_sign_hint(counted(found), ds.attrs) if found else None
 

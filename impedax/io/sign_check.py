@@ -20,7 +20,7 @@ import numpy as np
 
 __all__ = [
     "POSITIVE_SHARE", "FAILED_SHARE", "positive_imaginary_evidence", "negative_real_evidence", "conjugate_evidence", "opposite_sign_hint",
-    "negative_real_hint", "imaginary_flipped_too", "sign_hint", "values_sign_hint",
+    "negative_real_hint", "imaginary_flipped_too", "swapped_evidence", "bode_misfit", "sign_hint", "values_sign_hint",
 ]
 
 POSITIVE_SHARE = 0.9
@@ -86,12 +86,57 @@ def imaginary_flipped_too(freq, z) -> bool:
     return positive_imaginary_evidence(freq, -np.conj(np.asarray(z, complex))) is not None
 
 
-def negative_real_hint(evidence: str | None, imaginary_too: bool = False) -> str | None:
+SWAP_MARGIN = 1 / 3
+"""Z' and Z'' are taken for each other's columns (`swapped_evidence`) when |Z| follows the phase
+of Z'' + jZ' at most this share of the misfit it has to the phase of −Z (`bode_misfit`): on
+every REAL file of tests/fixtures/real, swapped or negated, the right reading's misfit was 1/6.8
+of the wrong one's or less."""
+
+
+def bode_misfit(freq, z) -> float:
+    """The median over the band of |d ln|Z|/d ln ω − (2/π)φ|, each between neighbouring
+    frequencies: how far ``z`` is from Bode's gain–phase relation, which a minimum-phase
+    impedance (a passive cell's) follows about (0.01–0.05 on the REAL files; 0.4–0.9 for the
+    same data with Z' and Z'' exchanged)."""
+    freq = np.asarray(freq, float)
+    z = np.asarray(z, complex)
+    order = np.argsort(freq)
+    x, z = np.log(freq[order]), z[order]
+    slope = np.diff(np.log(np.abs(z))) / np.diff(x)
+    phase = np.angle(z)
+    return float(np.median(np.abs(slope - (2 / math.pi) * (phase[1:] + phase[:-1]) / 2)))
+
+
+def swapped_evidence(freq, z) -> str | None:
+    """Why Z' and Z'' of ``z`` look stored in each other's columns, or None: Z' < 0 and Z'' > 0
+    nearly everywhere (`negative_real_evidence`, `POSITIVE_SHARE`), the signature of a swap of
+    capacitive data as of −Z, and |Z| follows the phase of Z'' + jZ' rather than that of −Z
+    (`bode_misfit` below `SWAP_MARGIN` of the other's); the two give the same |Z| and the
+    phases φ and −(90° − |φ|), so only the gain–phase relation tells them apart."""
+    freq = np.asarray(freq, float)
+    z = np.asarray(z, complex)
+    keep = np.isfinite(freq) & np.isfinite(z) & (freq > 0) & (np.abs(z) > 0)
+    freq, z = freq[keep], z[keep]
+    if np.unique(freq).size < 4 or negative_real_evidence(freq, z) is None or np.count_nonzero(z.imag > 0) < POSITIVE_SHARE * z.size:
+        return None
+    swapped, negated = bode_misfit(freq, z.imag + 1j * z.real), bode_misfit(freq, -z)
+    if not swapped < SWAP_MARGIN * negated:
+        return None
+    return (f"Z'' > 0 at {int(np.count_nonzero(z.imag > 0))} of {z.size} points too, and |Z| follows the phase of Z'' + jZ' "
+            f"(Bode's gain–phase relation: median misfit {swapped:.2g}, against {negated:.2g} for −Z)")
+
+
+def negative_real_hint(evidence: str | None, imaginary_too: bool = False, swapped: str | None = None) -> str | None:
     """The hint for ``evidence`` (`negative_real_evidence`), or None; ``imaginary_too``: Z'' looks
     negated as well (`positive_imaginary_evidence`), the whole of Z is (−Z: the current's sign,
-    or its leads, swapped)."""
+    or its leads, swapped); ``swapped`` (`swapped_evidence`, first): Z' and Z'' look stored in
+    each other's columns (until 2026-12-06 such a file got the real-part hint, whose fix gave
+    conj(Z) of the other reading)."""
     if not evidence:
         return None
+    if swapped:
+        return (f"Z' and Z'' may be stored in each other's columns: {evidence}, {swapped}; if so, exchange the two columns' names in the header, "
+                "or in Python take data.assign(Z=data['Z'].imag + 1j * data['Z'].real)")
     if imaginary_too:
         return (f"Z may be stored with the opposite sign (−Z: the current's sign or leads swapped): {evidence}, and Z'' > 0 while |Z| falls; "
                 "if so, correct the sign of both columns in the file, or in Python take data.assign(Z=-data['Z'])")
@@ -157,7 +202,8 @@ def sign_hint(result, retest: Callable[[np.ndarray, np.ndarray], object], name: 
     falls (`positive_imaginary_evidence`)."""
     real = negative_real_evidence(result.frequency, result.impedance)
     if real:
-        return negative_real_hint(real, imaginary_too=imaginary_flipped_too(result.frequency, result.impedance))
+        return negative_real_hint(real, imaginary_too=imaginary_flipped_too(result.frequency, result.impedance),
+                                  swapped=swapped_evidence(result.frequency, result.impedance))
     evidence = conjugate_evidence(result, retest, name) or positive_imaginary_evidence(result.frequency, result.impedance)
     return opposite_sign_hint(evidence, attrs)
 
@@ -168,5 +214,5 @@ def values_sign_hint(freq, z, attrs=None) -> str | None:
     `opposite_sign_hint` when Z'' > 0 nearly everywhere while |Z| falls; None otherwise."""
     real = negative_real_evidence(freq, z)
     if real:
-        return negative_real_hint(real, imaginary_too=imaginary_flipped_too(freq, z))
+        return negative_real_hint(real, imaginary_too=imaginary_flipped_too(freq, z), swapped=swapped_evidence(freq, z))
     return opposite_sign_hint(positive_imaginary_evidence(freq, z), attrs)
