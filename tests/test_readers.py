@@ -747,6 +747,29 @@ def test_readers_that_are_no_sequence_of_readers_are_one_parameter_error():
     assert ix.load(real, readers=list(register_reader(mine))).attrs["format"] == "Scribner ZPlot z"  # (a list of Readers is a sequence too)
 
 
+def test_a_missing_file_is_named_with_what_may_be_wrong_with_its_name(tmp_path, monkeypatch, capsys):
+    """"file not found" said nothing more: a name typed in another case than the REAL file's
+    (exampleDataZPlot.Z), one letter off, a trailing space, an unexpanded '~', a folder that does
+    not exist. The file itself, copied here, is what each message points to."""
+    shutil.copy(FIXTURES / "real" / "exampleDataZPlot.z", tmp_path / "exampleDataZPlot.z")
+    monkeypatch.chdir(tmp_path)
+    cases = {
+        "exampleDataZPlot.Z": "file not found; did you mean 'exampleDataZPlot.z'?",
+        "exampleDataZPlto.z": "file not found; did you mean 'exampleDataZPlot.z'?",
+        "exampleDataZPlot.z ": "file not found; the name 'exampleDataZPlot.z ' starts or ends with a space",
+        "~/exampleDataZPlot.z": "file not found; '~' is not expanded here (a shell expands it when not quoted; in Python, give pathlib.Path(path).expanduser())",
+        "runs/exampleDataZPlot.z": "file not found; there is no folder 'runs'",
+        "other.csv": "file not found",
+    }
+    for name, message in cases.items():
+        with pytest.raises(ix.DataError) as err:
+            ix.load(name)
+        assert str(err.value) == f"{name}: {message}"
+    from impedax.cli import main
+    assert main(["inspect", "exampleDataZPlot.Z"]) == 2
+    assert capsys.readouterr().err.strip() == "impedax inspect: error: exampleDataZPlot.Z: file not found; did you mean 'exampleDataZPlot.z'?"
+
+
 def _mystery(tmp_path):
     path = tmp_path / "mystery.txt"
     path.write_text("voltage,current\n1,2\n")

@@ -87,7 +87,7 @@ def check_file(path: Path) -> int:
     except FileNotFoundError:
         if path.is_symlink():
             raise DataError(f"broken symbolic link (to {os.readlink(path)!r}, which does not exist)", path=path) from None
-        raise DataError("file not found", path=path) from None
+        raise DataError("file not found" + missing_file_hint(path), path=path) from None
     except OSError as exc:
         if exc.errno == errno.ELOOP:
             raise DataError("symlink loop (the symbolic links point at each other, never at a file)", path=path) from None
@@ -115,6 +115,39 @@ def _netcdf_signed(path: Path) -> bool:
     except OSError:
         return False
     return head.startswith(b"CDF") or head.startswith(b"\x89HDF")
+
+
+#: Folders with more entries than this are not searched for a name like a missing file's.
+NEAR_NAMES_MAX_ENTRIES = 10_000
+
+
+def missing_file_hint(path: Path) -> str:
+    """What may be wrong with the name of a file that does not exist (after "file not found"):
+    a file of that name in another case or a close one in its folder (``; did you mean
+    'run.Z'?``), a name that ends or starts with a space, a ``~`` Python does not expand, or a
+    folder that does not exist; "" when none applies. (Until 2026-12-06 "file not found" alone:
+    ``exampleDataZPlot.Z`` for the REAL ``exampleDataZPlot.z``.)"""
+    import difflib
+
+    name, folder = path.name, path.parent
+    if str(path).startswith("~"):
+        return "; '~' is not expanded here (a shell expands it when not quoted; in Python, give pathlib.Path(path).expanduser())"
+    if name != name.strip():
+        return f"; the name {name!r} starts or ends with a space"
+    if not folder.is_dir():
+        return f"; there is no folder {str(folder)!r}" if str(folder) not in ("", ".") else ""
+    try:
+        with os.scandir(folder) as entries:
+            names = []
+            for entry in entries:
+                names.append(entry.name)
+                if len(names) > NEAR_NAMES_MAX_ENTRIES:
+                    return ""
+    except OSError:
+        return ""
+    same = [n for n in names if n.lower() == name.lower()]
+    near = same or difflib.get_close_matches(name, names, n=3, cutoff=0.8)
+    return f"; did you mean {' or '.join(repr(n) for n in near)}?" if near else ""
 
 
 def read_bytes(path: Path) -> bytes:
