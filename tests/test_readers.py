@@ -770,6 +770,25 @@ def test_a_missing_file_is_named_with_what_may_be_wrong_with_its_name(tmp_path, 
     assert capsys.readouterr().err.strip() == "impedax inspect: error: exampleDataZPlot.Z: file not found; did you mean 'exampleDataZPlot.z'?"
 
 
+def test_a_netcdf_file_of_a_users_own_layout_says_how_to_make_it_a_spectrum(tmp_path):
+    """A netCDF file written with xarray by a user (SYNTHETIC R ∥ C, Z' and Z'' as two real
+    variables over 'f'): it was told "dataset has no variable 'Z' (its data variables: ...)"
+    alone; now also what impedax loads and how to build and save the spectrum."""
+    import xarray as xr
+
+    f = np.geomspace(1, 1e5, 10)
+    z = 100 / (1 + 1j * f / 1e3)
+    path = tmp_path / "own.nc"
+    xr.Dataset({"z_real": ("f", z.real), "z_imag": ("f", z.imag)}, coords={"f": f}).to_netcdf(path, engine="scipy")
+    with pytest.raises(ix.DataError) as err:
+        ix.load(path)
+    assert str(err.value) == (f"{path}: a netCDF file that holds no spectrum (no variable 'Z'; its data variables: 'z_real', 'z_imag'): impedax loads "
+                              "the spectra impedax.save writes (a saved result is read with its class's from_xarray); for data of your own layout, "
+                              "build the spectrum in Python, impedax.make_spectrum(frequency_hz, Z) with Z complex, and save it with impedax.save(data, 'run.nc')")
+    ix.save(ix.make_spectrum(f, z), path)  # (what the message says to do reads back)
+    np.testing.assert_array_equal(ix.load(path)["Z"].values, z)
+
+
 def _mystery(tmp_path):
     path = tmp_path / "mystery.txt"
     path.write_text("voltage,current\n1,2\n")

@@ -152,6 +152,12 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
         held = not_a_spectrum(ds) if isinstance(ds, xr.Dataset) else None
         if held:  # (a saved result, e.g. of impedax gap: say how to read it, not that it lacks Z)
             raise DataError(held, path=path)
+        if reader.name == NETCDF_FORMAT and "Z" not in ds.variables:
+            # (a netCDF file of the user's own layout: until 2026-12-06 "dataset has no variable 'Z'" alone)
+            names = ", ".join(repr(str(v)) for v in ds.data_vars) or "none"
+            raise DataError(f"a netCDF file that holds no spectrum (no variable 'Z'; its data variables: {names}): impedax loads the spectra "
+                            "impedax.save writes (a saved result is read with its class's from_xarray); for data of your own layout, build the "
+                            "spectrum in Python, impedax.make_spectrum(frequency_hz, Z) with Z complex, and save it with impedax.save(data, 'run.nc')", path=path)
         if reader.name == NETCDF_FORMAT and ds.attrs.get("format", reader.name) != reader.name:
             # data saved from another format (an instrument file, stacked CSVs): this file is netCDF,
             # the format its data were first read from stays as ``data_format``
