@@ -235,9 +235,11 @@ class FitResult(FrozenResult):
 
     @property
     def misses_structure(self) -> bool:
-        """Whether a warning says the model misses structure the data hold (`MODEL_MISFIT_MARKS`):
+        """Whether the model misses structure the data hold: a warning says so
+        (`MODEL_MISFIT_MARKS`), or `misfit_hint` gives its hint (rms_rel below 2 % and over 5×
+        what the Kramers–Kronig chain reaches; added 2026-12-06, as `BatchFitResult.misses_structure`):
         its values and standard errors are then this model's best, not the system's."""
-        return warnings_blame_model(self.warnings)
+        return warnings_blame_model(self.warnings) or misfit_hint(self) is not None
 
     @property
     def residuals(self) -> np.ndarray:
