@@ -334,11 +334,9 @@ def label_text(label) -> str:
     """A coordinate label as a report or figure writes it (`label_value`'s, as ``str``), but a
     float that ``str`` writes with binary noise to 12 significant digits: np.arange(11) * 0.1
     labelled a spectrum "soc=0.30000000000000004", now "soc=0.3" (0.5 and 0.0 stay as they were)."""
-    value = label_value(label)
-    if isinstance(value, float) and np.isfinite(value) and float(f"{value:.12g}") != value:
-        short = f"{value:.12g}"
-        return short if any(c in short for c in ".en") else f"{short}.0"
-    return str(value)
+    from .warning_groups import label_shown  # (the one rule, which text outputs share: `label_shown`)
+
+    return label_shown(label_value(label))
 
 
 def coordinate_labels(ds, dim: str) -> list:

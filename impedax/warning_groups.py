@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from typing import Mapping, Sequence
 
-__all__ = ["grouped_warnings", "warning_kinds", "MORE_KINDS", "labels_text", "scope_key", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
+__all__ = ["grouped_warnings", "warning_kinds", "MORE_KINDS", "labels_text", "label_shown", "key_shown", "scope_key", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
 
 WARNING_GROUPS_SHOWN = 12  # kinds of warning a batch's text lists
 LABELS_SHOWN = 8  # labels of a dimension shown in messages
@@ -18,10 +18,39 @@ LABELS_SHOWN = 8  # labels of a dimension shown in messages
 _NUMBER = re.compile(r"(?<![\w.])(?<![eE][-+])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
 
 
+def label_shown(label) -> str:
+    """A label as text writes it: as ``str``, but a float that ``str`` writes with binary noise
+    to 12 significant digits (np.arange(6) * 0.1 labelled a spectrum "soc=0.30000000000000004",
+    now "soc=0.3"; 0.5 and 0.0 stay as they are), also when it comes as that text (a spectrum's
+    key, "0.30000000000000004": exactly the float's shortest form, so other text is left alone).
+    For reports and messages; JSON keeps the exact value."""
+    text = str(label)
+    if isinstance(label, bool) or not isinstance(label, (float, str)):
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        return text
+    if repr(value) != text or value != value or value in (float("inf"), float("-inf")) or float(f"{value:.12g}") == value:
+        return text
+    short = f"{value:.12g}"
+    return short if any(c in short for c in ".en") else f"{short}.0"
+
+
+# a spectrum's key's labels: "d=LABEL" up to the next ", " or the end (`key_shown`)
+_KEY_LABEL = re.compile(r"(?<==)([^=,]+)(?=, |$)")
+
+
+def key_shown(key: str) -> str:
+    """A spectrum's key ("cycle=3, soc=0.30000000000000004") with each label as `label_shown`
+    writes it ("cycle=3, soc=0.3"), for text; the key itself stays what warnings are filed under."""
+    return _KEY_LABEL.sub(lambda m: label_shown(m.group(1)), key)
+
+
 def labels_text(labels: Sequence) -> str:
-    """The first `LABELS_SHOWN` labels of a dimension, and how many there are when more."""
+    """The first `LABELS_SHOWN` labels of a dimension (each as `label_shown` writes it), and how many there are when more."""
     labels = list(labels)
-    shown = ", ".join(str(v) for v in labels[:LABELS_SHOWN])
+    shown = ", ".join(label_shown(v) for v in labels[:LABELS_SHOWN])
     return shown + (f", ... ({len(labels)} in all)" if len(labels) > LABELS_SHOWN else "")
 
 
@@ -145,7 +174,7 @@ def _spectra_text(places: Sequence[str]) -> str:
     one_dim = all(len(p) == 2 and ", " not in p[1] for p in parts) and len({p[0] for p in parts}) == 1
     if one_dim:
         return f"{parts[0][0]} {labels_text([p[1] for p in parts])}"
-    shown = "; ".join(places[:LABELS_SHOWN])
+    shown = "; ".join(key_shown(p) for p in places[:LABELS_SHOWN])
     return shown + (f"; ... ({len(places)} in all)" if len(places) > LABELS_SHOWN else "")
 
 

@@ -17,7 +17,7 @@ from typing import Callable, Iterable, Mapping, Sequence
 from ..arguments import EXCLUDE_RTOL, number_text, reversed_band_message
 from ..errors import DataError, ParameterError
 from ..progress import PROGRESS_AFTER_S as PROGRESS_AFTER_S_DEFAULT, progress_printer as core_progress_printer
-from ..warning_groups import labels_text
+from ..warning_groups import label_shown, labels_text
 
 __all__ = [
     "parse_assignments", "prefixed_number", "number_option", "NUMBER_PREFIXES", "check_parameter_names", "emit_json", "to_jsonable", "add_model_argument", "add_output_options",
@@ -1056,7 +1056,7 @@ def select_spectra(data, path: str, select: Sequence[str] | None, *, single: str
             pick = pick[0]  # (a list or range of one: that spectrum, as its label would pick it)
         picks[dim], written[dim] = pick, label
     if picks:
-        shown = ", ".join(f"{d}={dimension_labels(data, d)[i]}" if isinstance(i, int) else f"{d}={written[d]}" for d, i in picks.items())
+        shown = ", ".join(f"{d}={label_shown(dimension_labels(data, d)[i])}" if isinstance(i, int) else f"{d}={written[d]}" for d, i in picks.items())
         attrs = dict(data.attrs)
         for d, i in picks.items():
             attrs = _attrs_of_pick(attrs, d, [str(v) for v in dimension_labels(data, d)], i)

@@ -16,7 +16,7 @@ from ..data import column_width, concise_repr, report_text
 from ..errors import FitError
 from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, nested_as_held, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
-from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key, spectra_named
+from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key, labels_shown, spectra_named
 from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, data_difference, misfit_hint_spectra
 from .frozen import FrozenResult, freeze_fields
 
@@ -591,7 +591,7 @@ class BatchComparison(FrozenResult):
         """One row per spectrum: its labels (`labels_key`), the best model, the runner-up's ΔAIC,
         each model's ΔAIC."""
         rows = self.spectra()
-        heads = [labels_key(r["labels"]) for r in rows]
+        heads = [labels_shown(r["labels"]) for r in rows]
         lead = column_width(heads, "spectrum")
         best_width = column_width((r["best_label"] or "—" for r in rows), "best")
         columns = [f"ΔAIC {i + 1}" for i in range(len(self.labels))]

@@ -26,7 +26,7 @@ import xarray as xr
 
 from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
 from ..constants import CONCLUSIVE_POINTS_MIN
-from ..data import checked_frequencies, column_width, concise_repr, report_text, counted, format_band, format_frequency
+from ..data import checked_frequencies, column_width, concise_repr, report_text, counted, format_band, format_frequency, label_text
 from ..errors import DataError, ImpedaxError, ParameterError
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z, frequency_z_and_sigma
@@ -737,7 +737,7 @@ class ValidityGrid(ResultGrid):
 
     def _spectrum_names(self) -> list[str]:
         """Each spectrum as the report names it: ``cycle=3`` (``trial=2, session=1`` over several dimensions)."""
-        return [", ".join(f"{d}={v}" for d, v in w.items()) for w in self.labels()]
+        return [", ".join(f"{d}={label_text(v)}" for d, v in w.items()) for w in self.labels()]  # (soc=0.3, not soc=0.30000000000000004)
 
     def _table_lines(self, names: list[str]) -> list[str]:
         """The report's table: a header and, per spectrum, its name, verdict, rms_rel, noise

@@ -169,7 +169,7 @@ def _x_series(batch, x) -> list[tuple[str, np.ndarray, np.ndarray]]:
         for d, j in zip(others, group):
             members &= at[batch.dims.index(d)] == j
         shift = (k - (len(groups) - 1) / 2) * SERIES_SHIFT * step
-        label = ", ".join(f"{d}={coordinate_labels(ds, d)[j]}" for d, j in zip(others, group))
+        label = ", ".join(f"{d}={label_text(coordinate_labels(ds, d)[j])}" for d, j in zip(others, group))
         out.append((label, members, coordinate[at[axis]] + shift))
     return out
 

@@ -21,7 +21,7 @@ import xarray as xr
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...circuits.nesting import carried_values
-from ...data import column_width, concise_repr, exact_number, report_text, coordinate_labels, counted, format_band, format_relative_error, label_value, unit_text
+from ...data import column_width, concise_repr, exact_number, report_text, coordinate_labels, counted, format_band, format_relative_error, label_text, label_value, unit_text
 from ...errors import DataError, ParameterError
 from ...progress import say, silenced
 from ...warning_groups import LABELS_SHOWN, grouped_warnings, labels_text, warning_kinds
@@ -597,7 +597,8 @@ class BatchFitResult(FrozenResult):
         rms = self.dataset["rms_rel"].transpose(*self.dims).values.reshape(-1)
         worst = int(np.argmax(ratio))
         keys = list(self.spectrum_keys())
-        key, labels = keys[rows[worst]]
+        labels = keys[rows[worst]][1]
+        key = labels_shown(labels)  # (as text writes it: soc=0.3, not soc=0.30000000000000004)
         hinted = [keys[i][1] for i in sorted(rows.tolist())]
         rule = f"rms_rel below {MISFIT_CHECKED_FROM * 100:g} % and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches on that spectrum"
         figures = f"{rms[rows[worst]] * 100:.3g} %, {ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % (a diagnosis of that spectrum shows where and what)"
@@ -631,7 +632,7 @@ class BatchFitResult(FrozenResult):
         specs = self.circuit.parameter_specs(self.registry)
         if self.n_spectra <= SPECTRA_AS_COLUMNS:
             rows = s["spectra"]
-            heads = [labels_key(r["labels"]) for r in rows]
+            heads = [labels_shown(r["labels"]) for r in rows]
             fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
             cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for r in rows] for p in s["params"]]
             col = max(22, *(len(h) for h in heads), *(len(c) for row in cells for c in row))
@@ -663,7 +664,7 @@ class BatchFitResult(FrozenResult):
         columns of a small batch give it: value ± relative standard error, `_cell`; then
         rms_rel), ``s`` the `summary`."""
         rows = s["spectra"]
-        heads = [labels_key(r["labels"]) for r in rows]
+        heads = [labels_shown(r["labels"]) for r in rows]
         fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
         names = list(s["params"])
         cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for p in names] + [f"{r['rms_rel'] * 100:.3g} %"] for r in rows]
@@ -697,7 +698,7 @@ def spectra_named(labels: list[dict]) -> str:
     dims = list(labels[0]) if labels else []
     if len(dims) == 1:
         return f"{dims[0]} {labels_text([one[dims[0]] for one in labels])}"
-    shown = "; ".join(labels_key(one) for one in labels[:LABELS_SHOWN])
+    shown = "; ".join(labels_shown(one) for one in labels[:LABELS_SHOWN])
     return shown + (f"; ... ({len(labels)} in all)" if len(labels) > LABELS_SHOWN else "")
 
 
@@ -711,6 +712,13 @@ def labels_key(labels) -> str:
     """A spectrum's labels ({dimension: label}) as `fit_batch` files its warnings under them and
     the report heads its rows: "cycle=64, cell=a"."""
     return ", ".join(f"{d}={c}" for d, c in labels.items())
+
+
+def labels_shown(labels) -> str:
+    """A spectrum's labels ({dimension: label}) as text writes them, each as `label_text`
+    ("soc=0.3, cell=a"; `labels_key` keeps "soc=0.30000000000000004", under which warnings are
+    filed): the report's headings and the hint's names."""
+    return ", ".join(f"{d}={label_text(c)}" for d, c in labels.items())
 
 
 SPECTRA_AS_ROWS = 20
