@@ -123,7 +123,7 @@ def register(sub) -> None:
     add_max_steps_option(p, 400, "each fit")
     add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)") + "; .tex a LaTeX table of value ± standard error (one spectrum)", out_metavar="FILE.csv|.json|.nc|.tex")
     p.add_argument("--plot-params", nargs="+", metavar="NAME", help="the parameters --plot draws for several spectra, in that order (default: every free one)")
-    p.add_argument("--residual-map", metavar="FIG.png", help="for several spectra: save every fit's relative residuals (real, imaginary) as maps over the spectra and frequency, "
+    p.add_argument("--residual-map", metavar="FIG.png", help="for several spectra: save every fit's residuals (real, imaginary; relative to |Z|, or in units of σ under --weighting sigma) as maps over the spectra and frequency, --exclude's frequencies as hatched rows, "
                    "where a missing effect shows as one pattern at the same frequencies in spectrum after spectrum (docs/fitting.md)")
     p.add_argument("--plot-x", metavar="DIM", help="for several spectra: --plot draws each parameter against DIM's numeric coordinate (e.g. voltage), with error bars, one series per label of the other dimensions (default: the spectra side by side)")
     p.set_defaults(run=run)
@@ -155,7 +155,10 @@ def run(args) -> int:
         if not args.plot:
             raise ParameterError("--plot-params picks the parameters of the figure --plot FILE.png draws: give --plot too")
         check_parameter_names(plot_params, names, "--plot-params", args.model, args.registry)
-    data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
+    loaded = load_selected(args.data, args.select, readers=args.readers)
+    data = exclude_points(loaded, args.exclude)
+    # (the frequencies --exclude left out: --residual-map marks their rows, where its neighbours' cells had covered them)
+    left_out = sorted(set(loaded["frequency"].values.tolist()) - set(data["frequency"].values.tolist()))
     progress = progress_printer(quiet=args.quiet)  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     if latex and n_spectra > 1:
@@ -180,7 +183,7 @@ def run(args) -> int:
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {}),
                                     **({"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
     outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None and args.plot_x is None else lambda: result.plot(params=plot_params, x=args.plot_x), source, **figure_options(args)),
-                  "--residual-map": figure_writer(lambda: result.plot_residual_map(), source, **figure_options(args))})
+                  "--residual-map": figure_writer(lambda: result.plot_residual_map(excluded=left_out or None), source, **figure_options(args))})
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr, as before 2026-12-02)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once; added 2026-12-02)

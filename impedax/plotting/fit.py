@@ -362,17 +362,56 @@ def sharing_text(batch) -> str:
     return f", {', '.join(shared)} shared over {', '.join(over)}" if shared else ""
 
 
-def plot_residual_map(batch, *, title: str | None = None):
-    """Where a model fails across a batch: the relative residuals (Z − Z_model)/|Z| of every
-    spectrum, real and imaginary parts [%], as two maps over the spectra (x, in the batch's
-    order, marked with their labels) and frequency (y, log), on one diverging colour scale
-    symmetric about 0 (its ends at the 99th percentile of |residual|, so a few outliers do not
-    pale the rest; beyond it the colour saturates), and each fit's rms_rel below. A model that
-    misses an effect leaves the same sign pattern at the same frequencies in spectrum after
-    spectrum, where noise leaves speckle (`BatchFitResult.plot_residual_map`; ``impedax fit FILE
-    --residual-map FIG.png``). Returns a matplotlib Figure."""
+def residuals_shown(batch) -> tuple[np.ndarray, str, str]:
+    """The residuals a batch's residual map draws, (spectra, frequency as stored): in units of
+    the data's σ, (Z − Z_model)/σ, where the fits were weighted by it (``sigma``: what they
+    minimised, judged against the noise; until 2026-12-06 the map showed (Z − Z_model)/|Z| for
+    them too), else relative to |Z| in % (`plot_residual_map`); with the colour bar's quantity
+    and unit."""
+    ds = batch.dataset
+    dims = tuple(batch.dims)
+    z = ds["Z"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)
+    z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if batch.weighting == "sigma" and "sigma" in ds:
+            sigma = ds["sigma"].transpose(*dims, "frequency").values.reshape(z.shape)
+            return (z - z_model) / sigma, "(Z − Z_model)/σ", "σ"
+        return (z - z_model) / np.abs(z) * 100, "(Z − Z_model)/|Z|", "%"
+
+
+def excluded_rows(fitted, excluded) -> np.ndarray:
+    """Of the frequencies ``excluded`` [Hz] left out of the fits (``--exclude``), those inside
+    the fitted band ``fitted`` (ascending) and not fitted themselves, ascending: the rows a
+    residual map marks (outside the band they have no row)."""
+    if excluded is None:
+        return np.empty(0)
+    try:
+        out = np.asarray(excluded, float)
+    except (TypeError, ValueError):
+        out = None
+    if out is None or out.ndim > 1 or not np.all(np.isfinite(out) & (out > 0)):
+        raise ParameterError(f"plot_residual_map(excluded=...): frequencies [Hz] left out of the fits, positive and finite (a list of numbers, or None), got {shown(excluded)}")
+    out = np.unique(out.reshape(-1))
+    keep = (out > fitted[0]) & (out < fitted[-1]) & ~np.isin(out, fitted)
+    return out[keep]
+
+
+def plot_residual_map(batch, *, title: str | None = None, excluded=None):
+    """Where a model fails across a batch: the residuals of every spectrum, real and imaginary
+    parts, as two maps over the spectra (x, in the batch's order, marked with their labels) and
+    frequency (y, log): relative to |Z|, (Z − Z_model)/|Z| [%], or, for fits weighted by the
+    data's σ, in units of it, (Z − Z_model)/σ (`residuals_shown`, the colour bar says which); on
+    one diverging colour scale symmetric about 0 (its ends at the 99th percentile of |residual|,
+    so a few outliers do not pale the rest; beyond it the colour saturates), and each fit's
+    rms_rel below. ``excluded``: frequencies [Hz] left out of the fits (``--exclude``), each
+    drawn as a hatched grey row of its own and named in the title, where their neighbours' cells
+    had stretched over them (added 2026-12-06). A model that misses an effect leaves the same
+    sign pattern at the same frequencies in spectrum after spectrum, where noise leaves speckle
+    (`BatchFitResult.plot_residual_map`; ``impedax fit FILE --residual-map FIG.png``). Returns a
+    matplotlib Figure."""
     import matplotlib.pyplot as plt
     from matplotlib.colors import Normalize
+    from matplotlib.patches import Patch
 
     from . import characters_across, frequency_cell_edges, label_spectra_axis, plain_linear_ticks, plain_log_ticks, wrap_model
 
@@ -381,10 +420,13 @@ def plot_residual_map(batch, *, title: str | None = None):
     f = np.asarray(ds["frequency"].values, float)
     order = np.argsort(f)
     f = f[order]
-    z = ds["Z"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)[:, order]
-    z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)[:, order]
-    relative = (z - z_model) / np.abs(z) * 100
-    f_edges = frequency_cell_edges(f)
+    shown, quantity, unit = residuals_shown(batch)
+    relative = shown[:, order]
+    left_out = excluded_rows(f, excluded)
+    rows = np.concatenate([f, left_out])
+    by_row = np.argsort(rows)
+    f_edges = frequency_cell_edges(rows[by_row])  # (every row its own cell: a left-out one too)
+    fitted_row = np.argsort(by_row)[: f.size]  # (each fitted frequency's row among them)
     x_edges = np.arange(batch.n_spectra + 1) - 0.5
     parts = np.concatenate([relative.real.ravel(), relative.imag.ravel()])
     parts = parts[np.isfinite(parts)]
@@ -393,17 +435,27 @@ def plot_residual_map(batch, *, title: str | None = None):
     fig, (ax_re, ax_im, ax_rms) = plt.subplots(3, 1, figsize=(8, 8), height_ratios=[2.2, 2.2, 1.1], sharex=True, layout="constrained")
     norm = Normalize(-scale, scale)
     for ax, part, name in ((ax_re, relative.real, "Re"), (ax_im, relative.imag, "Im")):
-        mesh = ax.pcolormesh(x_edges, f_edges, part.T, norm=norm, cmap="RdBu_r", shading="flat", rasterized=part.size > MAP_VECTOR_CELLS)
+        cells = np.full((rows.size, batch.n_spectra), np.nan)
+        cells[fitted_row] = part.T
+        mesh = ax.pcolormesh(x_edges, f_edges, np.ma.masked_invalid(cells) if left_out.size else part.T, norm=norm, cmap="RdBu_r", shading="flat", rasterized=part.size > MAP_VECTOR_CELLS)
+        for k in np.flatnonzero(~np.isin(np.arange(rows.size), fitted_row)):
+            ax.axhspan(f_edges[k], f_edges[k + 1], facecolor="0.85", edgecolor="0.45", hatch="///", lw=0.0)
         ax.set_yscale("log")
         ax.set_ylim(f_edges[0], f_edges[-1])
         ax.set_ylabel(f"frequency [Hz]\n({name})", fontsize=font_size("label", 9))
         plain_log_ticks(ax.yaxis)
+    if left_out.size:
+        from ..data import format_frequency
+        from ..warning_groups import labels_text
+
+        ax_re.legend(handles=[Patch(facecolor="0.85", edgecolor="0.45", hatch="///", label=f"left out of the fits: {labels_text([format_frequency(v) for v in left_out])}")],
+                     fontsize=font_size("legend", 7), loc="lower left", bbox_to_anchor=(0.0, 1.0), borderaxespad=0.2, frameon=False)
     # (the saturated ends shown as arrows, and the largest |residual| named: a SYNTHETIC 1000 %
     # outlier drew as ±0.8 % with nothing to say the colour stopped there)
     above, below = bool(parts.size and parts.max() > scale), bool(parts.size and parts.min() < -scale)
     bar = fig.colorbar(mesh, ax=[ax_re, ax_im], shrink=0.9, extend={(True, True): "both", (True, False): "max", (False, True): "min"}.get((above, below), "neither"))
-    beyond = f"; beyond it, up to {float(np.max(np.abs(parts))):.3g} %" if above or below else ""
-    bar.set_label(f"(Z − Z_model)/|Z| [%]\n(± {scale:.3g} %: the 99th percentile{beyond})")  # (two lines: one ran past the figure's top)
+    beyond = f"; beyond it, up to {float(np.max(np.abs(parts))):.3g} {unit}" if above or below else ""
+    bar.set_label(f"{quantity} [{unit}]\n(± {scale:.3g} {unit}: the 99th percentile{beyond})")  # (two lines: one ran past the figure's top)
     places = [coordinate_labels(ds, d) for d in dims]
     labels = [", ".join(label_text(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
     rms = ds["rms_rel"].transpose(*dims).values.reshape(-1) * 100
@@ -420,6 +472,7 @@ def plot_residual_map(batch, *, title: str | None = None):
         plain_linear_ticks(ax_rms.yaxis)
     ax_rms.grid(alpha=0.3, which="both")
     label_spectra_axis(ax_rms, labels, dims)
-    fig.suptitle(title or wrap_model(f"{batch.model}: residuals of {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}{sharing_text(batch)}, {batch.weighting} weighting",
+    in_sigma = " (map in σ)" if unit == "σ" else ""
+    fig.suptitle(title or wrap_model(f"{batch.model}: residuals of {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}{sharing_text(batch)}, {batch.weighting} weighting{in_sigma}",
                                      characters_across(8, font_size("suptitle", 12))))
     return fig

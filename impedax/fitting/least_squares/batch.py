@@ -431,15 +431,17 @@ class BatchFitResult(FrozenResult):
 
         return plot_batch(self, title=title, figsize=figsize, params=params, x=x, spectra=spectra)
 
-    def plot_residual_map(self, *, title: str | None = None):
-        """Where the model fails across the spectra: each fit's relative residuals, real and
-        imaginary, as maps over the spectra and frequency, and rms_rel below (matplotlib Figure;
+    def plot_residual_map(self, *, title: str | None = None, excluded=None):
+        """Where the model fails across the spectra: each fit's residuals, real and imaginary,
+        as maps over the spectra and frequency (relative to |Z| in %, or in units of the data's
+        σ where the fits were weighted by it), and rms_rel below (matplotlib Figure;
         `plotting.fit.plot_residual_map`; ``impedax fit FILE --residual-map FIG.png``; added
-        2026-12-06). A missing effect leaves one sign pattern at the same frequencies in every
-        spectrum; noise leaves speckle."""
+        2026-12-06). ``excluded``: frequencies [Hz] left out of the fits, drawn as hatched grey
+        rows (the command line's ``--exclude`` passes its own). A missing effect leaves one sign
+        pattern at the same frequencies in every spectrum; noise leaves speckle."""
         from ...plotting.fit import plot_residual_map
 
-        return plot_residual_map(self, title=title)
+        return plot_residual_map(self, title=title, excluded=excluded)
 
     def summary(self) -> dict:
         """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""
