@@ -414,7 +414,8 @@ class BatchFitResult(FrozenResult):
 
         s = self.summary()
         rows = [{"parameter": p, "median": v["median"], "q16": v["q16"], "q84": v["q84"]} for p, v in s["params"].items()]
-        lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %, weighting {self.weighting}", *(f"note: {n}" for n in self.notes)]
+        chi2_median = f", median chi2_red {np.nanmedian([r['chi2_red'] for r in s['spectra']]):.3g}" if self._against_sigma() else ""  # (as the report: 2026-12-06)
+        lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %{chi2_median}, weighting {self.weighting}", *(f"note: {n}" for n in self.notes)]
         return result_html(self.model, rows, lines=lines)
 
     def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None, spectra: str = "auto"):
@@ -630,7 +631,9 @@ class BatchFitResult(FrozenResult):
         s = self.summary()
         width = column_width(s["params"], 16)
         noun = "spectrum" if self.n_spectra == 1 else "spectra"
-        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %   weighting {self.weighting}{self._points_text()}", ""]
+        against_sigma = self._against_sigma()
+        chi2_median = f"   median chi2_red {np.nanmedian([r['chi2_red'] for r in s['spectra']]):.3g}" if against_sigma else ""
+        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %{chi2_median}   weighting {self.weighting}{self._points_text()}", ""]
         specs = self.circuit.parameter_specs(self.registry)
         if self.n_spectra <= SPECTRA_AS_COLUMNS:
             rows = s["spectra"]
@@ -642,6 +645,8 @@ class BatchFitResult(FrozenResult):
             for p, row in zip(s["params"], cells):
                 lines.append(f"{p:<{width}} " + " ".join(f"{c:>{col}}" for c in row) + f"  {unit_text(specs[p].unit)}".rstrip())
             lines.append(f"{'rms_rel':<{width}} " + " ".join(f"{r['rms_rel'] * 100:>{col - 2}.3g} %" for r in rows))
+            if against_sigma:  # (the misfit against the data's σ: about 1 at the noise)
+                lines.append(f"{'chi2_red':<{width}} " + " ".join(f"{r['chi2_red']:>{col}.3g}" for r in rows))
             return lines
         # (the quantiles read like a confidence interval: say what they are)
         lines.append(f"across the {self.n_spectra} spectra (not uncertainties): median, 16th and 84th percentiles of each parameter's values")
@@ -651,6 +656,12 @@ class BatchFitResult(FrozenResult):
         if self.n_spectra <= SPECTRA_AS_ROWS:
             return lines + ["", *self._spectrum_lines(s)]
         return lines + ["", f"each spectrum's values, standard errors and rms_rel: {EACH_SPECTRUM_WHERE}"]
+
+    def _against_sigma(self) -> bool:
+        """Whether the fits were weighted by the data's σ, where the report gives each one's
+        χ²_red beside rms_rel (about 1 at the noise σ states; added 2026-12-06: a SYNTHETIC
+        σ-weighted batch's report gave rms_rel alone, the number σ-weighted fits are not judged by)."""
+        return self.weighting == "sigma" and "chi2_red" in self.dataset
 
     def _points_text(self) -> str:
         """The points each fit used and their band, for the report's second line
@@ -669,8 +680,9 @@ class BatchFitResult(FrozenResult):
         heads = [labels_shown(r["labels"]) for r in rows]
         fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
         names = list(s["params"])
-        cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for p in names] + [f"{r['rms_rel'] * 100:.3g} %"] for r in rows]
-        columns = names + ["rms_rel"]
+        against_sigma = self._against_sigma()
+        cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for p in names] + [f"{r['rms_rel'] * 100:.3g} %"] + ([f"{r['chi2_red']:.3g}"] if against_sigma else []) for r in rows]
+        columns = names + ["rms_rel"] + (["chi2_red"] if against_sigma else [])
         widths = [max(len(c), *(len(row[j]) for row in cells)) for j, c in enumerate(columns)]
         lead = column_width(heads, "spectrum")
         lines = ["each spectrum's fit (value ± relative standard error):", f"{'spectrum':<{lead}}  " + "  ".join(f"{c:>{w}}" for c, w in zip(columns, widths))]
