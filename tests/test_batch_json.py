@@ -251,7 +251,7 @@ def test_each_row_has_the_goodness_of_fit_of_a_fit_of_that_spectrum_alone(batch,
 def test_the_csv_rows_carry_their_spectrums_goodness_of_fit(batch, tmp_path):
     ix.write_result(batch, tmp_path / "batch.csv")
     table = np.genfromtxt(tmp_path / "batch.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
-    assert list(table.dtype.names) == ["cycle", "name", "value", "stderr", "unit", "fixed", *STATISTICS, "converged", "at_bound", "undetermined", "warnings", "weighting"]  # (weighting added 2026-12-06)
+    assert list(table.dtype.names) == ["cycle", "name", "value", "stderr", "unit", "fixed", *STATISTICS, "converged", "at_bound", "undetermined", "warnings", "weighting", "misses_structure"]  # (weighting and misses_structure added 2026-12-06)
     for key in STATISTICS:
         expected = np.repeat(batch.dataset[key].sel(cycle=CYCLES).values, 3)  # (one row per parameter)
         np.testing.assert_array_equal(table[key], expected)

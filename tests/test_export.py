@@ -52,7 +52,7 @@ def _read_csv(path):
 def test_fit_csv_rows_are_the_fitted_parameters(rc_fit, tmp_path):
     ix.write_result(rc_fit, tmp_path / "fit.csv")
     rows = _read_csv(tmp_path / "fit.csv")
-    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings", "weighting"]  # (goodness of fit and flags: added 2026-12-01; warnings 2026-12-06, as a batch's; weighting 2026-12-06: what chi2 is against)
+    assert list(rows[0]) == ["name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings", "weighting", "misses_structure"]  # (goodness of fit and flags: added 2026-12-01; warnings 2026-12-06, as a batch's; weighting 2026-12-06: what chi2 is against) (misses_structure added 2026-12-06)
     assert [r["name"] for r in rows] == ["R0", "R1", "C1"]
     for r in rows:
         assert float(r["value"]) == rc_fit.values[r["name"]]  # shortest exact text: no rounding
@@ -77,7 +77,7 @@ def test_fit_json_is_the_summary_and_netcdf_reopens(rc_fit, tmp_path):
 def test_batch_csv_has_a_row_per_spectrum_and_parameter_with_coordinates(rc_batch, tmp_path):
     ix.write_result(rc_batch, tmp_path / "batch.csv")
     rows = _read_csv(tmp_path / "batch.csv")
-    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings", "weighting"]  # (goodness of fit and flags: added 2026-12-01; warnings 2026-12-02; weighting 2026-12-06: what chi2 is against)
+    assert list(rows[0]) == ["cell", "name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings", "weighting", "misses_structure"]  # (goodness of fit and flags: added 2026-12-01; warnings 2026-12-02; weighting 2026-12-06: what chi2 is against) (misses_structure added 2026-12-06)
     assert [(r["cell"], r["name"]) for r in rows] == [(c, n) for c in "abc" for n in ("R0", "R1", "C1")]
     for r in rows:  # each spectrum's warnings, on each of its rows
         assert r["warnings"] == "; ".join(rc_batch.warnings.get(f"cell={r['cell']}", ()))

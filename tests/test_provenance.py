@@ -97,7 +97,7 @@ def test_python_write_result_records_the_version_without_changing_the_result(rc_
     assert record["impedax_version"] == ix.__version__ and record["command"] is None and record["source"] == "lab book p. 12"
     assert "provenance" not in result.to_xarray().attrs and "written_utc" not in back.to_xarray().attrs
     ix.write_result(result, tmp_path / "r.csv")
-    assert list(next(csv.DictReader((tmp_path / "r.csv").open()))) == ["name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings", "weighting"]  # (weighting added 2026-12-06)
+    assert list(next(csv.DictReader((tmp_path / "r.csv").open()))) == ["name", "value", "stderr", "unit", "fixed", "rms_rel", "chi2", "chi2_red", "aic", "bic", "converged", "at_bound", "undetermined", "warnings", "weighting", "misses_structure"]  # (weighting added 2026-12-06) (misses_structure added 2026-12-06)
     assert "provenance" not in json.loads((ix.write_result(result, tmp_path / "r.json") or tmp_path / "r.json").read_text())
     given = provenance(settings={"seed": 11, "model": "R0 + R1 || C1"}, data_files=[str(rc_file)])
     ix.write_result(result, tmp_path / "p.json", provenance=given)

@@ -377,7 +377,10 @@ class BatchFitResult(FrozenResult):
         then the flags (added 2026-12-01, as `FitResult.to_table`): ``converged`` (the spectrum's),
         ``at_bound`` and ``undetermined`` (this parameter's; the rule of `undetermined`), and
         ``warnings``: the spectrum's warnings joined by "; " ("" if none; as a comparison's
-        table; added 2026-12-02), and ``weighting`` (as `FitResult.to_table`; added 2026-12-06)."""
+        table; added 2026-12-02), ``weighting`` (as `FitResult.to_table`; added 2026-12-06) and
+        ``misses_structure`` (the spectrum's, `misses_structure`: its warnings or the misfit hint
+        say its model misses structure the data hold; added 2026-12-06: the REAL 130 battery
+        cycles' CSV named none of the 49 spectra the hint counted)."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         names = [str(p) for p in ds["param"].values]
@@ -391,6 +394,7 @@ class BatchFitResult(FrozenResult):
         statistics = self._spectrum_statistics()
         labels = [coordinate_labels(ds, d) for d in self.dims]
         keys = [key for key, _ in self.spectrum_keys()]  # (C order, as np.ndindex)
+        misses = self.misses_structure.transpose(*self.dims).values.reshape(-1)
         rows = []
         for position, index in enumerate(np.ndindex(*value.shape[:-1])):
             where = {d: labels[i][j] for i, (d, j) in enumerate(zip(self.dims, index))}
@@ -400,6 +404,7 @@ class BatchFitResult(FrozenResult):
                 rows.append({
                     **where, "name": n, "value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "unit": specs[n].unit, "fixed": fixed[p], **own,
                     "converged": bool(converged[index]), "at_bound": bool(at_bound[index + (p,)]), "undetermined": bool(flagged[index + (p,)]), "warnings": warned, "weighting": self.weighting,
+                    "misses_structure": bool(misses[position]),
                 })
         return rows
 
@@ -500,7 +505,7 @@ class BatchFitResult(FrozenResult):
         Kramers–Kronig chain reaches). Until 2026-12-06 the warnings alone: on the REAL 130
         battery cycles it was False for all 130 while the hints named 49."""
         ds = self.dataset
-        hinted = set(self._hinted()[0].tolist())
+        hinted = set(self._hinted[0].tolist())
         flags = [warnings_blame_model(self.warnings.get(key, ())) or i in hinted for i, (key, _) in enumerate(self.spectrum_keys())]
         shape = tuple(ds.sizes[d] for d in self.dims)
         return xr.DataArray(np.array(flags, bool).reshape(shape), dims=self.dims, coords={d: ds[d] for d in self.dims if d in ds.coords})
@@ -549,7 +554,8 @@ class BatchFitResult(FrozenResult):
         as a single fit's JSON: at a bound, the number its note quotes; added 2026-12-06), ``rms_rel``, ``chi2``, ``chi2_red``, ``aic``, ``bic`` (as a
         single fit's JSON; added 2026-12-01), ``converged``, ``at_bound`` (names, as a
         single fit's JSON), its ``warnings`` and ``unidentified_groups`` (lists of names, as a
-        single fit's JSON; only where the result records them, `unidentified_groups_of`). A dimension named as one of these keys (a batch
+        single fit's JSON; only where the result records them, `unidentified_groups_of`) and
+        ``misses_structure`` (`misses_structure`; added 2026-12-06). A dimension named as one of these keys (a batch
         over ``values``) is only under ``labels``: its label would clobber the fit's key."""
         ds = self.dataset
         names = [str(p) for p in ds["param"].values]
@@ -559,8 +565,9 @@ class BatchFitResult(FrozenResult):
         converged = ds["converged"].transpose(*self.dims).values
         fixed = ds["fixed"].values.tolist()
         stored_groups = self._stored_groups()
+        misses = self.misses_structure.transpose(*self.dims).values.reshape(-1)
         rows = []
-        for index, (key, label) in zip(np.ndindex(*converged.shape), self.spectrum_keys()):  # (key: as `fit_batch` names the spectra its warnings are about)
+        for position, (index, (key, label)) in enumerate(zip(np.ndindex(*converged.shape), self.spectrum_keys())):  # (key: as `fit_batch` names the spectra its warnings are about)
             own = {
                 "values": {n: float(value[index + (p,)]) for p, n in enumerate(names)},
                 "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
@@ -571,6 +578,7 @@ class BatchFitResult(FrozenResult):
                 "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],
                 "warnings": list(self.warnings.get(key, ())),
                 **({} if stored_groups is None else {"unidentified_groups": [list(g) for g in parameter_groups(stored_groups.get(key, ()))]}),
+                "misses_structure": bool(misses[position]),  # (`misses_structure`: added 2026-12-06)
             }
             rows.append({**{d: c for d, c in label.items() if d not in own and d != "labels"}, "labels": label, **own})
         return rows
@@ -594,7 +602,7 @@ class BatchFitResult(FrozenResult):
         one named, and users could not find the others in any output), which the note names
         too; None when there is none (added 2026-12-03: a batch's warnings begin at 2 %, so these
         fits were told nothing)."""
-        rows, ratio, chain = self._hinted()
+        rows, ratio, chain = self._hinted
         if not rows.size:
             return None
         rms = self.dataset["rms_rel"].transpose(*self.dims).values.reshape(-1)
@@ -613,9 +621,12 @@ class BatchFitResult(FrozenResult):
         return {"spectra": int(rows.size), "worst": {"labels": labels, "rms_rel": float(rms[rows[worst]]), "chain_rms_rel": float(chain[worst]), "ratio": float(ratio[worst])}, "note": note,
                 "labels": hinted}
 
+    @functools.cached_property
     def _hinted(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """`misfit_hint_spectra` of the batch (the flat indices of the spectra `misfit_hints`
-        names, their ratios and chains' rms_rel); none unless weighted by |Z| with its spectra."""
+        names, their ratios and chains' rms_rel); none unless weighted by |Z| with its spectra.
+        Computed once per result (its fields are read-only): the report, the JSON and the CSV
+        each ask for it."""
         if self.weighting != "modulus" or "Z" not in self.dataset:
             return np.empty(0, int), np.empty(0), np.empty(0)
         z = self.dataset["Z"].transpose(*self.dims, "frequency").values.reshape(self.n_spectra, -1)

@@ -343,15 +343,18 @@ class FitResult(FrozenResult):
         parameter or one at a bound), then ``warnings``: the fit's warnings joined by "; " ("" if
         none), on every row, as a batch's table has them (added 2026-12-06: a single fit's CSV had
         no warnings column), and ``weighting`` (what chi2, chi2_red and aic are against; added
-        2026-12-06: a CSV written from Python did not say it) (`impedax.io.write_result` .csv)."""
+        2026-12-06: a CSV written from Python did not say it) and ``misses_structure``
+        (`misses_structure`; added 2026-12-06, as a batch's table) (`impedax.io.write_result` .csv)."""
         specs = self.circuit.parameter_specs(self.registry)
         statistics = {k: float(getattr(self, k)) for k in FIT_STATISTICS}
         warned = "; ".join(self.warnings)
+        misses = bool(self.misses_structure)
         return [
             {
                 "name": n, "value": v, "stderr": shown_stderr(self.stderr[n], self.fixed[n]), "unit": specs[n].unit, "fixed": self.fixed[n], **statistics,
                 "converged": bool(self.converged), "at_bound": n in self.at_bound,
                 "undetermined": bool(undetermined(v, self.stderr[n])) and not self.fixed[n] and n not in self.at_bound, "warnings": warned, "weighting": self.weighting,
+                "misses_structure": misses,
             }
             for n, v in self.values.items()
         ]
@@ -394,7 +397,7 @@ class FitResult(FrozenResult):
         lines = [f"weighting {self.weighting}: rms_rel {self.rms_rel * 100:.3g} %, chi2_red {self.chi2_red:.4g}{self._chi2_red_basis()}, AIC {self.aic:.2f} ({self.n_points} points, {status})", *self.warnings, *(f"note: {n}" for n in self.notes)]
         # as the text table: a parameter at a bound has no meaningful linearised error to show
         # (and the status line above says whether the fit converged)
-        rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k not in ("converged", "warnings", "weighting", *FIT_STATISTICS)} for row in self.to_table()]
+        rows = [{k: v for k, v in ({**row, "stderr": "at bound"} if row["name"] in self.at_bound else row).items() if k not in ("converged", "warnings", "weighting", "misses_structure", *FIT_STATISTICS)} for row in self.to_table()]
         return result_html(self.model, rows, lines=lines, figure=self.plot)
 
     def derive(self, fn, freq=None, *, constants=None):
