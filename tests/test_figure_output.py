@@ -267,15 +267,18 @@ def test_fit_out_tex_writes_the_latex_table(spectrum_csv, tmp_path, fit_result):
     assert f"R1 & ${value} \\pm {error}$ & $\\Omega$ \\\\" in text
 
 
-def test_fit_out_tex_refuses_several_spectra(tmp_path, capsys):
-    # SYNTHETIC: two trials of the spectrum
+@pytest.mark.slow  # (~10 s: a batch fit, compilation included)
+def test_fit_out_tex_of_several_spectra_writes_a_row_each(tmp_path, capsys):
+    # SYNTHETIC: two trials of the spectrum; refused until 2026-12-06 ("a LaTeX table holds the
+    # fit of one spectrum"), now a row per trial (`BatchFitResult.to_latex`, tests/test_batch_latex.py)
     data = ix.make_spectrum(FREQ, np.stack([_z_noisy(1), _z_noisy(2)]), dims="trial")
     ix.io.save(data, tmp_path / "two.nc")
     code = main(["fit", str(tmp_path / "two.nc"), "--model", "R0 + R1 || C1", "--out", str(tmp_path / "fit.tex")])
-    err = capsys.readouterr().err
-    assert code == 2
-    assert "a LaTeX table holds the fit of one spectrum" in err and "holds 2" in err and "Traceback" not in err
-    assert not (tmp_path / "fit.tex").exists()
+    assert code == 0
+    lines = (tmp_path / "fit.tex").read_text(encoding="utf-8").splitlines()
+    assert lines[0].startswith("% impedax fit: R0 + R1 || C1, 2 spectra over trial (2)") and lines[-1] == r"\end{tabular}"
+    assert lines[3] == r"trial & R0 [$\Omega$] & R1 [$\Omega$] & C1 [$\mathrm{F}$] & rms\_rel [\%] \\"
+    assert [line.split(" & ")[0] for line in lines[5:7]] == ["0", "1"]
 
 
 def test_the_drt_figure_names_its_file_as_the_other_commands_do(spectrum_csv, tmp_path, monkeypatch):

@@ -1620,6 +1620,8 @@ def each_spectrum_written(out: str | None, rows: str = "a row per spectrum and p
         return f'written to {out} (its "spectra")'
     if suffix == ".nc":
         return f"written to {out} (netCDF: {netcdf})"
+    if suffix == LATEX_SUFFIX:  # (impedax fit of several spectra: `BatchFitResult.to_latex`, 2026-12-06)
+        return f"written to {out} (a LaTeX table, a row per spectrum)"
     return None
 
 

@@ -121,7 +121,7 @@ def register(sub) -> None:
     add_shared_options(p)
     add_fit_options(p)
     add_max_steps_option(p, 400, "each fit")
-    add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)") + "; .tex a LaTeX table of value ± standard error (one spectrum)", out_metavar="FILE.csv|.json|.nc|.tex")
+    add_output_options(p, plot="save data vs model with residuals", out=result_out_help("the result (.nc: parameters, covariance, spectra)") + "; .tex a LaTeX table of value ± standard error (several spectra: a row each)", out_metavar="FILE.csv|.json|.nc|.tex")
     p.add_argument("--plot-params", nargs="+", metavar="NAME", help="the parameters --plot draws for several spectra, in that order (default: every free one)")
     p.add_argument("--residual-map", metavar="FIG.png", help="for several spectra: save every fit's residuals (real, imaginary; relative to |Z|, or in units of σ under --weighting sigma) as maps over the spectra and frequency, --exclude's frequencies as hatched rows, "
                    "where a missing effect shows as one pattern at the same frequencies in spectrum after spectrum (docs/fitting.md)")
@@ -161,11 +161,9 @@ def run(args) -> int:
     left_out = sorted(set(loaded["frequency"].values.tolist()) - set(data["frequency"].values.tolist()))
     progress = progress_printer(quiet=args.quiet)  # (a batch of 3 cycles took 15 s without a word, 28 s on a first run)
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
-    if latex and n_spectra > 1:
-        raise ParameterError(f"--out {args.out}: a LaTeX table holds the fit of one spectrum, and {args.data} holds {n_spectra}: pick one with --select, or write .csv (a row per spectrum and parameter)")
     if args.residual_map and n_spectra == 1:
         raise ParameterError(f"--residual-map maps the residuals of several spectra, and {args.data} holds one: --plot FIG.png draws its data against the model with the residuals")
-    if latex:  # (a list or range that picks one, --select cycle=0:20 of cycles 0, 64, 129: that spectrum, fitted alone, as compare takes it; a batch of one has no LaTeX table and ended in a traceback until 2026-12-06)
+    if latex and n_spectra == 1:  # (several: a row per spectrum, `BatchFitResult.to_latex`, since 2026-12-06; a list or range that picks one, --select cycle=0:20 of cycles 0, 64, 129: that spectrum, fitted alone, as compare takes it; a batch of one has no LaTeX table and ended in a traceback until 2026-12-06)
         data = data.isel({d: 0 for d in data["Z"].dims if d != "frequency"})
     if plot_params is not None and n_spectra == 1:
         raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
