@@ -36,7 +36,7 @@ def batch(weighting: str, keep=None) -> BatchFitResult:
         {
             "value": (("param", "cycle"), np.tile([[20.0], [1000.0], [1e-5]], N)), "stderr": (("param", "cycle"), np.tile([[0.1], [1.0], [1e-8]], N)),
             "fixed": ("param", np.zeros(3, bool)), "at_bound": (("param", "cycle"), np.zeros((3, N), bool)),
-            "rms_rel": ("cycle", np.full(N, 0.01)), "converged": ("cycle", np.ones(N, bool)),
+            "rms_rel": ("cycle", np.full(N, 0.01)), "chi2_red": ("cycle", [0.9, 1.2, 4.0]), "converged": ("cycle", np.ones(N, bool)),
             "Z": (("cycle", "frequency"), z), "Z_model": (("cycle", "frequency"), z - sigma * (2 - 1j)), "sigma": (("cycle", "frequency"), sigma),
         },
         coords={"param": ["R0", "R1", "C1"], "cycle": np.arange(N), "frequency": F[keep]},
@@ -64,6 +64,10 @@ def test_a_sigma_weighted_batch_maps_its_residuals_in_sigma():
         label = fig.axes[-1].get_ylabel()
         assert label.startswith("(Z − Z_model)/σ [σ]\n(± 2 σ: the 99th percentile"), label
         assert "sigma weighting (map in σ)" in fig._suptitle.get_text()
+        # (below: each fit's chi2_red, as written, and the line at 1 a fit at the noise lies on)
+        lines = fig.axes[2].get_lines()
+        assert fig.axes[2].get_ylabel() == "chi2_red" and lines[0].get_ydata().tolist() == [0.9, 1.2, 4.0]
+        assert any(list(line.get_ydata()) == [1.0, 1.0] for line in lines[1:])
     finally:
         closed(fig)
 
@@ -76,6 +80,7 @@ def test_a_modulus_weighted_batch_still_maps_relative_residuals():
         np.testing.assert_allclose(re_map, np.tile(2 * relative[:, None], (1, N)), rtol=1e-9)
         np.testing.assert_allclose(im_map, np.tile(-relative[:, None], (1, N)), rtol=1e-9)
         assert fig.axes[-1].get_ylabel().startswith("(Z − Z_model)/|Z| [%]")
+        assert fig.axes[2].get_ylabel() == "rms_rel [%]" and fig.axes[2].get_lines()[0].get_ydata().tolist() == [1.0] * N
     finally:
         closed(fig)
 

@@ -403,8 +403,9 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     data's σ, in units of it, (Z − Z_model)/σ (`residuals_shown`, the colour bar says which); on
     one diverging colour scale symmetric about 0 (its ends at the 99th percentile of |residual|,
     so a few outliers do not pale the rest; beyond it the colour saturates), and each fit's
-    rms_rel below. ``excluded``: frequencies [Hz] left out of the fits (``--exclude``), each
-    drawn as a hatched grey row of its own and named in the title, where their neighbours' cells
+    rms_rel below (in σ: its chi2_red, a dashed line at 1). ``excluded``: frequencies [Hz] left
+    out of the fits (``--exclude``), each drawn as a hatched grey row of its own and named in a
+    legend, where their neighbours' cells
     had stretched over them (added 2026-12-06). A model that misses an effect leaves the same
     sign pattern at the same frequencies in spectrum after spectrum, where noise leaves speckle
     (`BatchFitResult.plot_residual_map`; ``impedax fit FILE --residual-map FIG.png``). Returns a
@@ -458,9 +459,12 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     bar.set_label(f"{quantity} [{unit}]\n(± {scale:.3g} {unit}: the 99th percentile{beyond})")  # (two lines: one ran past the figure's top)
     places = [coordinate_labels(ds, d) for d in dims]
     labels = [", ".join(label_text(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
-    rms = ds["rms_rel"].transpose(*dims).values.reshape(-1) * 100
+    # (in σ, each fit's chi2_red, about 1 at the noise σ states, as the report gives it since
+    # 2026-12-06; else rms_rel [%])
+    per_fit = "chi2_red" if unit == "σ" and "chi2_red" in ds else "rms_rel"
+    rms = ds[per_fit].transpose(*dims).values.reshape(-1) * (100 if per_fit == "rms_rel" else 1)
     ax_rms.plot(np.arange(batch.n_spectra), rms, "o-", ms=3, lw=0.8)
-    ax_rms.set_ylabel("rms_rel [%]", fontsize=font_size("label", 9))
+    ax_rms.set_ylabel("rms_rel [%]" if per_fit == "rms_rel" else "chi2_red", fontsize=font_size("label", 9))
     # (as `plot_batch`'s rms_rel panel: over decades log; equal fits of the four REAL data.ods
     # sheets, 11.08 %, read "1e-11+1.107680505e1" under ticks 4 and 5 on a linear axis)
     rms_shown = rms[np.isfinite(rms)]
@@ -470,6 +474,8 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     else:
         _window_flat(ax_rms, rms_shown)
         plain_linear_ticks(ax_rms.yaxis)
+    if per_fit == "chi2_red":  # (the noise σ states: where a fit at it lies)
+        ax_rms.axhline(1.0, color="0.4", lw=0.8, ls="--")
     ax_rms.grid(alpha=0.3, which="both")
     label_spectra_axis(ax_rms, labels, dims)
     in_sigma = " (map in σ)" if unit == "σ" else ""
