@@ -123,6 +123,12 @@ def test_the_batch_figure_rings_the_fits_whose_model_misses_structure():
         assert rms_panel.get_legend() is not None
     finally:
         plt.close(fig)
+    fig = hand_written().plot_residual_map()  # (its rms_rel panel alike)
+    try:
+        ringed = [line for line in fig.axes[2].get_lines() if line.get_label().startswith("model misses structure")]
+        assert len(ringed) == 1 and list(ringed[0].get_xdata()) == [0, 2, 3]
+    finally:
+        plt.close(fig)
     fig = hand_written((0.001,) * 4).plot()
     try:
         rms_panel = next(ax for ax in fig.axes if ax.get_title() == "rms_rel [%]")

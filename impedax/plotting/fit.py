@@ -481,6 +481,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     per_fit = "chi2_red" if unit == "σ" and "chi2_red" in ds else "rms_rel"
     rms = ds[per_fit].transpose(*dims).values.reshape(-1) * (100 if per_fit == "rms_rel" else 1)
     ax_rms.plot(np.arange(batch.n_spectra), rms, "o-", ms=3, lw=0.8)
+    _ring_missing_structure(ax_rms, batch, np.arange(batch.n_spectra), rms)  # (as `plot_batch`'s rms_rel panel)
     ax_rms.set_ylabel("rms_rel [%]" if per_fit == "rms_rel" else "chi2_red", fontsize=font_size("label", 9))
     # (as `plot_batch`'s rms_rel panel: over decades log; equal fits of the four REAL data.ods
     # sheets, 11.08 %, read "1e-11+1.107680505e1" under ticks 4 and 5 on a linear axis)
