@@ -98,3 +98,14 @@ def test_the_series_of_a_plot_against_a_coordinate_are_named_short():
     texts = [t.get_text() for legend in fig.legends for t in legend.get_texts()]
     plt.close(fig)
     assert texts == ["cell=0.0", "cell=0.1", "cell=0.2", "cell=0.3"]
+
+
+@pytest.mark.slow  # (~13 s: six DRT fits)
+def test_drt_names_float_labelled_spectra_short(tmp_path, capsys):
+    """`impedax drt`'s per-spectrum lines, as the fit and kk reports."""
+    soc = np.arange(6) * 0.1
+    path = str(tmp_path / "soc.nc")
+    ix.save(ix.make_spectrum(F, np.stack([ARC * (1 + s) for s in soc]), dims="soc", coords={"soc": soc}), path)
+    assert main(["drt", path, "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "  soc=0.3: rms_rel" in out and "0.30000000000000004" not in out

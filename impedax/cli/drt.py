@@ -115,7 +115,7 @@ def _kk_note(result, data, args) -> str | None:
     nor for a spectrum too short for a conclusive test."""
     import shlex
 
-    from ..data import format_frequency, format_time
+    from ..data import format_frequency, format_time, label_text
     from ..fitting.kk import kk_test, kk_test_batch
 
     results = getattr(result, "results", (result,))
@@ -135,7 +135,7 @@ def _kk_note(result, data, args) -> str | None:
         return (f"the data fail the Kramers–Kronig test at {tests[0].measured_bands_text()} ({command} says what to leave out): "
                 f"γ there holds their drift or disturbance as well as any relaxation{peaks}")
     labels = result.labels()
-    named = "; ".join(", ".join(f"{d}={v}" for d, v in labels[i].items()) for i in failed[:3]) + ("; …" if len(failed) > 3 else "")
+    named = "; ".join(", ".join(f"{d}={label_text(v)}" for d, v in labels[i].items()) for i in failed[:3]) + ("; …" if len(failed) > 3 else "")
     return (f"{len(failed)} of {len(results)} spectra fail the Kramers–Kronig test ({named}; {command} lists their bands): "
             "their γ holds drift or disturbance as well as any relaxation")
 

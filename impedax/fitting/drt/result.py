@@ -9,7 +9,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ...data import checked_frequencies, concise_repr, report_text, counted, format_quantity, format_time, format_uncertain
+from ...data import checked_frequencies, concise_repr, report_text, counted, format_quantity, format_time, format_uncertain, label_text
 from ...errors import IN_MEMORY
 from .peaks import ROUNDOFF_SHARE, Peak, below_roundoff, counted_peaks
 from ..grid import ResultGrid
@@ -583,12 +583,12 @@ class DRTBatchResult(ResultGrid):
             dropped = f"; {len(one.dropped_peaks)} below the cut-off dropped ({sum(p.r_ohm for p in one.dropped_peaks):.3g} Ω)" if one.dropped_peaks else ""
             note = note_of(one)
             lines.append(
-                f"  {', '.join(f'{d}={v}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, "
+                f"  {', '.join(f'{d}={label_text(v)}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, "
                 f"R_pol {one.polarization_resistance:.4g} Ω, peaks {peaks}{dropped}{note}"
             )
         hinted = [(where, one.sign_hint) for where, one in zip(self.labels(), self.results) if one.sign_hint]
         if hinted:  # (as the KK batch report's hint line: the first spectrum's hint, the others counted)
-            listed = "; ".join(", ".join(f"{d}={v}" for d, v in where.items()) for where, _ in hinted[:3]) + ("; …" if len(hinted) > 3 else "")
+            listed = "; ".join(", ".join(f"{d}={label_text(v)}" for d, v in where.items()) for where, _ in hinted[:3]) + ("; …" if len(hinted) > 3 else "")
             lines.append(f"warning: in {len(hinted)} of {counted(len(self.results), 'spectrum', 'spectra')} ({listed}): {hinted[0][1]}")
         lines += self._misfit_warnings()
         return "\n".join(lines)
@@ -600,7 +600,7 @@ class DRTBatchResult(ResultGrid):
         labels = self.labels()
 
         def named(indices) -> str:
-            return "; ".join(", ".join(f"{d}={v}" for d, v in labels[i].items()) for i in indices[:3]) + ("; …" if len(indices) > 3 else "")
+            return "; ".join(", ".join(f"{d}={label_text(v)}" for d, v in labels[i].items()) for i in indices[:3]) + ("; …" if len(indices) > 3 else "")
 
         def span(values) -> str:
             lo, hi = min(values) * 100, max(values) * 100
