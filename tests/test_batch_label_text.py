@@ -87,6 +87,14 @@ def test_kk_and_select_messages_write_float_labels_short(tmp_path, capsys):
     assert "its soc labels: 0.0, 0.1, 0.2, 0.3, 0.4, 0.5" in err
     assert main(["kk", path, "--select", "soc=0.3", "--json", "--quiet"]) == 0
     assert "soc.nc [soc=0.3]" in capsys.readouterr().out
+    # a spectrum that fails the test (its Z'' × 1.6, not Kramers–Kronig-consistent): the next: line selects it short
+    z = np.stack([ARC * (1 + s) for s in soc])
+    z[3] = z[3].real + 1.6j * z[3].imag
+    bad = str(tmp_path / "bad.nc")
+    ix.save(ix.make_spectrum(F, z, dims="soc", coords={"soc": soc}), bad)
+    assert main(["kk", bad, "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert f"next: impedax kk {bad} --select soc=0.3 tests soc=0.3 alone" in out and "0.30000000000000004" not in out
 
 
 def test_the_series_of_a_plot_against_a_coordinate_are_named_short():
@@ -109,3 +117,27 @@ def test_drt_names_float_labelled_spectra_short(tmp_path, capsys):
     assert main(["drt", path, "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "  soc=0.3: rms_rel" in out and "0.30000000000000004" not in out
+
+
+@pytest.mark.slow  # (~25 s: a batch fit and a diagnosis)
+def test_the_diagnose_command_a_fit_prints_names_the_label_short_and_runs(tmp_path, capsys):
+    """SYNTHETIC: four RC arcs (numpy formula, 0.05 % noise) over soc = np.arange(4) * 0.1, the
+    last with a second arc R0 + R1 ∥ C1 lacks: the fit's hint names soc=0.3 and its next: line
+    selects it as --select soc=0.3 (was soc=0.30000000000000004), which picks that spectrum."""
+    import shlex
+
+    f = np.geomspace(1.0, 1e5, 40)
+    rng = np.random.default_rng(7)
+    arc = 20 + 1e3 / (1 + 2j * np.pi * f * 1e3 * 1e-6)
+    second = 50 / (1 + 2j * np.pi * f * 50 * 3e-4)
+    noise = 1 + 0.0005 * (rng.standard_normal((4, f.size)) + 1j * rng.standard_normal((4, f.size))) / np.sqrt(2)
+    z = np.stack([arc + (second if k == 3 else 0.0) for k in range(4)]) * noise
+    path = str(tmp_path / "soc.nc")
+    ix.save(ix.make_spectrum(f, z, dims="soc", coords={"soc": np.arange(4) * 0.1}), path)
+    assert main(["fit", path, "--model", "R0 + R1 || C1", "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "0.30000000000000004" not in out and "hint: the fit of soc=0.3 (1 of the 4)" in out
+    command = next(line for line in out.splitlines() if line.startswith("next: impedax diagnose")).removeprefix("next: impedax ").split(" (where")[0]
+    assert "--select soc=0.3 " in command
+    assert main(shlex.split(command) + ["--json", "--quiet"]) == 0
+    assert json.loads(capsys.readouterr().out)["source"].endswith("[soc=0.3]")

@@ -243,7 +243,8 @@ def diagnose_command(args, data, labels: dict, model: str) -> str:
 
     one = data.isel({d: v for d, v in labels.items() if d not in data.coords}).sel({d: v for d, v in labels.items() if d in data.coords})
     selected = {str(item).partition("=")[0].strip() for flag, item in run_options(args, data=one) if flag == "--select"}
-    others = "".join(f" --select {shlex.quote(f'{d}={v}')}" for d, v in labels.items() if d not in selected)
+    # (a float label as text writes it, soc=0.3 for 0.30000000000000004: --select finds it within `_label_slack`)
+    others = "".join(f" --select {shlex.quote(f'{d}={label_shown(v)}')}" for d, v in labels.items() if d not in selected)
     return f"{fit_command(args, data=one, program='impedax diagnose')}{others} --model {shlex.quote(model)}"
 
 

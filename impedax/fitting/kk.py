@@ -798,7 +798,7 @@ class ValidityGrid(ResultGrid):
         import shlex
 
         where = self.labels()[failed[0]]
-        selects = " ".join(f"--select {shlex.quote(f'{d}={v}')}" for d, v in where.items())
+        selects = " ".join(f"--select {shlex.quote(f'{d}={label_text(v)}')}" for d, v in where.items())  # (0.3, as the table names it)
         path = shlex.quote(str(data_path)) if data_path not in (None, "-") else "FILE"
         save = "" if path != "FILE" else " (save the data to FILE first: standard input is read once)"
         return len(failed), self._spectrum_names()[failed[0]], path, selects, save
