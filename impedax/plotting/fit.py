@@ -422,8 +422,8 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     so a few outliers do not pale the rest; beyond it the colour saturates), and each fit's
     rms_rel below (in σ: its chi2_red, a dashed line at 1). ``excluded``: frequencies [Hz] left
     out of the fits (``--exclude``), each drawn as a hatched grey row of its own and named in a
-    legend, where their neighbours' cells
-    had stretched over them (added 2026-12-06). A model that misses an effect leaves the same
+    legend, where their neighbours' cells had stretched over them (added 2026-12-06). A model
+    that misses an effect leaves the same
     sign pattern at the same frequencies in spectrum after spectrum, where noise leaves speckle
     (`BatchFitResult.plot_residual_map`; ``impedax fit FILE --residual-map FIG.png``). Returns a
     matplotlib Figure."""
@@ -438,21 +438,21 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     f = np.asarray(ds["frequency"].values, float)
     order = np.argsort(f)
     f = f[order]
-    shown, quantity, unit = residuals_shown(batch)
-    relative = shown[:, order]
+    residuals, quantity, unit = residuals_shown(batch)
+    residuals = residuals[:, order]
     left_out = excluded_rows(f, excluded)
     rows = np.concatenate([f, left_out])
     by_row = np.argsort(rows)
     f_edges = frequency_cell_edges(rows[by_row])  # (every row its own cell: a left-out one too)
     fitted_row = np.argsort(by_row)[: f.size]  # (each fitted frequency's row among them)
     x_edges = np.arange(batch.n_spectra + 1) - 0.5
-    parts = np.concatenate([relative.real.ravel(), relative.imag.ravel()])
+    parts = np.concatenate([residuals.real.ravel(), residuals.imag.ravel()])
     parts = parts[np.isfinite(parts)]
     scale = float(np.percentile(np.abs(parts), 99)) if parts.size else 1.0
     scale = scale if scale > 0 else 1.0
     fig, (ax_re, ax_im, ax_rms) = plt.subplots(3, 1, figsize=(8, 8), height_ratios=[2.2, 2.2, 1.1], sharex=True, layout="constrained")
     norm = Normalize(-scale, scale)
-    for ax, part, name in ((ax_re, relative.real, "Re"), (ax_im, relative.imag, "Im")):
+    for ax, part, name in ((ax_re, residuals.real, "Re"), (ax_im, residuals.imag, "Im")):
         cells = np.full((rows.size, batch.n_spectra), np.nan)
         cells[fitted_row] = part.T
         mesh = ax.pcolormesh(x_edges, f_edges, np.ma.masked_invalid(cells) if left_out.size else part.T, norm=norm, cmap="RdBu_r", shading="flat", rasterized=part.size > MAP_VECTOR_CELLS)
