@@ -410,13 +410,14 @@ class BatchFitResult(FrozenResult):
 
     def to_latex(self) -> str:
         """The fits as a plain LaTeX ``tabular`` (no package needed), one row per spectrum: its
-        labels under the heading of its dimensions (``0.3``, not ``0.30000000000000004``: `label_text`), each parameter's value ± standard
-        error as `FitResult.to_latex` writes one (the error to two significant digits, the value
-        to its last digit; "(fixed)", "(at bound)" and "(undetermined)" marked alike), rms_rel [%]
-        last; the heading names each parameter and its unit (and "(shared)" for a global fit's
-        shared one, whose estimate every row repeats). A comment line names the model, the
-        spectra, what is shared and the weighting (``impedax fit FILE --out FILE.tex`` of several spectra; added
-        2026-12-06: it was refused, and users typed a parameter-by-cycle table by hand)."""
+        labels under the heading of its dimensions (``0.3``, not ``0.30000000000000004``:
+        `label_text`), each parameter's value ± standard error as `FitResult.to_latex` writes one
+        (the error to two significant digits, the value to its last digit; "(fixed)", "(at
+        bound)" and "(undetermined)" marked alike), rms_rel [%] last; the heading names each
+        parameter and its unit (and "(shared)" for a global fit's shared one, whose estimate every
+        row repeats). A comment line names the model, the spectra, what is shared and the
+        weighting (``impedax fit FILE --out FILE.tex`` of several spectra; added 2026-12-06: it
+        was refused, "a LaTeX table holds the fit of one spectrum")."""
         from ...data import latex_text, latex_unit, latex_value_error
 
         ds = self.dataset
