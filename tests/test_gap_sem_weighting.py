@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import impedax as ix
-from impedax.fitting.least_squares.result import SIGMA_OVERSTATES_WORDS
+from impedax.fitting.least_squares.result import SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_OVERSTATES_WORDS
 from impedax.models.gap import _edl_chi2_text, _edl_fit_warnings
 from impedax.models.sirin import remaining_impedance
 from impedax.models.synthetic import example_spectra, generate_sirin_synthetic
@@ -29,7 +29,7 @@ def test_the_sem_exceeds_the_residuals_because_the_trials_differ(seed_one):
     remaining, edl = seed_one
     assert remaining.attrs["n_trials_total"] == 30
     assert edl.chi2_red < 0.3  # (0.133: the SEM holds the trials' variation, which the fit of the mean absorbs)
-    assert any(SIGMA_OVERSTATES_WORDS in w for w in edl.warnings)  # (the fit alone cannot know what its σ holds)
+    assert any(SIGMA_OF_TRIAL_MEANS_WORDS in w for w in edl.warnings)  # (the fit says what its σ is, from the attrs; "σ overstates the noise" until 2026-12-06)
 
 
 def test_gap_leaves_the_overstated_sigma_warning_out_and_says_why(seed_one):

@@ -48,7 +48,7 @@ from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.bayes.evidence import MODEL_COMPARISON_NOTE_LEADS
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.kk import KKChains
-from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
+from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
@@ -1423,10 +1423,11 @@ def _edl_fit_warnings(edl, remaining: xr.Dataset) -> list[str]:
     and the uneven-band warning under sigma weighting, `SIGMA_BAND_WORDS`) when that sigma is the
     SEM of varying trials (`_sem_of_varying_trials`): there residuals far below it are expected,
     smallest where the variation dominates the SEM (SYNTHETIC Sirin example, seed 1, drawn from
-    the model itself: residuals 0.36× the SEM, "σ overstates the noise" warned). The report's
+    the model itself: residuals 0.36× the SEM, "σ overstates the noise" warned; since 2026-12-06
+    the fit itself says what such a σ is, `SIGMA_OF_TRIAL_MEANS_WORDS`, left out too). The report's
     fits line states the χ²_red and why instead (`GapAnalysis.report`)."""
     expected = _sem_of_varying_trials(edl, remaining)
-    return [f"EDL fit: {w}" for w in edl.warnings if not (expected and (SIGMA_OVERSTATES_WORDS in w or SIGMA_BAND_WORDS in w))]
+    return [f"EDL fit: {w}" for w in edl.warnings if not (expected and any(words in w for words in (SIGMA_OVERSTATES_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_BAND_WORDS)))]
 
 
 def _edl_chi2_text(fitted, remaining: xr.Dataset) -> str:

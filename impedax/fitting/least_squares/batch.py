@@ -34,7 +34,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, fit_
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
+from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -1418,7 +1418,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     misstated, chain_chi2_red = sigma_misstated(freq, z, z_model, sigma, weighting, n_free)
     misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated)
     uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None)
-    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red)
+    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means_of_sigma(attrs))
     if misfit_out is not None:
         misfit_out.extend(misfit)
     noise = None if sigma is not None else fit_noise(freq, z, z_model, n_free or 0)  # (Re Z < 0 is judged against the noise the residuals show)

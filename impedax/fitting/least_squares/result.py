@@ -29,7 +29,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -951,6 +951,25 @@ SIGMA_BAND_WORDS = "the data's sigma understates the noise at"
 noise in one band), by which a caller whose σ is known to hold more than noise recognises it."""
 SIGMA_OVERSTATES_WORDS = "σ overstates the noise"
 """The words of `sigma_scale_notes`' warning of residuals far below σ, likewise."""
+SIGMA_OF_TRIAL_MEANS_WORDS = "σ is the standard error of trial means"
+"""The words of `sigma_scale_notes`' note of residuals far below a σ that is the standard error of
+trial means (`trial_means_of_sigma`), in place of `SIGMA_OVERSTATES_WORDS`."""
+
+
+def trial_means_of_sigma(attrs) -> str | None:
+    """What a spectrum's σ is the standard error of, by its attrs, when it is one of means over
+    trials (``sigma_method`` naming the SEM, as `sirin.remaining_impedance` writes it, with its
+    ``n_trials_total``, ``n_trials_skin``, ``n_trials_touchscreen`` of two trials or more):
+    "30 total, 30 skin, 30 touchscreen spectra"; None otherwise (a sigma column, whose origin
+    impedax does not know)."""
+    attrs = attrs or {}
+    if "sem" not in str(attrs.get("sigma_method", "")).lower():
+        return None
+    counts = {name: attrs.get(f"n_trials_{name}") for name in ("total", "skin", "touchscreen")}
+    counts = {name: int(n) for name, n in counts.items() if n is not None}
+    if not counts or min(counts.values()) < 2:
+        return None
+    return ", ".join(f"{n} {name}" for name, n in counts.items()) + " spectra"
 
 
 # a fit whose residuals are, in rms, at most this fraction of |Z| matches its data to rounding
@@ -1059,7 +1078,7 @@ def chi2_red_range(dof: int) -> tuple[float, float]:
     return float(chdtri(dof, 1.0 - SIGMA_SCALE_TAIL)) / dof, float(chdtri(dof, SIGMA_SCALE_TAIL)) / dof
 
 
-def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None) -> list[tuple[str, ...]]:
+def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None, trial_means: str | None = None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) weighted by the data's σ (``inv_re`` = ``inv_im``
     = 1/σ) whose χ²_red lies outside `chi2_red_range` and whose residuals are at least
     `SIGMA_SCALE_FACTOR`× σ, or that many times below it, in rms (√χ²_red): the standard errors
@@ -1070,7 +1089,13 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
     shared fit's spectrum) or fewer than one degree of freedom: no note. ``chain_chi2_red`` (B,;
     `sigma_misstated`'s, NaN where not judged): where it marks σ as misstating the noise (a
     Kramers–Kronig-consistent model weighted by the same σ also exceeds it), the note over σ says
-    so and no longer offers a missing effect as the other cause (added 2026-12-02)."""
+    so and no longer offers a missing effect as the other cause (added 2026-12-02). ``trial_means``
+    (`trial_means_of_sigma`): σ is the standard error of means over those trials, which holds how
+    the trials differ, smooth in frequency, as well as the noise; a fit of the mean takes most of
+    that difference up into its parameters, so residuals far below σ are expected, and the note
+    says what σ is instead of calling it overstated with standard errors "too large" (SYNTHETIC
+    Sirin example: residuals 0.3× its SEM, "3.4× too large" said, where the trials' own spread
+    of C_gap, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF; 2026-12-06)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
     dof = 2 * z.shape[-1] - (n_free or 0)
@@ -1106,6 +1131,15 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
                 f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"either σ understates the noise, and the standard errors, which take σ as stated, are then {format_factor(factor)}× too small, "
                 "or the model misses something (a diagnosis, impedax diagnose, shows what)",
+            )
+        elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR and trial_means:
+            out[i] = (
+                f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
+                f"{SIGMA_OF_TRIAL_MEANS_WORDS} ({trial_means}; the data's sigma_method), which holds how the trials differ as well as the noise; "
+                "a fit of the mean takes a difference smooth in frequency (a contact that changes from touch to touch) up into its parameters, so residuals "
+                "below σ are expected here (unless the model follows the noise with too many parameters). The standard errors take σ as independent from "
+                "point to point, which such a difference is not, so they do not give the parameters' spread between trials: fit each trial for that "
+                "(impedax remaining --trials, then impedax fit or impedax gap)",
             )
         elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR:
             out[i] = (
