@@ -220,7 +220,7 @@ def test_remaining_of_one_real_sweep_says_one_spectrum_and_no_mean(capsys):
     path = Path(__file__).parent / "fixtures" / "real" / "data.dfr"
     assert main(["remaining", str(path)]) == 0
     err = capsys.readouterr().err
-    assert "from 1 total spectrum (one spectrum, nothing averaged, no sigma)" in err, err
+    assert "from 1 total spectrum (one spectrum, nothing averaged, no sigma: total is one spectrum without a sigma of its own" in err, err
     assert "spectra" not in err and "mean" not in err
 
 
@@ -230,7 +230,7 @@ def test_remaining_of_three_sweeps_each_says_one_spectrum_each(tmp_path, capsys,
     paths = saved_gap_files(tmp_path, tuple(one_each.values()))
     assert main(["remaining", *paths]) == 0
     err = capsys.readouterr().err
-    assert "from 1 total, 1 skin, 1 touchscreen spectrum (one spectrum each, no sigma)" in err, err
+    assert "from 1 total, 1 skin, 1 touchscreen spectrum (one spectrum each, no sigma: total, skin and touchscreen are one spectrum each without a sigma" in err, err
 
 
 def test_files_measured_over_different_bands_meet_on_the_one_they_share(tmp_path, capsys, synthetic_parts):

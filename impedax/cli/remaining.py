@@ -72,16 +72,23 @@ def run(args) -> int:
     if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
         emit_json({"command": "remaining", "written": list(written), "kind": "trials" if args.trials else "mean",
                    "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}, "single_contact": len(paths) == 1, **spectrum_summary(remaining),
+                   "sigma_method": str(remaining.attrs.get("sigma_method", "")),  # (added 2026-12-06: what sigma is made of, or why there is none)
                    "warnings": [str(n) for n in notes], "source": paths, "provenance": record})
         return 0
     n_trials = {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}
     averaged = any(n > 1 for n in n_trials.values())  # (one sweep each: "from 1 total spectra (their trial mean…)" until 2026-12-06)
     counts = ", ".join(f"{n} {k}" for k, n in n_trials.items()) + (" spectra" if averaged else " spectrum")
-    sigma = ", sigma from their standard errors: fit with --weighting sigma to use it" if "sigma" in remaining else ", no sigma (an input has one spectrum or no scatter)"
+    # (what sigma is made of, or why there is none, naming the input: remaining_impedance's sigma_method;
+    # until 2026-12-06 "no sigma (an input has one spectrum or no scatter)", and a single spectrum's own sigma was dropped)
+    method = str(remaining.attrs.get("sigma_method", ""))
+    if "sigma" in remaining:
+        sigma = (f", sigma: {method.split('; sigma =')[0]}" if "stated sigma" in method else ", sigma from their standard errors") + ": fit with --weighting sigma to use it"
+    else:
+        sigma = f", no sigma: {method.removeprefix('not available: ')}"
     if len(paths) == 1:
-        what = "the total's trials, nothing subtracted" if args.trials else "their trial mean" + sigma if averaged else "one spectrum, nothing averaged, no sigma"
+        what = "the total's trials, nothing subtracted" if args.trials else ("their trial mean" if averaged else "one spectrum, nothing averaged") + sigma
         print(f"impedax remaining: a single contact, Z_total at {remaining.sizes['frequency']} frequencies from {counts} ({what})", file=sys.stderr)
         return 0
-    what = "every total trial minus the skin and screen means" if args.trials else "trial means" + sigma if averaged else "one spectrum each, no sigma"
+    what = "every total trial minus the skin and screen means" if args.trials else ("trial means" if averaged else "one spectrum each") + sigma
     print(f"impedax remaining: Z_total − Z_skin − Z_TS at {remaining.sizes['frequency']} frequencies from {counts} ({what})", file=sys.stderr)
     return 0

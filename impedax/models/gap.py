@@ -667,8 +667,10 @@ class GapAnalysis(FrozenResult):
 
     def _pooled_noise_text(self) -> str:
         """What the pooled interval's noise is: the trial means' SEM (``sigma`` of the
-        remainder), else, with an input of a single spectrum, noise proportional to |Z| at a
+        remainder; with one spectrum per file, their stated sigma), else, with an input of a single spectrum, noise proportional to |Z| at a
         level sampled from the fit's residuals (`impedax.fitting.sample`'s ``proportional``)."""
+        if "sigma" in self.remaining and not self.averages_trials:  # (one spectrum per file, each with its sigma: 2026-12-06)
+            return "Bayesian on one spectrum per file, weighted by their stated sigma: their noise only, not a spread between trials"
         if "sigma" in self.remaining:
             return "Bayesian on the trial means: their noise only, not the spread between trials"
         proportional = "noise ∝ |Z| at a sampled level (sigma_rel: the fit's residual scatter), not a measured noise nor a spread between trials"

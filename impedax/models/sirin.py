@@ -89,7 +89,10 @@ def _spectrum(ds, name: str) -> xr.Dataset:
 def trial_mean(ds: xr.Dataset, *, over: Sequence[str] | None = None) -> xr.Dataset:
     """Mean complex Z per frequency over the replicate dims ``over`` (default: every dim of Z
     but ``frequency``) with the standard error of the mean of Re and Im separately
-    (``sigma_real``, ``sigma_imag`` = sample sd/√n, ddof 1); attrs ``n_trials``."""
+    (``sigma_real``, ``sigma_imag`` = sample sd/√n, ddof 1); attrs ``n_trials`` and
+    ``sigma_from``: "trial scatter" (n ≥ 2), "own sigma" (one spectrum that carries a ``sigma``,
+    the sd of its Re and of its Im, taken as its error) or "none" (one spectrum without one:
+    ``sigma_real`` = ``sigma_imag`` = 0)."""
     ds = _spectrum(ds, "spectrum")
     z = ds["Z"]
     dims = tuple(d for d in z.dims if d != "frequency") if over is None else tuple(over)
@@ -101,10 +104,16 @@ def trial_mean(ds: xr.Dataset, *, over: Sequence[str] | None = None) -> xr.Datas
     if n >= 2:
         sem_re = z.real.std(dims, ddof=1) / np.sqrt(n)
         sem_im = z.imag.std(dims, ddof=1) / np.sqrt(n)
+        sigma_from = "trial scatter"
+    elif "sigma" in ds:  # (one spectrum: its own σ, one sd for Re and Im, is its error)
+        own = ds["sigma"].broadcast_like(z.real)
+        sem_re = sem_im = own.mean(dims) if dims else own
+        sigma_from = "own sigma"
     else:
-        sem_re = sem_im = xr.zeros_like(z.real)
+        sem_re = sem_im = xr.zeros_like(mean.real)
+        sigma_from = "none"
     out = xr.Dataset({"Z": mean, "sigma_real": sem_re, "sigma_imag": sem_im})
-    out.attrs = {"n_trials": n, "averaged_over": list(dims), "source": ds.attrs.get("source", "spectrum")}
+    out.attrs = {"n_trials": n, "averaged_over": list(dims), "source": ds.attrs.get("source", "spectrum"), "sigma_from": sigma_from}
     return out
 
 
@@ -156,8 +165,10 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
     measurements, so the SEMs of Re and Im add in quadrature:
     σ_Re(Z_R)² = Σ_k SEM_Re,k², likewise Im. Returns a spectrum Dataset with the mean ``Z``,
     ``sigma_real``, ``sigma_imag`` and ``sigma`` = √((σ_Re² + σ_Im²)/2) (one sd for Re and Im,
-    as the data model's ``sigma``); no ``sigma`` when an input has a single spectrum or the
-    trials do not scatter (a zero standard error cannot weight a fit).
+    as the data model's ``sigma``). An input of a single spectrum adds its own ``sigma`` (the
+    sd of its Re and Im; a file's sigma column) in place of a SEM; no ``sigma`` when such an
+    input carries none (its error is unknown) or the trials do not scatter (a zero standard
+    error cannot weight a fit): attrs ``sigma_method`` then names the input and why.
 
     Dims of the total not in ``over`` (conditions: ``material``, ``voltage``) are kept: eq 5
     per condition, every variable over (*conditions, frequency) and attrs ``condition_dims``.
@@ -186,16 +197,14 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
     var_im = sum(spread(m, "sigma_imag") ** 2 for m in means.values())
     counts = {name: m.attrs["n_trials"] for name, m in means.items()}
     sigma = np.sqrt((var_re + var_im) / 2.0)
-    have_sigma = all(n >= 2 for n in counts.values()) and bool(np.all(sigma > 0))
+    method, have_sigma = _sigma_method({name: m.attrs["sigma_from"] for name, m in means.items()}, counts, sigma)
     sigma = sigma if have_sigma else None
     single = not subtracted
     # (a mean over trials only when some input holds several; 2026-12-06: one sweep was called "trial means")
     averaged = ", trial means" if any(n > 1 for n in counts.values()) else ", one spectrum" if single else ", one spectrum each"
     attrs = {
         "quantity": (SINGLE_CONTACT_QUANTITY if single else "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5)") + averaged,
-        "sigma_method": ("SEM of Re and Im over the trials" if single else "SEM of Re and Im of each measurement over its trials, added in quadrature") + "; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)"
-        if have_sigma
-        else "not available: an input has a single spectrum, or the trials do not scatter",
+        "sigma_method": method,
         **{f"n_trials_{name}": n for name, n in counts.items()},
     }
     if single:
@@ -208,6 +217,35 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
         ds["sigma_real"] = ((*kept, "frequency"), np.sqrt(var_re), {"units": "ohm", "long_name": "standard error of Re Z_R"})
         ds["sigma_imag"] = ((*kept, "frequency"), np.sqrt(var_im), {"units": "ohm", "long_name": "standard error of Im Z_R"})
     return ds
+
+
+def _sigma_method(sources: Mapping[str, str], counts: Mapping[str, int], sigma: np.ndarray) -> tuple[str, bool]:
+    """How `remaining_impedance`'s sigma is made from each input's error (``sources``: its
+    `trial_mean` ``sigma_from``), and whether it has one: the SEM of an input's trials, the own
+    sigma of an input of one spectrum, added in quadrature; else why not, naming the inputs (a
+    single spectrum without sigma, trials that do not scatter)."""
+    unknown = [name for name, source in sources.items() if source == "none"]
+    if unknown:
+        return (f"not available: {_listed(unknown)} {'is one spectrum' if len(unknown) == 1 else 'are one spectrum each'} without a sigma of "
+                f"{'its' if len(unknown) == 1 else 'their'} own, so {'its' if len(unknown) == 1 else 'their'} error is unknown; a sigma column or variable "
+                "gives it, or trials as an extra dimension their standard error", False)
+    if not np.all(sigma > 0):
+        return "not available: the trials do not scatter at some frequency (a zero standard error cannot weight a fit)", False
+    sem = [name for name, source in sources.items() if source == "trial scatter"]
+    own = [name for name, source in sources.items() if source == "own sigma"]
+    if len(sources) == 1:
+        made = "SEM of Re and Im over the trials" if sem else "the stated sigma of the one spectrum"
+    elif not own:
+        made = "SEM of Re and Im of each measurement over its trials, added in quadrature"
+    else:
+        parts = ([f"SEM of Re and Im over the trials of {_listed(sem)}"] if sem else []) + [f"the stated sigma of {_listed(own)} (one spectrum{'' if len(own) == 1 else ' each'})"]
+        made = "; ".join(parts) + ", added in quadrature"
+    return made + "; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)", True
+
+
+def _listed(names: Sequence[str]) -> str:
+    """``names`` as a sentence lists them: "total, skin and touchscreen"."""
+    return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
 
 
 def _same_conditions(total: xr.Dataset, part: xr.Dataset, dims: Sequence[str], name: str) -> None:

@@ -959,7 +959,7 @@ trial means (`trial_means_of_sigma`), in place of `SIGMA_OVERSTATES_WORDS`."""
 def trial_means_of_sigma(attrs) -> str | None:
     """What a spectrum's σ is the standard error of, by its attrs, when it is one of means over
     trials (``sigma_method`` naming the SEM, as `sirin.remaining_impedance` writes it, with its
-    ``n_trials_total``, ``n_trials_skin``, ``n_trials_touchscreen`` of two trials or more):
+    ``n_trials_total`` of two trials or more, and ``n_trials_skin``, ``n_trials_touchscreen``):
     "30 total, 30 skin, 30 touchscreen spectra"; None otherwise (a sigma column, whose origin
     impedax does not know)."""
     attrs = attrs or {}
@@ -967,7 +967,7 @@ def trial_means_of_sigma(attrs) -> str | None:
         return None
     counts = {name: attrs.get(f"n_trials_{name}") for name in ("total", "skin", "touchscreen")}
     counts = {name: int(n) for name, n in counts.items() if n is not None}
-    if not counts or min(counts.values()) < 2:
+    if counts.get("total", 0) < 2:
         return None
     return ", ".join(f"{n} {name}" for name, n in counts.items()) + " spectra"
 

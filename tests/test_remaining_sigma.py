@@ -1,0 +1,76 @@
+"""The remainder's sigma when an input is a single spectrum (`remaining_impedance`, ``impedax
+remaining``): its own sigma (a sigma column) stands for its error and is added in quadrature to the
+other inputs' standard errors; without one the remainder has none and says which input lacks it.
+Until 2026-12-06 any input of one spectrum dropped the remainder's sigma, even one that carried
+its own ("no sigma (an input has one spectrum or no scatter)"). Oracle: the propagation by hand
+in NumPy on SYNTHETIC spectra."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.models.sirin import remaining_impedance
+
+N_TRIALS = 5
+FREQ = np.geomspace(10.0, 1e5, 11)
+
+
+@pytest.fixture(scope="module")
+def parts():
+    """SYNTHETIC: a total of 5 trials (no sigma), a skin and a screen of one spectrum each with a
+    sigma of 1 % and 2 % of |Z| (random passive-looking values; the total well above the two)."""
+    rng = np.random.default_rng(5)
+    total = 5e6 * (1 + 0.05 * rng.normal(size=(N_TRIALS, FREQ.size))) - 8e6j * (1 + 0.05 * rng.normal(size=(N_TRIALS, FREQ.size)))
+    skin = 2e5 * (1 + 0.05 * rng.normal(size=FREQ.size)) - 3e5j * (1 + 0.05 * rng.normal(size=FREQ.size))
+    screen = 1e4 * (1 + 0.05 * rng.normal(size=FREQ.size)) - 2e4j * (1 + 0.05 * rng.normal(size=FREQ.size))
+    return total, (skin, 0.01 * np.abs(skin)), (screen, 0.02 * np.abs(screen))
+
+
+def test_single_spectra_with_sigma_add_it_to_the_totals_standard_error(parts):
+    total, (skin, s_skin), (screen, s_screen) = parts
+    out = remaining_impedance(ix.make_spectrum(FREQ, total, dims=("trial",)), ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
+    var_re = total.real.std(0, ddof=1) ** 2 / N_TRIALS + s_skin**2 + s_screen**2
+    var_im = total.imag.std(0, ddof=1) ** 2 / N_TRIALS + s_skin**2 + s_screen**2
+    np.testing.assert_allclose(out["Z"].values, total.mean(0) - skin - screen, rtol=1e-12)
+    np.testing.assert_allclose(out["sigma"].values, np.sqrt((var_re + var_im) / 2), rtol=1e-12)
+    np.testing.assert_allclose(out["sigma_real"].values, np.sqrt(var_re), rtol=1e-12)
+    assert "stated sigma of skin and touchscreen" in out.attrs["sigma_method"]
+
+
+def test_one_spectrum_each_with_sigma_and_a_single_contact_keep_it(parts):
+    total, (skin, s_skin), (screen, s_screen) = parts
+    s_total = 0.005 * np.abs(total[0])
+    one = ix.make_spectrum(FREQ, total[0], sigma=s_total)
+    out = remaining_impedance(one, ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
+    np.testing.assert_allclose(out["sigma"].values, np.sqrt(s_total**2 + s_skin**2 + s_screen**2), rtol=1e-12)
+    alone = remaining_impedance(one, None, None)  # (a single contact: its own sigma, unchanged)
+    np.testing.assert_allclose(alone["sigma"].values, s_total, rtol=1e-12)
+
+
+def test_a_single_spectrum_without_sigma_is_named(parts):
+    total, (skin, _), (screen, s_screen) = parts
+    out = remaining_impedance(ix.make_spectrum(FREQ, total, dims=("trial",)), ix.make_spectrum(FREQ, skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
+    assert "sigma" not in out
+    assert out.attrs["sigma_method"].startswith("not available: skin is one spectrum without a sigma of its own")
+
+
+def test_impedax_remaining_writes_the_propagated_sigma_and_says_how(tmp_path, capsys, parts):
+    total, (skin, s_skin), (screen, s_screen) = parts
+    paths = [str(tmp_path / name) for name in ("total.nc", "skin.csv", "ts.csv")]
+    ix.save(ix.make_spectrum(FREQ, total, dims=("trial",)), paths[0])
+    ix.save(ix.make_spectrum(FREQ, skin, sigma=s_skin), paths[1])
+    ix.save(ix.make_spectrum(FREQ, screen), paths[2])  # (no sigma column: the remainder has none)
+    assert main(["remaining", *paths, "--out", str(tmp_path / "none.nc"), "--json"]) == 0
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    assert summary["has_sigma"] is False and summary["sigma_method"].startswith("not available: touchscreen is one spectrum without a sigma")
+    ix.save(ix.make_spectrum(FREQ, screen, sigma=s_screen), paths[2])
+    assert main(["remaining", *paths, "--out", str(tmp_path / "rem.nc")]) == 0
+    assert "sigma: SEM of Re and Im over the trials of total; the stated sigma of skin and touchscreen (one spectrum each)" in capsys.readouterr().err
+    var = (total.real.std(0, ddof=1) ** 2 + total.imag.std(0, ddof=1) ** 2) / N_TRIALS / 2 + s_skin**2 + s_screen**2
+    np.testing.assert_allclose(ix.load(tmp_path / "rem.nc")["sigma"].values, np.sqrt(var), rtol=1e-12)
