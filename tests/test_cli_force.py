@@ -412,3 +412,33 @@ def test_the_figures_marker_says_what_the_text_says(capsys, monkeypatch, tmp_pat
     assert main(["force", "meyer", *args, "--plot", str(tmp_path / "f.png")]) == 0
     (label,) = drawn[0].axes[0].get_legend_handles_labels()[1]
     assert says in label and not_says not in label, label
+
+
+def _eq10_log_slope(f):
+    """d ln F/d ln f of Vezzoli's eq 10, (ωτ)²/(1 + (ωτ)²) × const: 2/(1 + (ωτ)²), τ = ε0 ε_s ρ_s
+    with Table 2's ε_s = 2340, ρ_s = 3.0e4 Ω m (by hand)."""
+    wt = 2 * np.pi * f * E0 * 2340.0 * 3.0e4
+    return 2.0 / (1.0 + wt**2)
+
+
+@pytest.mark.parametrize(
+    "fmin, fmax, levelled",
+    [("10k", "50k", True), ("3k", "8k", True), ("1", "5", False), ("100", "500", False)],
+)
+def test_a_band_shorter_than_a_decade_says_what_its_end_shows(capsys, fmin, fmax, levelled):
+    """Vezzoli's eq 10 over less than a decade (no plateau is judged there): at 10–50 kHz it changes
+    by 0.012 % per decade at --fmax and was said to "still rise above it" until 2026-12-06; at 1–5 Hz
+    it rises as f². The line follows the slope at the band's end, checked against eq 10's own."""
+    out = _json(capsys, "vezzoli", "--fmin", fmin, "--fmax", fmax)
+    f = np.asarray(out["frequency_hz"])
+    slope = out["peak"]["edge_slope"]
+    assert out["peak"]["band_edge"] == "fmax" and out["peak"]["plateau_hz"] is None
+    # the grid's last step: between eq 10's slopes at its two ends (d ln F/d ln f falls with f)
+    assert _eq10_log_slope(f[-1]) <= slope <= _eq10_log_slope(f[-2])
+    err = _stderr_line(capsys, "vezzoli", "--fmin", fmin, "--fmax", fmax)
+    if levelled:  # below 1 % per decade: 10^slope − 1 < 0.01
+        assert 10 ** _eq10_log_slope(f[-2]) - 1 < 0.01
+        assert "where it has levelled off: it changes by" in err and "per decade there" in err and "still rises above it" not in err
+    else:
+        assert f"and still rises above it (∝ f^{slope:.2g} there)" in err and "levelled" not in err
+        assert 10 ** _eq10_log_slope(f[-1]) - 1 > 0.01

@@ -80,7 +80,7 @@ def register(sub) -> None:
         "Parameters: meyer C_s C_i R_sc C_sc R_f [SI], area [m^2], v_a [V], or with --variant cpe (R_sc || CPE_sc, thesis Fig 5.3) "
         "CPE_sc.Q [F s^(alpha-1)] and CPE_sc.alpha in (0, 1] in place of C_sc (default alpha 0.8 and Q giving the thesis's C_sc at 1 kHz); vezzoli h_i h_s [m], area [m^2], eps_i eps_s, rho_s [ohm m], v_m [V]. "
         "The peak is the largest force refined between grid points (Brent, in log-frequency); when the force is largest at "
-        "--fmin or --fmax it still rises past the band, and that is said instead of a peak. "
+        "--fmin or --fmax, that is said instead of a peak, with what the band's end shows: still rising (its slope d ln F/d ln f there), levelled off, or on a plateau. "
         "vezzoli warns when C_i/C_s = eps_i h_s/(eps_s h_i) exceeds 0.1 (eq 8 assumes C_i << C_s).",
     )
     accept_negative_numbers(p)  # (--fmin -10: the value, refused by name, not argparse's "expected one argument")
@@ -307,7 +307,7 @@ def _figure(model: str, freq, force, peak: dict, params: dict[str, float], conve
 def _peak_text(peak: dict) -> str:
     """The stderr line's peak, in SI prefixes as the figure's legend: ``peak 164.2 mN at 37 kHz
     (refined between grid points; grid maximum 164.2 mN at 35.5 kHz)``."""
-    from ..models.peak import FORCE_PLATEAU_REL
+    from ..models.peak import FORCE_PLATEAU_REL, LEVELLED_SLOPE
 
     where = f"{format_quantity(peak['force_n'], 'N', 4)} at {format_frequency(peak['frequency_hz'])}"
     if peak["band_edge"] == "fmin=fmax":
@@ -321,9 +321,21 @@ def _peak_text(peak: dict) -> str:
             band = format_band(*plateau)
             return (f"no peak in the band: the force is largest at {option}, {where}, on a plateau: within {FORCE_PLATEAU_REL:.0%} of it over {band}, "
                     f"where it levels off (it may still rise {side} {option})")
-        return f"no peak in the band: the force is largest at {option}, {where}, and still rises {side} it"
+        # (what the band's end shows, 2026-12-06: over 10–50 kHz Vezzoli's eq 10 changes by 5e-4 % per decade, and
+        # "and still rises above it" was said as of a force that grows; no plateau is judged on less than a decade)
+        slope = peak.get("edge_slope")
+        if slope is not None and abs(slope) < LEVELLED_SLOPE:
+            return (f"no peak in the band: the force is largest at {option}, {where}, where it has levelled off: it changes by "
+                    f"{format_percent(10.0 ** abs(slope) - 1.0)} per decade there (it may still rise {side} {option}, as slowly)")
+        rate = "" if slope is None else f" (∝ f^{slope:.2g} there)"
+        return f"no peak in the band: the force is largest at {option}, {where}, and still rises {side} it{rate}"
     grid = f"{format_quantity(peak['grid_force_n'], 'N', 4)} at {format_frequency(peak['grid_frequency_hz'])}"
     return f"peak {where} (refined between grid points; grid maximum {grid})"
+
+
+def format_percent(fraction: float) -> str:
+    """A small relative change as a percentage, two significant digits: ``0.00051%``."""
+    return f"{fraction * 100:.2g}%"
 
 
 def _out_path(path: str | None) -> str | None:

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import ParameterError
 
-__all__ = ["ForceMaximum", "force_maximum", "force_plateau", "BAND_EDGES", "FORCE_PLATEAU_REL", "FORCE_PLATEAU_SPAN"]
+__all__ = ["ForceMaximum", "force_maximum", "force_plateau", "edge_slope", "BAND_EDGES", "FORCE_PLATEAU_REL", "FORCE_PLATEAU_SPAN", "LEVELLED_SLOPE"]
 
 # what `ForceMaximum.band_edge` may say besides None (a peak inside the band)
 BAND_EDGES = ("fmin", "fmax", "fmin=fmax", "flat")
@@ -35,6 +35,23 @@ largest value falls is then rounding's and noise's choice, not a peak (a SYNTHET
 tests/test_gap_force_bound.py: the force with EP within 1 % of its largest, 412 mN, from 1 Hz to
 22.4 Hz, was reported as "max 412 mN at 1 Hz"; walkthrough 2026-12-05)."""
 FORCE_PLATEAU_SPAN = 10.0
+LEVELLED_SLOPE = math.log10(1.0 + FORCE_PLATEAU_REL)
+"""A force largest at an end of the band has levelled off there when its slope d ln F/d ln f
+(`edge_slope`) is below this in magnitude: it changes by less than `FORCE_PLATEAU_REL` (1 %) per
+decade (Vezzoli's eq 10 over 10–50 kHz: 2e-6, where "still rises above it" was said)."""
+
+
+def edge_slope(freq, force, index: int) -> float | None:
+    """d ln F/d ln f at the band's end ``index`` (0 or the last), from the grid's step there:
+    ln(F_end/F_next)/ln(f_end/f_next); None with one frequency or a force not positive there."""
+    freq, force = np.asarray(freq, float).reshape(-1), np.asarray(force, float).reshape(-1)
+    if freq.size < 2 or index not in (0, freq.size - 1):
+        return None
+    other = 1 if index == 0 else freq.size - 2
+    if not (force[index] > 0 and force[other] > 0 and freq[index] != freq[other]):
+        return None
+    slope = math.log(force[index] / force[other]) / math.log(freq[index] / freq[other])
+    return slope if math.isfinite(slope) else None
 
 
 def force_plateau(freq, force, index: int) -> tuple[float, float] | None:
@@ -65,7 +82,10 @@ class ForceMaximum:
     frequencies about the grid's largest force where the force stays within 1 % of it, when they
     span more than a decade (`force_plateau`), else None (added 2026-12-06: Vezzoli's eq 10, a
     high-pass, is within 1 % of its largest from 2.59 kHz to the band's 1 MHz, where "still rises
-    above it" alone read as a force still growing)."""
+    above it" alone read as a force still growing). ``edge_slope``: d ln F/d ln f at that end of
+    the band (`edge_slope`, from the grid's last step), None for a peak inside the band (added
+    2026-12-06: over a band shorter than a decade, where no plateau is judged, it tells a force
+    still rising, ∝ f² on eq 10's low side, from one that has levelled off)."""
 
     frequency_hz: float
     force_n: float
@@ -74,6 +94,7 @@ class ForceMaximum:
     at_band_edge: bool
     band_edge: str | None
     plateau_hz: tuple[float, float] | None = None
+    edge_slope: float | None = None
 
     @property
     def is_peak(self) -> bool:
@@ -121,7 +142,7 @@ def force_maximum(force_at: Callable[[float], float], freq, force=None) -> Force
     if k in (0, n - 1):
         end = 0.0 if k == 0 else 1.0
         if abs(best.x - end) <= _EDGE or not value > force[k]:
-            return ForceMaximum(**at_end, band_edge="fmin" if k == 0 else "fmax")
+            return ForceMaximum(**at_end, band_edge="fmin" if k == 0 else "fmax", edge_slope=edge_slope(freq, force, k))
     elif not value >= force[k]:  # (not one maximum between the neighbours: keep the grid's)
         return ForceMaximum(**{**at_end, "at_band_edge": False}, band_edge=None)
     return ForceMaximum(frequency_hz=math.exp(lo + float(best.x) * (hi - lo)), force_n=value, **grid, at_band_edge=False, band_edge=None, plateau_hz=at_end["plateau_hz"])
