@@ -442,3 +442,18 @@ def test_a_band_shorter_than_a_decade_says_what_its_end_shows(capsys, fmin, fmax
     else:
         assert f"and still rises above it (∝ f^{slope:.2g} there)" in err and "levelled" not in err
         assert 10 ** _eq10_log_slope(f[-1]) - 1 > 0.01
+
+
+def test_the_figure_draws_a_force_from_zero(monkeypatch, tmp_path):
+    """Vezzoli's eq 10 over 10–50 kHz changes by 0.07 % (74.44–74.49 mN); its autoscaled axis drew
+    that as a steep rise across the panel until 2026-12-06. The axis now starts at 0 and holds the
+    curve: eq 10's limit ε0 A V_m²/(4 (h_i + h_s)(h_i/ε_i + h_s/ε_s)) by hand, Table 2."""
+    import impedax.plotting.models as plots
+
+    drawn = []
+    draw = plots.plot_force_spectrum
+    monkeypatch.setattr(plots, "plot_force_spectrum", lambda *a, **k: drawn.append(draw(*a, **k)) or drawn[-1])
+    assert main(["force", "vezzoli", "--fmin", "10k", "--fmax", "50k", "--plot", str(tmp_path / "f.png"), "-q"]) == 0
+    limit_mn = E0 * 1e-4 * 2000.0**2 / (4 * (90e-6 + 350e-6) * (90e-6 / 3.35 + 350e-6 / 2340)) * 1e3
+    bottom, top = drawn[0].axes[0].get_ylim()
+    assert bottom == 0.0 and limit_mn < top < 1.2 * limit_mn
