@@ -68,3 +68,18 @@ def test_impedax_fit_of_an_impedax_remaining_file_says_it_too(tmp_path, capsys, 
     warnings = json.loads(capsys.readouterr().out)["warnings"]
     assert any(SIGMA_OF_TRIAL_MEANS_WORDS in w for w in warnings)
     assert not any(SIGMA_OVERSTATES_WORDS in w for w in warnings)
+
+
+def test_residuals_uneven_against_trial_means_sigma_name_it_not_a_sigma_column():
+    """SYNTHETIC Sirin example of seed 4 (numpy formulas): the EDL fit of its trial-mean remainder
+    leaves residuals over 4× larger against σ at 63 kHz–1 MHz than at 10–50 kHz; until 2026-12-06
+    the note said to "check the sigma column there", a column no file held: σ is the trials' SEM."""
+    from impedax.fitting.least_squares.result import SIGMA_BAND_WORDS
+    from impedax.models.synthetic import example_spectra, generate_sirin_synthetic
+
+    parts = example_spectra(generate_sirin_synthetic(seed=4))
+    remainder = remaining_impedance(parts["total_sliding"], parts["skin"], parts["touchscreen"])
+    fitted = ix.fit(EDL, remainder, weighting="sigma")
+    (note,) = [w for w in fitted.warnings if "weighted residuals are over" in w]
+    assert SIGMA_OF_TRIAL_MEANS_WORDS in note and "30 total, 30 skin, 30 touchscreen spectra" in note and "impedax remaining --trials" in note
+    assert SIGMA_BAND_WORDS not in note and "check the sigma column" not in note

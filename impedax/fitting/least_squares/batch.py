@@ -1417,8 +1417,9 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     # (σ-weighted fits beyond σ: whether a KK-consistent chain under the same σ is too, σ then misstating the noise)
     misstated, chain_chi2_red = sigma_misstated(freq, z, z_model, sigma, weighting, n_free)
     misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated)
-    uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None)
-    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means_of_sigma(attrs))
+    trial_means = trial_means_of_sigma(attrs)  # (σ the standard error of trial means: what the notes of residuals below or uneven against it say)
+    uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None, trial_means=trial_means)
+    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means)
     if misfit_out is not None:
         misfit_out.extend(misfit)
     noise = None if sigma is not None else fit_noise(freq, z, z_model, n_free or 0)  # (Re Z < 0 is judged against the noise the residuals show)

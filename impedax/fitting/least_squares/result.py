@@ -1008,7 +1008,7 @@ def residual_band_rms(freq, z, z_model, inv_re, inv_im) -> tuple[np.ndarray, np.
     return rms, f[edges[:-1]], f[edges[1:] - 1]
 
 
-def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None, *, has_sigma: bool = False) -> list[tuple[str, ...]]:
+def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None, *, has_sigma: bool = False, trial_means: str | None = None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) of spectra z (B, N) whose weighted residuals
     (inverse weights inv_re, inv_im as `problem.weights`) are over `UNEVEN_RESIDUAL_RATIO`× larger
     in rms in one band of frequencies than in another (`residual_band_rms`): the standard errors
@@ -1027,7 +1027,11 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     kind: "larger at 21 mHz – 9.9 kHz than at 21 mHz – 4.36 Hz", REAL battery cycles, 2026-12-03). Its advice follows the weighting: under
     ``modulus`` to weigh by σ (``has_sigma``: the data carry one, which the fit did not use), the
     fit's and the sampler's way alike (the sampler's default noise model is the same σ ∝ |Z|, so
-    it is no remedy); under ``sigma`` that the stated σ misstates the noise in one of the bands."""
+    it is no remedy); under ``sigma`` that the stated σ misstates the noise in one of the bands,
+    or, where σ is the standard error of trial means (``trial_means``, `trial_means_of_sigma`),
+    that the fit of the mean can take the trials' variation it holds up in one band and not in
+    another (SYNTHETIC Sirin example of seed 4: its σ was to be "checked" as a sigma column,
+    2026-12-06)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
     if weighting not in UNEVEN_CHECKED_WEIGHTINGS or np.asarray(freq).size < 2 * UNEVEN_BAND_POINTS:
@@ -1042,7 +1046,11 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
             continue
         loud, quiet = int(louds[i]), int(quiets[i])
         loud_band, quiet_band = f"{format_frequency(lo[loud])} – {format_frequency(hi[loud])}", f"{format_frequency(lo[quiet])} – {format_frequency(hi[quiet])}"
-        if weighting == "sigma":
+        if weighting == "sigma" and trial_means:
+            remedy = (f"{SIGMA_OF_TRIAL_MEANS_WORDS} ({trial_means}), which holds how the trials differ as well as the noise, and the fit of the mean "
+                      "can take that difference up into its parameters in one band and not in another, so residuals uneven against σ need not mean "
+                      "that σ misstates the noise there; fit each trial for the parameters' spread between trials (impedax remaining --trials)")
+        elif weighting == "sigma":
             remedy = (f"{SIGMA_BAND_WORDS} {loud_band} or overstates it at {quiet_band}: check the sigma column "
                       "there (impedax sample --noise sigma takes σ as stated too)")
         else:
