@@ -74,3 +74,18 @@ def test_impedax_remaining_writes_the_propagated_sigma_and_says_how(tmp_path, ca
     assert "sigma: SEM of Re and Im over the trials of total; the stated sigma of skin and touchscreen (one spectrum each)" in capsys.readouterr().err
     var = (total.real.std(0, ddof=1) ** 2 + total.imag.std(0, ddof=1) ** 2) / N_TRIALS / 2 + s_skin**2 + s_screen**2
     np.testing.assert_allclose(ix.load(tmp_path / "rem.nc")["sigma"].values, np.sqrt(var), rtol=1e-12)
+
+
+def test_remaining_trials_say_why_they_have_no_sigma(tmp_path, capsys, parts):
+    """--trials writes each total trial minus the skin and screen means, without sigma; its JSON's
+    sigma_method was "" (2026-12-06), and now says why."""
+    total, (skin, s_skin), (screen, s_screen) = parts
+    paths = [str(tmp_path / name) for name in ("total.nc", "skin.nc", "ts.nc")]
+    for path, ds in zip(paths, (ix.make_spectrum(FREQ, total, dims=("trial",)), ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))):
+        ix.save(ds, path)
+    assert main(["remaining", *paths, "--trials", "--out", str(tmp_path / "t.nc"), "--json", "-q"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["has_sigma"] is False and summary["sigma_method"].startswith("not available: one remainder per total trial")
+    written = ix.load(tmp_path / "t.nc")
+    np.testing.assert_allclose(written["Z"].values, total - skin - screen, rtol=1e-12)
+    assert written.attrs["sigma_method"] == summary["sigma_method"]

@@ -1379,6 +1379,8 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset | None = None, touchscreen
     trials = trial_remainders(total, skin, touchscreen)
     trials = trials.drop_vars([v for v in ("common_error_modes", "trial_error_modes") if v in trials])
     trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_") or k in REMAINDER_ATTRS or k == "single_contact"})
+    # (what the file's sigma is, as the trial means' remainder says it; `impedax remaining --trials --json` gave "" until 2026-12-06)
+    trials.attrs["sigma_method"] = "not available: one remainder per total trial, as measured; the scatter between them is the noise impedax gap's hierarchical model estimates"
     return trials, notes + _subtraction_notes(trials)
 
 
