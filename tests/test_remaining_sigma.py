@@ -89,3 +89,11 @@ def test_remaining_trials_say_why_they_have_no_sigma(tmp_path, capsys, parts):
     written = ix.load(tmp_path / "t.nc")
     np.testing.assert_allclose(written["Z"].values, total - skin - screen, rtol=1e-12)
     assert written.attrs["sigma_method"] == summary["sigma_method"]
+
+
+def test_remaining_help_says_what_a_single_spectrum_gives(capsys):
+    """The help said only "the trial means with sigma from their standard errors" (2026-12-06)."""
+    with pytest.raises(SystemExit):
+        main(["remaining", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "a file of one spectrum adds its own sigma column" in text and "which file lacks it" in text

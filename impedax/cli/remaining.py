@@ -19,7 +19,8 @@ def register(sub) -> None:
         description="Subtract the skin and touchscreen spectra from the total (Sirin eq 5) with impedax gap's checks "
         "(sign, one frequency grid, three different files) and write the remainder as a spectrum that impedax fit, "
         "compare, diagnose, refine, sample and drt read. The total alone is a single contact (a gripper pad): nothing is subtracted, "
-        "the remainder is its trial means, as impedax gap PAD fits them. Default: the trial means with sigma from their standard errors, "
+        "the remainder is its trial means, as impedax gap PAD fits them. Default: the trial means with sigma from their standard errors "
+        "(a file of one spectrum adds its own sigma column; without one the remainder has no sigma, and the line says which file lacks it), "
         "what gap's least-squares fits and --pooled fit; --trials: every total trial minus the skin and screen means, "
         "what gap's hierarchical model fits (the total's trial dimensions, so .nc). No fit, no sampling.",
     )
