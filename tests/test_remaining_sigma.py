@@ -97,3 +97,17 @@ def test_remaining_help_says_what_a_single_spectrum_gives(capsys):
         main(["remaining", "--help"])
     text = " ".join(capsys.readouterr().out.split())
     assert "a file of one spectrum adds its own sigma column" in text and "which file lacks it" in text
+
+
+def test_the_force_bands_say_skin_and_screen_as_measured_when_one_spectrum_each(parts):
+    """`impedax gap`'s "force bands" line (and JSON force_conditions) said "skin and screen as their
+    trial means" of one sweep each (SYNTHETIC, 2026-12-06)."""
+    from impedax.models.gap import FORCE_CONDITIONS, force_conditions_of
+
+    total, (skin, s_skin), (screen, _) = parts
+    trials = ix.make_spectrum(FREQ, total, dims=("trial",))
+    one_each = remaining_impedance(trials, ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen))
+    assert force_conditions_of(one_each) == "A taken as exact; skin and screen as measured (one spectrum each), without their errors"
+    mixed = remaining_impedance(trials, ix.make_spectrum(FREQ, skin), trials)
+    assert force_conditions_of(mixed) == "A taken as exact; skin as measured (one spectrum), screen as its trial mean, without their errors"
+    assert force_conditions_of(remaining_impedance(trials, trials, trials)) == FORCE_CONDITIONS

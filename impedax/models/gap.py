@@ -56,7 +56,7 @@ from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, force_plateau  # noqa: 
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_CUTOFF_HZ, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area", "force_maximum_text", "force_maximum_shape"]
+__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area", "force_maximum_text", "force_maximum_shape", "force_conditions_of"]
 
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
@@ -65,6 +65,20 @@ FORCE_CONVENTION = "peak"  # eq 1 at the voltage amplitude; the time average is 
 FORCE_CONDITIONS = "A taken as exact; skin and screen as their trial means, without their errors"
 SINGLE_CONTACT_FORCE_CONDITIONS = "A taken as exact; a single contact: the drive V0 across the contact alone (no skin or screen in series)"
 """`FORCE_CONDITIONS` of a single contact (`GapAnalysis.single_contact`)."""
+
+
+def force_conditions_of(remaining: xr.Dataset) -> str:
+    """What the force bands of a remainder Z_total − Z_skin − Z_TS condition on: `FORCE_CONDITIONS`,
+    with skin or screen "as measured (one spectrum)" where its file held one (attrs
+    ``n_trials_skin``, ``n_trials_touchscreen``; "as their trial means" was said of one sweep each,
+    2026-12-06)."""
+    single = [name for name, short in (("skin", "skin"), ("touchscreen", "screen")) if int(remaining.attrs.get(f"n_trials_{name}", 2)) == 1]
+    if not single:
+        return FORCE_CONDITIONS
+    if len(single) == 2:
+        return "A taken as exact; skin and screen as measured (one spectrum each), without their errors"
+    one, other = ("skin", "screen") if single == ["skin"] else ("screen", "skin")
+    return f"A taken as exact; {one} as measured (one spectrum), {other} as its trial mean, without their errors"
 SINGLE_CONTACT_NOTE = (
     "single contact (no skin or touchscreen given): the EDL model is fitted to the total itself, nothing subtracted, "
     "and the drive V0 falls across the contact alone"
@@ -416,7 +430,7 @@ class GapAnalysis(FrozenResult):
     def force_conditions(self) -> str:
         """What the force bands condition on (`FORCE_CONDITIONS`; a single contact's:
         `SINGLE_CONTACT_FORCE_CONDITIONS`)."""
-        return SINGLE_CONTACT_FORCE_CONDITIONS if self.single_contact else FORCE_CONDITIONS
+        return SINGLE_CONTACT_FORCE_CONDITIONS if self.single_contact else force_conditions_of(self.remaining)
 
     def _force_bound_summary(self) -> dict | None:
         """The JSON's ``force_upper_bound_n``: the force [N] at u's lower bound over the force's
