@@ -111,3 +111,18 @@ def test_the_force_bands_say_skin_and_screen_as_measured_when_one_spectrum_each(
     mixed = remaining_impedance(trials, ix.make_spectrum(FREQ, skin), trials)
     assert force_conditions_of(mixed) == "A taken as exact; skin as measured (one spectrum), screen as its trial mean, without their errors"
     assert force_conditions_of(remaining_impedance(trials, trials, trials)) == FORCE_CONDITIONS
+
+
+def test_gaps_fit_line_says_what_the_sigma_holds(parts):
+    """gap's fits line said "χ²_red … against the trial means' SEM" where the remainder's sigma also
+    holds the stated sigma of skin and screen files of one spectrum (SYNTHETIC, 2026-12-06)."""
+    from types import SimpleNamespace
+
+    from impedax.models.gap import _edl_chi2_text
+
+    total, (skin, s_skin), (screen, s_screen) = parts
+    trials = ix.make_spectrum(FREQ, total, dims=("trial",))
+    fitted = SimpleNamespace(weighting="sigma", chi2_red=0.9)
+    mixed = remaining_impedance(trials, ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
+    assert "against the remainder's sigma (the total trials' SEM with the stated sigma of the files of one spectrum)" in _edl_chi2_text(fitted, mixed)
+    assert "against the trial means' SEM" in _edl_chi2_text(fitted, remaining_impedance(trials, trials, trials))

@@ -1449,10 +1449,14 @@ def _edl_fit_warnings(edl, remaining: xr.Dataset) -> list[str]:
 
 
 def _edl_chi2_text(fitted, remaining: xr.Dataset) -> str:
-    """The EDL fit's χ²_red against the trial means' SEM, and why it lies below 1 (`_edl_fit_warnings`)."""
+    """The EDL fit's χ²_red against the trial means' SEM, and why it lies below 1 (`_edl_fit_warnings`);
+    a sigma that also holds the stated sigma of a file of one spectrum (`sirin.remaining_impedance`)
+    is said so (2026-12-06: "against the trial means' SEM" was said of it)."""
     if not _sem_of_varying_trials(fitted, remaining):
         return ""
-    return (f" (χ²_red {fitted.chi2_red:.3g} against the trial means' SEM"
+    stated = "stated sigma" in str(remaining.attrs.get("sigma_method", ""))
+    against = "the remainder's sigma (the total trials' SEM with the stated sigma of the files of one spectrum)" if stated else "the trial means' SEM"
+    return (f" (χ²_red {fitted.chi2_red:.3g} against {against}"
             + (", below 1 as expected: the SEM holds the contact's variation between trials, which the fit of the mean absorbs)" if fitted.chi2_red < 1 else ")"))
 
 
