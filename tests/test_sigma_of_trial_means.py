@@ -40,6 +40,7 @@ def trials():
     return total, c_gap
 
 
+@pytest.mark.slow  # (5.4 s: two fits, the first compiling the circuit)
 def test_a_fit_of_trial_means_says_what_its_sigma_is(trials):
     total, c_gap = trials
     remainder = remaining_impedance(total, None, None)
