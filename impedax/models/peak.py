@@ -41,16 +41,28 @@ LEVELLED_SLOPE = math.log10(1.0 + FORCE_PLATEAU_REL)
 decade (Vezzoli's eq 10 over 10–50 kHz: 2e-6, where "still rises above it" was said)."""
 
 
-def edge_slope(freq, force, index: int) -> float | None:
-    """d ln F/d ln f at the band's end ``index`` (0 or the last), from the grid's step there:
-    ln(F_end/F_next)/ln(f_end/f_next); None with one frequency or a force not positive there."""
-    freq, force = np.asarray(freq, float).reshape(-1), np.asarray(force, float).reshape(-1)
+# the step in ln f inward from a band's end over which `edge_slope` takes the force's slope (or the
+# grid's step there, if smaller): local, where the grid's step is the whole band with --points 2
+EDGE_SLOPE_STEP = 1e-3
+
+
+def edge_slope(force_at: Callable[[float], float], freq, index: int) -> float | None:
+    """d ln F/d ln f at the band's end ``index`` (0 or the last) of the grid ``freq``:
+    ln(F(f_end)/F(f_in))/ln(f_end/f_in), f_in = f_end·e^(∓h) inside the band, h the smaller of
+    `EDGE_SLOPE_STEP` and the grid's step there; None with one frequency or a force not
+    positive there."""
+    freq = np.asarray(freq, float).reshape(-1)
     if freq.size < 2 or index not in (0, freq.size - 1):
         return None
     other = 1 if index == 0 else freq.size - 2
-    if not (force[index] > 0 and force[other] > 0 and freq[index] != freq[other]):
+    step = min(EDGE_SLOPE_STEP, abs(math.log(freq[other] / freq[index])))
+    if not step > 0:
         return None
-    slope = math.log(force[index] / force[other]) / math.log(freq[index] / freq[other])
+    inner = float(freq[index]) * math.exp(step if index == 0 else -step)
+    end, near = float(force_at(float(freq[index]))), float(force_at(inner))
+    if not (end > 0 and near > 0):
+        return None
+    slope = math.log(end / near) / math.log(float(freq[index]) / inner)
     return slope if math.isfinite(slope) else None
 
 
@@ -83,7 +95,7 @@ class ForceMaximum:
     span more than a decade (`force_plateau`), else None (added 2026-12-06: Vezzoli's eq 10, a
     high-pass, is within 1 % of its largest from 2.59 kHz to the band's 1 MHz, where "still rises
     above it" alone read as a force still growing). ``edge_slope``: d ln F/d ln f at that end of
-    the band (`edge_slope`, from the grid's last step), None for a peak inside the band (added
+    the band (`edge_slope`, over a step of 1e-3 in ln f inward), None for a peak inside the band (added
     2026-12-06: over a band shorter than a decade, where no plateau is judged, it tells a force
     still rising, ∝ f² on eq 10's low side, from one that has levelled off)."""
 
@@ -142,7 +154,7 @@ def force_maximum(force_at: Callable[[float], float], freq, force=None) -> Force
     if k in (0, n - 1):
         end = 0.0 if k == 0 else 1.0
         if abs(best.x - end) <= _EDGE or not value > force[k]:
-            return ForceMaximum(**at_end, band_edge="fmin" if k == 0 else "fmax", edge_slope=edge_slope(freq, force, k))
+            return ForceMaximum(**at_end, band_edge="fmin" if k == 0 else "fmax", edge_slope=edge_slope(force_at, freq, k))
     elif not value >= force[k]:  # (not one maximum between the neighbours: keep the grid's)
         return ForceMaximum(**{**at_end, "at_band_edge": False}, band_edge=None)
     return ForceMaximum(frequency_hz=math.exp(lo + float(best.x) * (hi - lo)), force_n=value, **grid, at_band_edge=False, band_edge=None, plateau_hz=at_end["plateau_hz"])
