@@ -126,3 +126,14 @@ def test_gaps_fit_line_says_what_the_sigma_holds(parts):
     mixed = remaining_impedance(trials, ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
     assert "against the remainder's sigma (the total trials' SEM with the stated sigma of the files of one spectrum)" in _edl_chi2_text(fitted, mixed)
     assert "against the trial means' SEM" in _edl_chi2_text(fitted, remaining_impedance(trials, trials, trials))
+
+
+def test_the_hierarchical_weights_leave_a_single_spectrums_stated_sigma_out(parts):
+    """`trial_remainder_sigma` matches the hierarchical likelihood, which has no error modes of a
+    subtracted file of one spectrum: its stated sigma stays out, as before 2026-12-06 (the trials'
+    sample sd alone, by hand), though the trial-mean remainder now carries it."""
+    from impedax.models.gap import trial_remainder_sigma
+
+    total, (skin, s_skin), (screen, s_screen) = parts
+    sigma = trial_remainder_sigma(ix.make_spectrum(FREQ, total, dims=("trial",)), ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
+    np.testing.assert_allclose(sigma, np.sqrt((total.real.std(0, ddof=1) ** 2 + total.imag.std(0, ddof=1) ** 2) / 2), rtol=1e-12)

@@ -1504,7 +1504,8 @@ def trial_remainder_sigma(total: xr.Dataset, skin: xr.Dataset | None, touchscree
     if n_total < 2:
         return None
     scale = (n_total, 1, 1)  # the total's SEM × √n is one trial's sd; the subtracted means keep their SEM (zip stops at the inputs given)
-    var = sum(k * (m["sigma_real"].values ** 2 + m["sigma_imag"].values ** 2) / 2.0 for k, m in zip(scale, means))
+    # (a subtracted input of one spectrum adds nothing, its stated sigma neither: the likelihood has no error modes of it)
+    var = sum(k * (m["sigma_real"].values ** 2 + m["sigma_imag"].values ** 2) / 2.0 for k, m in zip(scale, means) if m.attrs["sigma_from"] == "trial scatter")
     sigma = np.sqrt(var)
     return sigma if bool(np.all(sigma > 0)) else None
 
