@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..arguments import number_text
-from ..data import format_band, format_frequency, format_quantity
+from ..data import format_band, format_frequency, format_percent, format_quantity
 from .common import accept_negative_numbers, add_output_options, add_positional_model, check_band_options, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
@@ -326,16 +326,18 @@ def _peak_text(peak: dict) -> str:
         slope = peak.get("edge_slope")
         if slope is not None and abs(slope) < LEVELLED_SLOPE:
             return (f"no peak in the band: the force is largest at {option}, {where}, where it has levelled off: it changes by "
-                    f"{format_percent(10.0 ** abs(slope) - 1.0)} per decade there (it may still rise {side} {option}, as slowly)")
+                    f"{_change_per_decade(slope)} per decade there (it may still rise {side} {option}, as slowly)")
         rate = "" if slope is None else f" (∝ f^{slope:.2g} there)"
         return f"no peak in the band: the force is largest at {option}, {where}, and still rises {side} it{rate}"
     grid = f"{format_quantity(peak['grid_force_n'], 'N', 4)} at {format_frequency(peak['grid_frequency_hz'])}"
     return f"peak {where} (refined between grid points; grid maximum {grid})"
 
 
-def format_percent(fraction: float) -> str:
-    """A small relative change as a percentage, two significant digits: ``0.00051%``."""
-    return f"{fraction * 100:.2g}%"
+def _change_per_decade(slope: float) -> str:
+    """The relative change per decade of a force of log-slope ``slope``, 10^|slope| − 1, as impedax
+    writes a percentage (``0.012 %``), "less than 0.001 %" below that."""
+    change = 10.0 ** abs(slope) - 1.0
+    return format_percent(change) if change >= 1e-5 else "less than 0.001 %"
 
 
 def _out_path(path: str | None) -> str | None:
