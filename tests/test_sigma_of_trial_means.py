@@ -84,3 +84,18 @@ def test_residuals_uneven_against_trial_means_sigma_name_it_not_a_sigma_column()
     (note,) = [w for w in fitted.warnings if "weighted residuals are over" in w]
     assert SIGMA_OF_TRIAL_MEANS_WORDS in note and "30 total, 30 skin, 30 touchscreen spectra" in note and "impedax remaining --trials" in note
     assert SIGMA_BAND_WORDS not in note and "check the sigma column" not in note
+
+
+@pytest.mark.slow  # (8.6 s: a first fit of a two-arc model, compiling)
+def test_the_note_reads_for_a_real_cells_cycles_too(tmp_path, capsys):
+    """REAL AutoEIS battery cycles (examples/data, MIT): `impedax remaining` of the file alone
+    averages its 3 cycles, and the fit of that mean by its SEM has residuals far below it; the note
+    spoke of "a contact that changes from touch to touch" only (2026-12-06)."""
+    from pathlib import Path
+
+    cycles = Path(__file__).parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc"
+    assert main(["remaining", str(cycles), "--out", str(tmp_path / "mean.nc"), "-q"]) == 0
+    fitted = ix.fit("R0 + R1 || CPE1 + R2 || CPE2", ix.load(tmp_path / "mean.nc"), weighting="sigma")
+    (note,) = [w for w in fitted.warnings if SIGMA_OF_TRIAL_MEANS_WORDS in w and "× the data's sigma in rms" in w]
+    assert "(3 total spectra;" in note and "a cell from cycle to cycle" in note
+    assert fitted.chi2_red < 0.2  # (0.07: the cycles' difference, in σ, taken up by the fit of their mean)

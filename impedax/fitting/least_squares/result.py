@@ -1144,10 +1144,10 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
             out[i] = (
                 f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"{SIGMA_OF_TRIAL_MEANS_WORDS} ({trial_means}; the data's sigma_method), which holds how the trials differ as well as the noise; "
-                "a fit of the mean takes a difference smooth in frequency (a contact that changes from touch to touch) up into its parameters, so residuals "
+                "a fit of the mean takes a difference smooth in frequency (a contact that changes from touch to touch, a cell from cycle to cycle) up into its parameters, so residuals "
                 "below σ are expected here (unless the model follows the noise with too many parameters). The standard errors take σ as independent from "
                 "point to point, which such a difference is not, so they do not give the parameters' spread between trials: fit each trial for that "
-                "(impedax remaining --trials, then impedax fit or impedax gap)",
+                "(impedax remaining --trials, then impedax fit; impedax gap's hierarchical model for a contact's gap)",
             )
         elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR:
             out[i] = (
