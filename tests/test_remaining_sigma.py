@@ -137,3 +137,16 @@ def test_the_hierarchical_weights_leave_a_single_spectrums_stated_sigma_out(part
     total, (skin, s_skin), (screen, s_screen) = parts
     sigma = trial_remainder_sigma(ix.make_spectrum(FREQ, total, dims=("trial",)), ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
     np.testing.assert_allclose(sigma, np.sqrt((total.real.std(0, ddof=1) ** 2 + total.imag.std(0, ddof=1) ** 2) / 2), rtol=1e-12)
+
+
+def test_the_pooled_interval_says_one_spectrum_per_file_with_their_stated_sigma(parts):
+    """`impedax gap --pooled` of one spectrum per file, each with a sigma column, now fits by that
+    sigma; its interval's words said "Bayesian on the trial means" of it (SYNTHETIC)."""
+    from types import SimpleNamespace
+
+    from impedax.models.gap import GapAnalysis
+
+    total, (skin, s_skin), (screen, s_screen) = parts
+    remainder = remaining_impedance(ix.make_spectrum(FREQ, total[0], sigma=0.005 * np.abs(total[0])), ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
+    analysis = SimpleNamespace(remaining=remainder, averages_trials=False, paper_has_bounds=False)
+    assert GapAnalysis._pooled_noise_text(analysis).startswith("Bayesian on one spectrum per file, weighted by their stated sigma")
