@@ -3,8 +3,8 @@
 A force spectrum on a log grid puts its top at the nearest grid point (35.5 kHz for Meyer's
 thesis values on 161 points, where the force peaks at 37.0 kHz). `force_maximum` refines the
 grid maximum by Brent's bounded maximisation in ln f between the two neighbouring grid points,
-and says when the largest force sits at an end of the band: there the force still rises past
-the band and the value is that end's, not a peak.
+and says when the largest force sits at an end of the band: the value is that end's, not a
+peak, and the force may still rise past the band (`edge_slope` says how fast it does there).
 """
 
 from __future__ import annotations
@@ -88,7 +88,7 @@ class ForceMaximum:
 
     ``frequency_hz``/``force_n`` are refined between grid points; ``grid_frequency_hz``/
     ``grid_force_n`` are the grid's largest. ``at_band_edge`` is True when the force is largest
-    at an end of the band and still rises past it; ``band_edge`` then names that end ("fmin",
+    at an end of the band (it may still rise past it: ``edge_slope``); ``band_edge`` then names that end ("fmin",
     "fmax"; "fmin=fmax" for a one-frequency band), "flat" for a force the same at every
     frequency, and None for a peak inside the band. ``plateau_hz`` (low, high) [Hz]: the grid
     frequencies about the grid's largest force where the force stays within 1 % of it, when they
