@@ -262,3 +262,14 @@ def test_friction_bad_input(normal, friction, match):
 def test_force_from_friction_rejects_nonpositive_mu():
     with pytest.raises(ParameterError):
         meyer.force_from_friction(0.1, 0.0)
+
+
+def test_the_models_dataset_says_what_each_ratio_is():
+    """`MeyerModel.to_xarray` (what `write_netcdf` saves of a model): V_F/V_A carried no unit nor
+    name (2026-12-06). Its values against the hand-derived divider of A.1 (`_divider`), thesis values."""
+    f = np.geomspace(10, 1e6, 7)
+    ds = meyer.meyer_model().to_xarray(f)
+    v_f, _, _ = _divider(meyer.THESIS_PARAMS, f)
+    np.testing.assert_allclose(ds["finger_voltage_ratio"].values, v_f, rtol=1e-9)
+    assert ds["finger_voltage_ratio"].attrs["units"] == "1" and ds["finger_voltage_ratio"].attrs["long_name"].startswith("V_F/V_A")
+    assert ds["leaked_charge_ratio"].attrs["long_name"].startswith("Q_f/V_A") and ds["force"].attrs["units"] == "N"

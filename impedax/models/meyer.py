@@ -219,9 +219,10 @@ class MeyerModel:
         freq = np.asarray(freq, dtype=np.float64)
         return xr.Dataset(
             {
-                "force": ("frequency", np.asarray(self.force(freq, v_a=v_a)), {"units": "N", "convention": "time-average"}),
-                "finger_voltage_ratio": ("frequency", np.asarray(finger_voltage(self.params, freq, variant=self.variant))),
-                "leaked_charge_ratio": ("frequency", np.asarray(leaked_charge(self.params, freq, variant=self.variant)), {"units": "C/V"}),
+                "force": ("frequency", np.asarray(self.force(freq, v_a=v_a)), {"units": "N", "convention": "time-average", "long_name": "electrostatic force, eq 3.6"}),
+                # (what each complex ratio is, as the force says its unit: the file said nothing of V_F/V_A until 2026-12-06)
+                "finger_voltage_ratio": ("frequency", np.asarray(finger_voltage(self.params, freq, variant=self.variant)), {"units": "1", "long_name": "V_F/V_A: voltage across C_i and the stratum corneum per drive volt"}),
+                "leaked_charge_ratio": ("frequency", np.asarray(leaked_charge(self.params, freq, variant=self.variant)), {"units": "C/V", "long_name": "Q_f/V_A: charge leaked through R_sc per drive volt"}),
             },
             coords={"frequency": ("frequency", freq, {"units": "Hz"})},
             attrs={"model": str(self.circuit), "area_m2": self.area, "drive_amplitude_v": v_a, "source": "Meyer (2012) thesis model"},
