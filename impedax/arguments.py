@@ -115,11 +115,11 @@ def number_text(value: float) -> str:
     return text[:-2] if text.endswith(".0") else text
 
 
-_FREQUENCY_SCALES = {"MHz": 1e6, "kHz": 1e3, "Hz": 1.0, "mHz": 1e-3}  # (unit → Hz, largest first: `format_frequency`)
+_FREQUENCY_SCALES = {"GHz": 1e9, "MHz": 1e6, "kHz": 1e3, "Hz": 1.0, "mHz": 1e-3}  # (unit → Hz, largest first: `format_frequency`)
 
 
 def format_frequency(f: float) -> str:
-    """A frequency [Hz] for text: ``1.5 kHz``, ``20 mHz``, ``3 MHz`` (three significant digits). Also
+    """A frequency [Hz] for text: ``1.5 kHz``, ``20 mHz``, ``3 MHz``, ``1 GHz`` (three significant digits; "1e+03 MHz" until 2026-12-06). Also
     `impedax.data.format_frequency`; defined here for the messages of the argument checks
     (`reversed_band_message`), which `impedax.data` imports."""
     for unit, scale in _FREQUENCY_SCALES.items():

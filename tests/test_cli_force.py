@@ -461,3 +461,13 @@ def test_the_figure_draws_a_force_from_zero(monkeypatch, tmp_path):
     limit_mn = E0 * 1e-4 * 2000.0**2 / (4 * (90e-6 + 350e-6) * (90e-6 / 3.35 + 350e-6 / 2340)) * 1e3
     bottom, top = drawn[0].axes[0].get_ylim()
     assert bottom == 0.0 and limit_mn < top < 1.2 * limit_mn
+
+
+def test_a_band_reaching_1_ghz_is_written_in_ghz(capsys):
+    """Meyer's default band ends at 1 GHz; a frequency there was written "1e+03 MHz" (2026-12-06).
+    Vezzoli's eq 10 is within 1 % of its limit over the whole 1 MHz–1 GHz (ωτ ≥ 3900 there)."""
+    err = _stderr_line(capsys, "vezzoli", "--fmin", "1M", "--fmax", "1G")
+    assert "at 1 GHz, on a plateau: within 1% of it over 1 MHz–1 GHz" in err and "e+03" not in err
+    from impedax.data import format_band, format_frequency
+
+    assert [format_frequency(f) for f in (1e9, 2.5e9, 999e6)] == ["1 GHz", "2.5 GHz", "999 MHz"] and format_band(10.0, 1e9) == "10 Hz–1 GHz"
