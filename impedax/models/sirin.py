@@ -197,7 +197,7 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
     var_im = sum(spread(m, "sigma_imag") ** 2 for m in means.values())
     counts = {name: m.attrs["n_trials"] for name, m in means.items()}
     sigma = np.sqrt((var_re + var_im) / 2.0)
-    method, have_sigma = _sigma_method({name: m.attrs["sigma_from"] for name, m in means.items()}, counts, sigma)
+    method, have_sigma = _sigma_method({name: m.attrs["sigma_from"] for name, m in means.items()}, sigma)
     sigma = sigma if have_sigma else None
     single = not subtracted
     # (a mean over trials only when some input holds several; 2026-12-06: one sweep was called "trial means")
@@ -219,7 +219,7 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
     return ds
 
 
-def _sigma_method(sources: Mapping[str, str], counts: Mapping[str, int], sigma: np.ndarray) -> tuple[str, bool]:
+def _sigma_method(sources: Mapping[str, str], sigma: np.ndarray) -> tuple[str, bool]:
     """How `remaining_impedance`'s sigma is made from each input's error (``sources``: its
     `trial_mean` ``sigma_from``), and whether it has one: the SEM of an input's trials, the own
     sigma of an input of one spectrum, added in quadrature; else why not, naming the inputs (a
