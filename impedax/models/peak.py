@@ -38,7 +38,7 @@ FORCE_PLATEAU_SPAN = 10.0
 LEVELLED_SLOPE = math.log10(1.0 + FORCE_PLATEAU_REL)
 """A force largest at an end of the band has levelled off there when its slope d ln F/d ln f
 (`edge_slope`) is below this in magnitude: it changes by less than `FORCE_PLATEAU_REL` (1 %) per
-decade (Vezzoli's eq 10 over 10–50 kHz: 2e-6, where "still rises above it" was said)."""
+decade (Vezzoli's eq 10 at 50 kHz: 5.3e-5 = 2/(1 + (ωτ)²), where "still rises above it" was said)."""
 
 
 # the step in ln f inward from a band's end over which `edge_slope` takes the force's slope (or the
