@@ -1103,7 +1103,7 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
     that difference up into its parameters, so residuals far below σ are expected, and the note
     says what σ is instead of calling it overstated with standard errors "too large" (SYNTHETIC
     Sirin example: residuals 0.3× its SEM, "3.4× too large" said, where the trials' own spread
-    of C_gap, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF; 2026-12-06)."""
+    of C_gap, fitted per trial, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF; 2026-12-06)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
     dof = 2 * z.shape[-1] - (n_free or 0)
