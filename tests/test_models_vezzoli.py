@@ -203,3 +203,16 @@ def test_a_sweep_outside_eq8_warns_once_at_its_caller():
         vezzoli.insulator_sweep(np.array([1e-6]), np.array([3.4, 36.0]))
     eq8 = [w for w in caught if issubclass(w.category, vezzoli.Eq8ValidityWarning)]
     assert len(eq8) == 1 and eq8[0].filename == __file__
+
+
+@pytest.mark.parametrize(
+    "args, name",
+    [((0.5, 0.7, 1.0, 0.1), "delta_mu"), ((0.5, -0.1, 1.0, 0.1), "delta_mu"), ((0.0, 0.0, 1.0, 0.1), "mu"),
+     ((0.5, 0.2, -1.0, 0.1), "normal_force"), ((0.5, 0.2, 1.0, -0.1), "electrostatic_force")],
+)
+def test_friction_coupling_refuses_what_gives_no_friction_of_eq11(args, name):
+    """(0.5 − 0.7)(1 + 0.1) = −0.22 N was returned without a word (2026-12-06): a friction
+    coefficient below zero, a negative normal or electrostatic force."""
+    with pytest.raises(ParameterError, match=name):
+        vezzoli.friction_coupling(*args)
+    assert vezzoli.friction_coupling(0.5, 0.5, 1.0, 0.1) == 0.0  # (Δµ = µ: no friction, at the edge)

@@ -222,9 +222,21 @@ def stratum_corneum_sweep(freq, h_s, **params) -> xr.DataArray:
     return xr.DataArray(np.asarray(force), dims=("h_s", "frequency"), coords={"h_s": ("h_s", h_s, {"units": "m"}), "frequency": ("frequency", freq, {"units": "Hz"})}, name="force", attrs={"units": "N", "convention": "time-average", "figure": "Vezzoli Fig 8"})
 
 
+@checked_arguments(mu=numeric_array(positive=True), delta_mu=numeric_array(), normal_force=numeric_array(), electrostatic_force=numeric_array())
 def friction_coupling(mu, delta_mu, normal_force, electrostatic_force):
     """Eq 11: tangential force F_t = (µ − Δµ)(F_n + F_e) [N] — ultrasound lowers µ by Δµ,
-    electrovibration adds F_e to the normal force F_n."""
+    electrovibration adds F_e to the normal force F_n. Refused (`ParameterError`, naming the
+    argument): µ ≤ 0, Δµ outside [0, µ] (ultrasound lowers friction at most to none: µ − Δµ < 0
+    gave a tangential force against the motion's sense, F_t = −0.22 N for µ = 0.5, Δµ = 0.7,
+    2026-12-06), and F_n or F_e below 0 (eq 10's force is a square, attracting the finger)."""
+    values = (mu, delta_mu, normal_force, electrostatic_force)
+    if not any(isinstance(v, jax.core.Tracer) for v in values):
+        mu_a, delta_a = np.asarray(mu, float), np.asarray(delta_mu, float)
+        if np.any(delta_a < 0) or np.any(delta_a > mu_a):
+            raise ParameterError(f"delta_mu is the friction coefficient's reduction Δµ, in [0, µ] (µ − Δµ ≥ 0: no friction at the most), got Δµ = {shown(delta_mu)} for µ = {shown(mu)}")
+        for name, value in (("normal_force", normal_force), ("electrostatic_force", electrostatic_force)):
+            if np.any(np.asarray(value, float) < 0):
+                raise ParameterError(f"{name} [N] must be ≥ 0 (a finger pressing; eq 10's force attracts it), got {shown(value)}")
     return (mu - delta_mu) * (normal_force + electrostatic_force)
 
 
