@@ -216,3 +216,17 @@ def test_friction_coupling_refuses_what_gives_no_friction_of_eq11(args, name):
     with pytest.raises(ParameterError, match=name):
         vezzoli.friction_coupling(*args)
     assert vezzoli.friction_coupling(0.5, 0.5, 1.0, 0.1) == 0.0  # (Δµ = µ: no friction, at the edge)
+
+
+@pytest.mark.parametrize(
+    "amplitude, kwargs, name",
+    [(-1e-6, {}, "amplitude"), (1e-6, {"area": -1e-4}, "area"), (1e-6, {"freq": -38220.0}, "freq"), (1e-6, {"eta": 0.0}, "eta"), (1e-6, {"h_r": 0.0}, "h_r")],
+)
+def test_squeeze_number_refuses_what_squeeze_film_lift_refuses(amplitude, kwargs, name):
+    """`squeeze_number` took a negative amplitude (σ = 20.7 for −1 µm), a negative frequency (σ < 0)
+    and a negative area ("math domain error") without impedax's word until 2026-12-06."""
+    with pytest.raises(ParameterError, match=f"squeeze_number: {name}"):
+        vezzoli.squeeze_number(amplitude, **kwargs)
+    # eq 5 by hand at Table 1 and A = 1 cm²: 12 η ω A / (p0 (h_r + h_v + h_e)²)
+    h0 = 1.8e-6 + 2e-6 + 50e-6
+    assert vezzoli.squeeze_number(2e-6) == pytest.approx(12 * 1.85e-5 * 2 * np.pi * 38220.0 * 1e-4 / (1e5 * h0**2), rel=1e-12)

@@ -273,7 +273,13 @@ class SqueezeFilm:
 
 def squeeze_number(amplitude, *, area=TABLE2["area"], length=None, freq=TABLE1["f_r"], h_r=TABLE1["h_r"], h_e=TABLE1["h_e"], eta=TABLE1["eta"], p0=TABLE1["p0"]):
     """Eq 5 with the characteristic area read as l0² (dimensionless σ needs an area there):
-    σ = 12 η ω l0² / (p0 h0²), h0 = h_r + h_v + h_e, l0 = √A unless ``length`` is given."""
+    σ = 12 η ω l0² / (p0 h0²), h0 = h_r + h_v + h_e, l0 = √A unless ``length`` is given.
+    Refuses what `squeeze_film_lift` refuses (a `ParameterError` naming the argument): an
+    amplitude below 0, a geometry or air value that is not positive (h_e ≥ 0)."""
+    amplitudes = numeric_array()(amplitude, "amplitude")
+    if not isinstance(amplitudes, jax.core.Tracer) and not (np.isrealobj(amplitudes) and np.all(np.asarray(amplitudes) >= 0)):  # (2026-12-06: -1e-6 m gave σ = 20.7, area=-1e-4 "math domain error")
+        raise ParameterError(f"squeeze_number: amplitude is the vibration amplitude h_v and must be ≥ 0 m, got {shown(amplitude)}")
+    _check_film_inputs(area=area, length=length, h_r=h_r, h_e=h_e, freq=freq, eta=eta, p0=p0, points=2, caller="squeeze_number")
     l0 = math.sqrt(area) if length is None else length
     h0 = h_r + np.asarray(amplitude, float) + h_e
     return 12.0 * eta * 2.0 * math.pi * freq * l0**2 / (p0 * h0**2)
@@ -297,7 +303,7 @@ def _require_scalars(**values) -> None:
 _FILM_UNITS = {"area": "m²", "length": "m", "h_r": "m", "h_e": "m", "l_e": "m", "freq": "Hz", "eta": "Pa·s", "p0": "Pa"}
 
 
-def _check_film_inputs(*, points, **values) -> None:
+def _check_film_inputs(*, points, caller: str = "squeeze_film_lift", **values) -> None:
     """`squeeze_film_lift`'s geometry and air: each finite and positive (``h_e`` ≥ 0: no
     fingerprints is a flat finger), ``length`` None or positive, ``points`` an integer ≥ 2. The
     plate's roughness h_r > 0 keeps the film open: at h_r = 0 a fingerprint ridge touches the plate
@@ -311,7 +317,7 @@ def _check_film_inputs(*, points, **values) -> None:
         if not (math.isfinite(value) and low_ok):
             what = "≥ 0" if name == "h_e" else "positive"
             why = ": at h_r = 0 the film closes where a fingerprint ridge meets the plate and eq 6 diverges" if name == "h_r" else ""
-            raise ParameterError(f"squeeze_film_lift: {name} must be {what} [{_FILM_UNITS[name]}], got {value}{why}")
+            raise ParameterError(f"{caller}: {name} must be {what} [{_FILM_UNITS[name]}], got {value}{why}")
     if isinstance(points, (bool, np.bool_)) or not isinstance(points, (int, np.integer)) or points < 2:
         raise ParameterError(f"squeeze_film_lift: points must be an integer ≥ 2 (the trapezoid rule over the contact length), got {shown(points)}")
 
