@@ -230,3 +230,28 @@ def test_squeeze_number_refuses_what_squeeze_film_lift_refuses(amplitude, kwargs
     # eq 5 by hand at Table 1 and A = 1 cm²: 12 η ω A / (p0 (h_r + h_v + h_e)²)
     h0 = 1.8e-6 + 2e-6 + 50e-6
     assert vezzoli.squeeze_number(2e-6) == pytest.approx(12 * 1.85e-5 * 2 * np.pi * 38220.0 * 1e-4 / (1e5 * h0**2), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "call, name",
+    [(lambda: vezzoli.skin_time_constant(rho_s=-1.0), "rho_s"), (lambda: vezzoli.effective_voltage(-100.0), "freq"),
+     (lambda: vezzoli.effective_voltage(100.0, eps_s=0.5), "eps_s"), (lambda: vezzoli.instantaneous_force(100.0, area=-1e-4), "area"),
+     (lambda: vezzoli.insulator_capacitance_ratio(h_i=-1e-6), "h_i")],
+)
+def test_the_eq_7_8_helpers_refuse_what_electrovibration_force_refuses(call, name):
+    """τ < 0, a negative force and a ratio of −0.5 came back without a word (2026-12-06)."""
+    with pytest.raises(ParameterError, match=name):
+        call()
+
+
+def test_the_eq_7_8_helpers_keep_their_values():
+    """By hand, Table 2: τ = ε0 ε_s ρ_s, v_e/v = jωτ/(1 + jωτ), eq 7 at 100 V (a negative v_e is
+    allowed: eq 7 squares it), C_i/C_s = ε_i h_s/(ε_s h_i)."""
+    e0 = 8.8541878128e-12
+    tau = e0 * 2340.0 * 3.0e4
+    assert vezzoli.skin_time_constant() == pytest.approx(tau, rel=1e-12)
+    jwt = 2j * np.pi * 440.0 * tau
+    assert complex(vezzoli.effective_voltage(440.0)) == pytest.approx(jwt / (1 + jwt), rel=1e-12)
+    force = e0 * 1e-4 * 100.0**2 / (2 * (90e-6 + 350e-6) * (90e-6 / 3.35 + 350e-6 / 2340.0))
+    assert float(vezzoli.instantaneous_force(-100.0)) == pytest.approx(force, rel=1e-12)
+    assert vezzoli.insulator_capacitance_ratio() == pytest.approx(3.35 * 350e-6 / (2340.0 * 90e-6), rel=1e-12)

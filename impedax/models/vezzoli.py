@@ -67,11 +67,16 @@ TABLE1 = {"h_r": 1.8e-6, "h_e": 50e-6, "l_e": 350e-6, "f_r": 38220.0, "wavelengt
 frequency f_r and wavelength, finger force range, air viscosity η, atmospheric pressure p0."""
 
 
+@checked_arguments(eps_s=relative_permittivity, rho_s=numeric_array(positive=True))
 def skin_time_constant(eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"]):
-    """τ = ε0 ε_s ρ_s [s] of the stratum corneum (eq 8)."""
+    """τ = ε0 ε_s ρ_s [s] of the stratum corneum (eq 8). Its arguments, and those of
+    `effective_voltage`, `instantaneous_force` and `insulator_capacitance_ratio`, are checked as
+    `electrovibration_force`'s (since 2026-12-06: ``rho_s=-1`` gave τ < 0, ``area=-1e-4`` a
+    negative force, ``h_i=-1e-6`` a ratio of −0.5, without a word)."""
     return EPSILON_0 * eps_s * rho_s
 
 
+@checked_arguments(freq=numeric_array(positive=True), eps_s=relative_permittivity, rho_s=numeric_array(positive=True))
 def effective_voltage(freq, *, eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"]):
     """Eq 8 transfer v_e/v = jωτ/(1 + jωτ) (complex; eq 9 is its time-domain form)."""
     jwt = 1j * 2.0 * jnp.pi * jnp.asarray(freq) * skin_time_constant(eps_s, rho_s)
@@ -82,6 +87,7 @@ def _geometry(h_i, h_s, eps_i, eps_s):
     return (h_i + h_s) * (h_i / eps_i + h_s / eps_s)
 
 
+@checked_arguments(v_e=numeric_array(), h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), area=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity)
 def instantaneous_force(v_e, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area=TABLE2["area"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"]):
     """Eq 7: f_e(t) = ε0 A v_e(t)² / (2 (h_i + h_s)(h_i/ε_i + h_s/ε_s)) [N] for the voltage
     v_e(t) [V] across the stratum corneum at one instant."""
@@ -101,6 +107,7 @@ class Eq8ValidityWarning(UserWarning):
     eqs 9 and 10) holds: C_i/C_s above `EQ8_RATIO_LIMIT`."""
 
 
+@checked_arguments(h_i=numeric_array(positive=True), h_s=numeric_array(positive=True), eps_i=relative_permittivity, eps_s=relative_permittivity)
 def insulator_capacitance_ratio(*, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], eps_i=TABLE2["eps_i"], eps_s=TABLE2["eps_s"]):
     """C_i/C_s = (ε0 ε_i A/h_i)/(ε0 ε_s A/h_s) = ε_i h_s/(ε_s h_i): insulator over stratum corneum
     capacitance (the area cancels). Eq 8 assumes it is ≪ 1. Broadcasts."""
