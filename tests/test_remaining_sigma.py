@@ -150,3 +150,15 @@ def test_the_pooled_interval_says_one_spectrum_per_file_with_their_stated_sigma(
     remainder = remaining_impedance(ix.make_spectrum(FREQ, total[0], sigma=0.005 * np.abs(total[0])), ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
     analysis = SimpleNamespace(remaining=remainder, averages_trials=False, paper_has_bounds=False)
     assert GapAnalysis._pooled_noise_text(analysis).startswith("Bayesian on one spectrum per file, weighted by their stated sigma")
+
+
+@pytest.mark.parametrize("name, noted", [("rem.csv", True), ("rem.nc", False)])
+def test_a_csv_remainder_is_said_to_lose_what_its_sigma_is(tmp_path, capsys, parts, name, noted):
+    """A CSV keeps no attrs: `impedax fit` of it cannot tell the trial means' SEM from a sigma
+    column and may warn that σ overstates the noise; `impedax remaining` says so, and .nc keeps it."""
+    total = ix.make_spectrum(FREQ, parts[0], dims=("trial",))
+    ix.save(total, tmp_path / "pad.nc")
+    assert main(["remaining", str(tmp_path / "pad.nc"), "--out", str(tmp_path / name)]) == 0
+    err = capsys.readouterr().err
+    assert (f"note: {tmp_path / name} keeps no attributes" in err) is noted
+    assert ("sigma_method" in ix.load(tmp_path / name).attrs) is not noted  # (what the note is about)

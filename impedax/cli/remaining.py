@@ -49,6 +49,7 @@ def run(args) -> int:
 
     from ..errors import ParameterError
     from ..io import write_csv
+    from ..fitting.least_squares.result import trial_means_of_sigma
     from ..models.gap import gap_remainder
     from .gap import files_in_band
     from .common import check_band_options, check_distinct_paths, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
@@ -70,6 +71,11 @@ def run(args) -> int:
         sys.stdout.write(write_csv(remaining))
     for note in notes:
         print(f"impedax remaining: warning: {note}", file=sys.stderr)
+    # (a CSV keeps no attrs: a fit of it by sigma cannot tell that sigma is the trial means' SEM, and warns
+    # that it overstates the noise, as impedax fit did of every remainder until 2026-12-06)
+    if trial_means_of_sigma(remaining.attrs) and (out is None or Path(out).suffix.lower() not in (".nc", ".nc4", ".cdf")):
+        print(f"impedax remaining: note: {'the CSV' if out is None else out} keeps no attributes, so impedax fit of it cannot tell that its sigma is the "
+              "standard error of trial means and may warn that σ overstates the noise; write .nc (--out FILE.nc) to keep what sigma is", file=sys.stderr)
     if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
         emit_json({"command": "remaining", "written": list(written), "kind": "trials" if args.trials else "mean",
                    "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}, "single_contact": len(paths) == 1, **spectrum_summary(remaining),
