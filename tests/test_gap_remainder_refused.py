@@ -69,3 +69,22 @@ def test_remaining_refuses_a_remainder_as_a_total_and_writes_nothing(tmp_path, c
     # (a single contact's own total still goes through: nothing subtracted, its trial mean written)
     assert main(["remaining", paths["total_sliding"], "--out", str(tmp_path / "pad.nc")]) == 0
     assert ix.load(tmp_path / "pad.nc").attrs["single_contact"] in (1, "1", True)
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".tsv"])
+def test_a_csv_remainder_is_refused_too_by_its_provenance_columns(tmp_path, capsys, spectra, suffix):
+    """A CSV keeps no attrs: `impedax gap rem.csv` of `impedax remaining --out rem.csv` was analysed
+    as a single contact, the overstated force above, where rem.nc was refused (SYNTHETIC example,
+    2026-12-06). Its provenance columns say the command and the three files; a single contact's
+    trial mean written as CSV (source: the total alone) is still read."""
+    paths = {k: str(tmp_path / f"{k}.nc") for k in spectra}
+    for k, ds in spectra.items():
+        ix.save(ds, paths[k])
+    remainder, pad = str(tmp_path / f"rem{suffix}"), str(tmp_path / f"pad{suffix}")
+    assert main(["remaining", paths["total_sliding"], paths["skin"], paths["touchscreen"], "--out", remainder]) == 0
+    assert main(["remaining", paths["total_sliding"], "--out", pad]) == 0
+    capsys.readouterr()
+    assert main(["gap", remainder, "--area", "130e-6", "--pooled"]) == 2
+    err = capsys.readouterr().err
+    assert "this is a remainder Z_total − Z_skin − Z_TS (its provenance columns say so)" in err and "Traceback" not in err
+    assert not is_remainder_file(ix.load(pad).attrs) and is_remainder_file(ix.load(remainder).attrs)

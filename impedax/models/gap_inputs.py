@@ -217,7 +217,35 @@ def is_remainder_file(attrs) -> bool:
     and not a single contact's trial mean (``single_contact``)."""
     if str(attrs.get("single_contact", "0")) not in ("0", "False", "false"):
         return False
-    return is_remainder(attrs) or ("n_trials_skin" in attrs and "n_trials_touchscreen" in attrs)
+    return is_remainder(attrs) or ("n_trials_skin" in attrs and "n_trials_touchscreen" in attrs) or _subtracted_in_csv(attrs)
+
+
+# the commands whose CSV spectrum is a remainder when its `source` column names a skin and a touchscreen
+REMAINDER_COMMANDS = ("impedax remaining", "impedax gap")
+
+
+def _subtracted_in_csv(attrs) -> bool:
+    """Whether a CSV that impedax wrote is a remainder: a CSV keeps no attrs, but its provenance
+    columns (`read_csv` lists them in ``other_columns``) say the command and the files; their first
+    row, read from ``path``, names a skin and a touchscreen in ``source`` under `REMAINDER_COMMANDS`
+    (2026-12-06: `impedax gap rem.csv` of `impedax remaining --out rem.csv` was analysed as a single
+    contact, the walkthrough's overstated force, where rem.nc was refused)."""
+    import csv
+    from pathlib import Path
+
+    columns = [c.strip() for c in str(attrs.get("other_columns", "")).split(",")]
+    path = attrs.get("path")
+    if "command" not in columns or "source" not in columns or not path or not Path(str(path)).is_file():
+        return False
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            header = handle.readline()
+            rows = csv.DictReader([header, handle.readline()], delimiter="\t" if "\t" in header else ",")
+            row = next(rows, None) or {}
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return False
+    source = str(row.get("source") or "")
+    return str(row.get("command") or "").strip() in REMAINDER_COMMANDS and "skin=" in source and "touchscreen=" in source
 
 
 def check_not_a_remainder(total, skin, touchscreen) -> None:
@@ -230,7 +258,7 @@ def check_not_a_remainder(total, skin, touchscreen) -> None:
     source = total.attrs.get("source") or total.attrs.get("path")
     made_from = [f"{k} {total.attrs[k]}" for k in ("total", "skin", "touchscreen") if k in total.attrs]
     raise DataError(
-        "this is a remainder Z_total − Z_skin − Z_TS (" + (f"made from {', '.join(made_from)}" if made_from else "its attributes say so")
+        "this is a remainder Z_total − Z_skin − Z_TS (" + (f"made from {', '.join(made_from)}" if made_from else "its provenance columns say so" if _subtracted_in_csv(total.attrs) else "its attributes say so")
         + "), not a single contact's total: the gap voltage is V0·Z_R/Z_total, so the force needs the total it was subtracted from. "
         "Give the three spectra (impedax gap TOTAL SKIN TOUCHSCREEN; impedax demo writes its own as total_sliding.nc, skin.nc and touchscreen.nc); "
         "the remainder alone is for impedax fit and sample (C_gap, whence u = ε0 ε_gap A / C_gap)",
