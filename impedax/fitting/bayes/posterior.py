@@ -440,7 +440,7 @@ class Posterior(PiledUp, FrozenResult):
             *self.warnings,
         ]
         # (the text report's mark on the rows, not a yes/no cell)
-        rows = [{**row, "undetermined": UNDETERMINED_MARK if row["undetermined"] else ""} for row in self.to_table()]
+        rows = [{**row, "unit": unit_text(row["unit"]), "undetermined": UNDETERMINED_MARK if row["undetermined"] else ""} for row in self.to_table()]  # (the unit as the report writes it: Ω)
         return result_html(f"{self.model}: posterior", rows, lines=lines)
 
     # -- figures (drawn by impedax.plotting.bayes) -----------------------------------------

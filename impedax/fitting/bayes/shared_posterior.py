@@ -281,13 +281,18 @@ class SharedPosterior(PiledUp, FrozenResult):
             "fixed": self.fixed,
         }
 
+    def _sampler_text(self) -> str:
+        """The run in words (the report's sampler line, the notebook's first)."""
+        return (f"emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, "
+                f"thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}")
+
     def report(self) -> str:
         q = self.quantiles()
         width = column_width(self.names, "parameter")
         lines = [
             f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {counted(len(self.spectra), 'spectrum', 'spectra')})",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
-            f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            f"sampler    {self._sampler_text()}",
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
@@ -301,6 +306,22 @@ class SharedPosterior(PiledUp, FrozenResult):
         lines += footnotes
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
+
+    def _repr_html_(self) -> str:
+        """The report in a notebook, as `Posterior`'s: what is shared over which spectra, the
+        sampler and noise lines, a row per sampled parameter (`to_table`: quantiles, unit, τ,
+        ESS, the NOT DETERMINED mark), the footnotes and the warnings."""
+        from ...plotting.html import result_html
+
+        title = f"{self.model}: joint posterior ({', '.join(self.shared)} shared over {', '.join(self.over)}, {counted(len(self.spectra), 'spectrum', 'spectra')})"
+        lines = [
+            f"sampler: {self._sampler_text()}",
+            f"noise: {self.noise}: {NOISE_MODELS[self.noise]}",
+            *undetermined_rows(self.undetermined, self.set_by_prior_edge)[1],
+            *self.warnings,
+        ]
+        rows = [{**row, "unit": unit_text(row["unit"]), "undetermined": UNDETERMINED_MARK if row["undetermined"] else ""} for row in self.to_table()]  # (the unit as the report writes it: Ω)
+        return result_html(title, rows, lines=lines)
 
     # -- the spectra, and the model over the draws ---------------------------------------
     @property
