@@ -13,11 +13,13 @@ __all__ = ["plot_population"]
 
 
 def plot_population(names: Sequence[str], units: Sequence[str], trial_draws: np.ndarray, population: Mapping[str, Mapping[str, float]],
-                    new_trial: Mapping[str, Mapping[str, float]], trial_labels: Sequence[str], *, title: str, xlabel: str = "trial", figsize=None):
+                    new_trial: Mapping[str, Mapping[str, float]], trial_labels: Sequence[str], *, title: str, xlabel: str = "trial", figsize=None,
+                    new_trial_label: str = "new trial, 90 %"):
     """A panel per per-trial quantity (log axis, its unit): each trial's posterior median with its
     90 % interval (``trial_draws`` (draws, trials, quantities)), the population median and its
     90 % interval (``population[name]``: value, q05, q95) as a line in a dark band, a new trial's
-    90 % interval (``new_trial[name]``) as a light band. Returns the Figure."""
+    90 % interval (``new_trial[name]``) as a light band, named in the legend by ``new_trial_label``
+    (with a session level: a new trial of a new session). Returns the Figure."""
     k, t = len(names), trial_draws.shape[1]
     longest = max(map(len, trial_labels), default=0)
     crowded = t > 12 or longest * t > 60  # (characters across ~7 in: the labels stand upright, the figure grows by their length)
@@ -27,7 +29,7 @@ def plot_population(names: Sequence[str], units: Sequence[str], trial_draws: np.
     for j, (ax, name, unit) in enumerate(zip(axes[:, 0], names, units)):
         lo, med, hi = np.quantile(trial_draws[:, :, j], [0.05, 0.5, 0.95], axis=0)
         new, pop = new_trial[name], population[name]
-        ax.axhspan(new["q05"], new["q95"], color="C0", alpha=0.12, label="new trial, 90 %")
+        ax.axhspan(new["q05"], new["q95"], color="C0", alpha=0.12, label=new_trial_label)
         ax.axhspan(pop["q05"], pop["q95"], color="C0", alpha=0.3, label="population median, 90 %")
         ax.axhline(pop["value"], color="C0", lw=1.2)
         ax.errorbar(x, med, yerr=[med - lo, hi - med], fmt="o", color="k", ms=3.5, capsize=2, label="each trial: median, 90 %")

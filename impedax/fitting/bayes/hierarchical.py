@@ -925,12 +925,13 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             rows.append({"parameter": "discrepancy δ (relative)", "population": q["value"], "q05": q["q05"], "q95": q["q95"]})
         sessions = f" in {self.sessions} sessions" if self.sessions > 1 else ""
         title = f"{self.model}: hierarchical posterior over {self.z_data.shape[0]} trials{sessions}, NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws"
-        return result_html(title, rows, lines=[self._sampler_line(), *self.warnings])
+        words = ["new trial: one in a new session (its spread between sessions drawn too)"] if self.sessions > 1 else []
+        return result_html(title, rows, lines=[self._sampler_line(), *words, *self.warnings])
 
     def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None):
         """The population (matplotlib Figure): a panel per per-trial quantity, log axis in its
         unit, each trial's posterior median and 90 % interval, the population median with its
-        90 % interval and a new trial's 90 % interval as bands; the title names the noise model
+        90 % interval and a new trial's 90 % interval (of a new session, with a session level) as bands; the title names the noise model
         (ν_k from the trials' scatter, δ floor). ``figsize`` (width, height) [in]."""
         from ...plotting.hierarchical import plot_population
 
@@ -943,7 +944,13 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         return plot_population(
             names, [self._bounds_and_unit(n)[2] for n in names], draws, {n: self.population(n) for n in names}, {n: self.new_trial(n) for n in names}, labels, xlabel=", ".join(str(n) for n in index.names),
             title=title or f"{self.model}: {self.z_data.shape[0]} trials, NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws\n{noise}", figsize=figsize,
+            new_trial_label=self._new_trial_words() + ", 90 %",
         )
+
+    def _new_trial_words(self) -> str:
+        """What `new_trial` predicts: with a session level, a new trial of a new session (the
+        spread between sessions τ drawn too), not one more trial of the sessions measured."""
+        return "new trial in a new session" if self.sessions > 1 else "new trial"
 
     def report(self) -> str:
         lines = [f"{self.model}: hierarchical model over {self.z_data.shape[0]} trials" + (f" in {self.sessions} sessions" if self.sessions > 1 else "") + f", NUTS {self.mu.shape[0]} chains × {self.mu.shape[1]} draws ({self.elapsed_s:.1f} s)"]
@@ -959,7 +966,8 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         if self.discrepancy:
             q = _interval(self.delta.ravel(), 0.9)
             lines.append(f"{'discrepancy δ':<{width}} {q['value']:>11.3g} {q['q05']:>11.3g} {q['q95']:>11.3g}   (relative floor; noise from trial scatter ν median {np.median(self.nu):.3g})")
-        lines.append("population: the median over trials (geometric mean), q05–q95 its 90 % interval; spread: sd of ln between trials (≈ relative sd)")
+        lines.append("population: the median over trials (geometric mean), q05–q95 its 90 % interval; spread: sd of ln between trials (≈ relative sd)"
+                     + ("; new trial: one in a new session (its spread between sessions drawn too)" if self.sessions > 1 else ""))
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
