@@ -1,0 +1,95 @@
+"""Every kind of result written to netCDF and read back: fit, batch fit, global (shared) fit,
+KK, KK batch, Z-HIT, Z-HIT batch, DRT, DRT batch, comparison, batch comparison, diagnosis,
+refinement, posterior, joint posterior, hierarchical posterior. Each `to_xarray()` holds complex
+spectra and attributes that are Python dicts, lists, None and bools, which a netCDF3 file cannot
+hold as such (the only writer the package needs is scipy's netCDF3: no complex type), so plain
+``to_xarray().to_netcdf(path)`` raises xarray's TypeError or ValueError (docs/bayesian.md,
+"Saving and loading"); `impedax.write_result` (`impedax.io.write_netcdf`) writes every one. The
+file opens in plain xarray (any netCDF3 reader) and `read_netcdf` gives back each variable
+(dims, values, dtype but for text, attrs) and each attribute of the result's dataset.
+SYNTHETIC spectra: R0 + R1 ∥ CPE1 by formula with 1 % noise; the hierarchical posterior is
+built by hand (tests/test_hierarchical_new_session.py), so nothing here samples NUTS."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.io import read_netcdf
+from impedax.io.provenance import PROVENANCE_ATTRS
+from test_hierarchical_new_session import by_hand
+
+FREQ = np.geomspace(0.1, 1e5, 41)
+CIRCUIT = "R0 + R1 || CPE1"
+
+
+def _spectra():
+    z = 10 + 100 / (1 + (2j * np.pi * FREQ * 1e-3) ** 0.9)
+    rng = np.random.default_rng(0)
+    z = z * (1 + 0.01 * (rng.normal(size=FREQ.size) + 1j * rng.normal(size=FREQ.size)))
+    return ix.make_spectrum(FREQ, z), ix.make_spectrum(FREQ, np.stack([z, 1.1 * z, 0.9 * z]), dims=("cell",))
+
+
+@pytest.fixture(scope="module")
+def results():
+    one, stack = _spectra()
+    fit, fit_rc = ix.fit(CIRCUIT, one), ix.fit("R0 + R1 || C1", one)
+    batch, batch_rc = ix.fit(CIRCUIT, stack), ix.fit("R0 + R1 || C1", stack)
+    return {
+        "fit": fit, "batch fit": batch, "shared fit": ix.fit(CIRCUIT, stack, shared=["CPE1.alpha"]),
+        "kk": ix.kk_test(one), "kk batch": ix.kk_test_batch(stack), "zhit": ix.zhit(one), "zhit batch": ix.zhit_batch(stack),
+        "drt": ix.drt(one), "drt batch": ix.drt(stack), "comparison": ix.compare([fit, fit_rc]), "batch comparison": ix.compare([batch, batch_rc]),
+        "diagnosis": ix.diagnose(one, "R0 + R1 || C1"), "refinement": ix.refine(one, "R0 + R1 || C1"),
+        "posterior": ix.sample(CIRCUIT, one, seed=1, steps=60, walkers=16, progress=False),
+        "joint posterior": ix.sample(CIRCUIT, stack, shared=["CPE1.alpha"], seed=1, steps=30, walkers=32, progress=False),
+        "hierarchical posterior": by_hand(2),
+    }
+
+
+KINDS = ["fit", "batch fit", "shared fit", "kk", "kk batch", "zhit", "zhit batch", "drt", "drt batch", "comparison", "batch comparison",
+         "diagnosis", "refinement", "posterior", "joint posterior", "hierarchical posterior"]
+
+
+def _equal(a, b) -> bool:
+    """Attribute values equal as Python values (a tuple reads back as a list)."""
+    if isinstance(a, dict):
+        return isinstance(b, dict) and a.keys() == b.keys() and all(_equal(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple, np.ndarray)):
+        return isinstance(b, (list, tuple, np.ndarray)) and len(a) == len(b) and all(_equal(x, y) for x, y in zip(a, b))
+    if isinstance(a, float) and isinstance(b, float) and np.isnan(a):
+        return np.isnan(b)
+    return a == b and (a is None) == (b is None) and isinstance(a, bool) == isinstance(b, bool)
+
+
+@pytest.mark.slow  # (the module's results take 30–100 s to build on a shared 2-core machine)
+@pytest.mark.parametrize("kind", KINDS)
+def test_each_kind_writes_and_reads_back_whole(results, kind, tmp_path):
+    result = results[kind]
+    written = result.to_xarray()
+    path = tmp_path / "result.nc"
+    ix.write_result(result, path)
+    with xr.open_dataset(path, engine="scipy") as plain:  # (any netCDF3 reader opens it)
+        plain.load()
+    read = read_netcdf(path)
+    for name, var in {**written.coords, **written.data_vars}.items():
+        got = read[name]
+        assert got.dims == var.dims, (name, got.dims, var.dims)
+        if var.dtype.kind in "OUS":  # (text: an object array may read back as fixed-width str; a None as NaN)
+            assert [str(v) for v in got.values.ravel()] == [str(v).replace("None", "nan") for v in var.values.ravel()], name
+        else:
+            assert got.dtype == var.dtype, (name, got.dtype, var.dtype)
+            np.testing.assert_array_equal(got.values, var.values, err_msg=name)
+        assert _equal(dict(var.attrs), dict(got.attrs)), name
+    # every attribute of the result's dataset; "source" of data built in memory is where a DRT
+    # file is read from (io.netcdf reads a dataset with Z and no impedax_kind as a spectrum)
+    skipped = set(PROVENANCE_ATTRS) | ({"source"} if kind.startswith("drt") else set())
+    for key, value in written.attrs.items():
+        if key not in skipped:
+            assert key in read.attrs and _equal(value, read.attrs[key]), (key, value, read.attrs.get(key))
+
+
+def test_a_hierarchical_posterior_reads_back_with_the_same_report(tmp_path):
+    post = by_hand(2)
+    ix.write_result(post, tmp_path / "h.nc")
+    back = ix.HierarchicalPosterior.from_xarray(ix.load(tmp_path / "h.nc"))
+    assert back.report() == post.report() and back.new_trial("R1") == post.new_trial("R1")
