@@ -107,26 +107,27 @@ class Prior:
             return max(self.a, lower), min(self.b, upper)
         return lower, upper
 
-    def log_normaliser(self, lower: float, upper: float) -> float:
-        """ln of the probability mass the untruncated prior puts inside (lower, upper)."""
-        from scipy import stats
-
+    def _standard_ends(self, lower: float, upper: float) -> tuple[float, float]:
+        """The bounds (lower, upper) as standard scores of a normal or log-normal prior."""
         if self.kind is PriorKind.NORMAL:
-            mass = stats.norm.cdf(upper, self.a, self.b) - stats.norm.cdf(lower, self.a, self.b)
-        elif self.kind is PriorKind.LOGNORMAL:
-            lo = math.log(lower) if lower > 0 else -math.inf
-            hi = math.log(upper) if math.isfinite(upper) and upper > 0 else math.inf
-            mass = stats.norm.cdf(hi, math.log(self.a), self.b) - stats.norm.cdf(lo, math.log(self.a), self.b)
-        else:
+            return (lower - self.a) / self.b, (upper - self.a) / self.b
+        lo = math.log(lower) if lower > 0 else -math.inf
+        hi = math.log(upper) if math.isfinite(upper) and upper > 0 else math.inf
+        return (lo - math.log(self.a)) / self.b, (hi - math.log(self.a)) / self.b
+
+    def log_normaliser(self, lower: float, upper: float) -> float:
+        """ln of the probability mass the untruncated prior puts inside (lower, upper), in the
+        tail where that mass lies (`_log_normal_mass`): exact however far the bounds sit from the
+        prior's centre (a difference of two cdfs near 1 gave 0, and ln p = −∞ everywhere, once a
+        lower bound sat 8.3 sd above a normal prior's mean)."""
+        if self.bounded:
             return 0.0
-        return math.log(mass) if mass > 0 else -math.inf
+        return _log_normal_mass(*self._standard_ends(lower, upper))
 
     def cdf(self, x, lower: float, upper: float) -> np.ndarray:
         """The prior's cumulative probability at ``x`` within the parameter bounds (lower,
         upper): the coordinate in which this prior is uniform on [0, 1] (linear for uniform,
         log for log-uniform; the prior's mass for normal and log-normal)."""
-        from scipy import stats
-
         x = np.asarray(x, float)
         lo, hi = self.support(lower, upper)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -135,15 +136,10 @@ class Prior:
             elif self.kind is PriorKind.LOGUNIFORM:
                 t = np.log(x / lo) / math.log(hi / lo)
             else:
-                if self.kind is PriorKind.NORMAL:
-                    u, centre, lo_u, hi_u = x, self.a, lo, hi
-                else:
-                    u = np.log(np.where(x > 0, x, np.nan))
-                    centre = math.log(self.a)
-                    lo_u = math.log(lo) if lo > 0 else -math.inf
-                    hi_u = math.log(hi) if math.isfinite(hi) and hi > 0 else math.inf
-                c_lo, c_hi = stats.norm.cdf([lo_u, hi_u], centre, self.b)
-                t = (stats.norm.cdf(u, centre, self.b) - c_lo) / (c_hi - c_lo)
+                u = x if self.kind is PriorKind.NORMAL else np.log(np.where(x > 0, x, np.nan))
+                centre = self.a if self.kind is PriorKind.NORMAL else math.log(self.a)
+                z_lo, z_hi = self._standard_ends(lo, hi)
+                t = _truncated_normal_cdf((u - centre) / self.b, z_lo, z_hi)
         return np.clip(t, 0.0, 1.0)
 
     def median(self, lower: float, upper: float) -> float:
@@ -155,6 +151,37 @@ class Prior:
             lo, hi = self.support(lower, upper)
             return math.sqrt(lo * hi)
         return self.a
+
+
+def _log_normal_mass(z_lo: float, z_hi: float) -> float:
+    """ln(Φ(z_hi) − Φ(z_lo)) of the standard normal, computed in the tail the interval lies in
+    (mirrored into the lower tail, ln Φ by `scipy.special.log_ndtr`): finite wherever the mass is
+    a positive double's logarithm, tens of sd from the centre included."""
+    from scipy.special import log_ndtr
+
+    if z_lo > -z_hi:  # (the interval lies more in the upper tail: mirror it)
+        z_lo, z_hi = -z_hi, -z_lo
+    if not z_lo < z_hi:
+        return -math.inf
+    upper, lower = float(log_ndtr(z_hi)), float(log_ndtr(z_lo))
+    return upper + math.log1p(-math.exp(lower - upper)) if lower < upper else -math.inf
+
+
+def _truncated_normal_cdf(z, z_lo: float, z_hi: float) -> np.ndarray:
+    """The cdf at standard scores ``z`` of a standard normal truncated to (z_lo, z_hi),
+    (Φ(z) − Φ(z_lo))/(Φ(z_hi) − Φ(z_lo)), in ratios of ln Φ of the tail the interval lies in."""
+    from scipy.special import log_ndtr
+
+    z = np.asarray(z, float)
+    mirrored = z_lo > -z_hi
+    if mirrored:
+        z, z_lo, z_hi = -z, -z_hi, -z_lo
+    top = float(log_ndtr(z_hi))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        low = math.exp(float(log_ndtr(z_lo)) - top)
+        t = (np.exp(log_ndtr(np.clip(z, z_lo, z_hi)) - top) - low) / (1.0 - low)
+    t = np.where(np.isnan(z), np.nan, t)
+    return 1.0 - t if mirrored else t
 
 
 def parse_prior(text: str) -> tuple[str, Prior]:
