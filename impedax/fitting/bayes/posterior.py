@@ -81,6 +81,13 @@ EDGE_SET_ROWS = ("their draws pile up against an edge of their prior or bound: t
 """The line under a report's table for the rows marked for `PiledUp.set_by_prior_edge` (added 2026-12-06)."""
 
 
+def fixed_rows(fixed: Mapping[str, float], specs) -> list[dict[str, object]]:
+    """`Posterior.to_table`'s rows of the parameters held fixed: the value in every quantile
+    column (a point mass), the unit from ``specs``, no τ or ESS, ``fixed`` true."""
+    return [{"name": n, **{k: float(v) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit if n in specs else "", "autocorr": None, "ess": None, "undetermined": False, "fixed": True}
+            for n, v in fixed.items()]
+
+
 def undetermined_rows(undetermined: Sequence[str], set_by_edge: Sequence[str]) -> tuple[set[str], list[str]]:
     """The rows a posterior's report marks `UNDETERMINED_MARK` and the lines under its table:
     the start fit's rule (``undetermined``) and the draws piled up at a prior's or bound's edge
@@ -413,7 +420,9 @@ class Posterior(PiledUp, FrozenResult):
         no τ or ESS of their own: empty). Last (added 2026-12-06, the name of `FitResult.to_table`'s
         column) ``undetermined``: the row the text report marks NOT DETERMINED (`undetermined`, or
         draws piled up at a prior's edge, `set_by_prior_edge`); a replaced parameter's by the one
-        that replaces it."""
+        that replaces it. Then (added 2026-12-06, as `FitResult.to_table`'s rows and column) a
+        row per fixed parameter, its value in every quantile column, and the column ``fixed``
+        (true on those rows), which the report lists and the CSV left out."""
         q = self.quantiles()
         loose, _ = undetermined_rows(self.undetermined, self.set_by_prior_edge)
         rows = [
@@ -427,7 +436,7 @@ class Posterior(PiledUp, FrozenResult):
             replaced_by = dict(zip(rp.replaces, rp.names)) if len(rp.names) == len(rp.replaces) else {}
             rows += [{"name": n, **{k: float(cq[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit, "autocorr": None, "ess": None,
                       "undetermined": replaced_by[n] in loose if n in replaced_by else any(m in loose for m in rp.names)} for n in rp.replaces]
-        return rows
+        return [{**row, "fixed": False} for row in rows] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry))
 
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html

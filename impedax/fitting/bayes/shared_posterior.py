@@ -44,7 +44,7 @@ from ..frozen import FrozenResult, freeze_fields
 from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, tied_to_bound, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
-from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, Posterior, undetermined_rows, chain_figures, checked_copies, sigma_between, with_noise
+from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, Posterior, fixed_rows, undetermined_rows, chain_figures, checked_copies, sigma_between, with_noise
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "spectrum_labels", "MAX_JOINT_PARAMETERS"]
@@ -444,13 +444,14 @@ class SharedPosterior(PiledUp, FrozenResult):
     def to_table(self) -> list[dict[str, object]]:
         """One row per sampled parameter: name, the summary quantiles, unit, and (added
         2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``, None where unknown,
-        and (added 2026-12-06) ``undetermined``, as `Posterior.to_table`: the rows the report marks."""
+        and (added 2026-12-06) ``undetermined``, as `Posterior.to_table`: the rows the report marks;
+        then the fixed parameters' rows and the column ``fixed`` (added 2026-12-06, `fixed_rows`)."""
         q = self.quantiles()
         loose, _ = undetermined_rows(self.undetermined, self.set_by_prior_edge)
         return [
-            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), "undetermined": n in loose}
+            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), "undetermined": n in loose, "fixed": False}
             for n, u in zip(self.names, self.units)
-        ]
+        ] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry))
 
     def derive(self, fn: Callable, freq=None, *, draws: bool = False, max_draws: int | None = None) -> xr.Dataset:
         """`Posterior.derive` over the joint draws: ``fn(params[, freq])`` gets every sampled
