@@ -899,6 +899,27 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             "mean_acceptance": float(self.mean_acceptance),
         }
 
+    def to_table(self) -> list[dict[str, object]]:
+        """The report's rows as a tidy table (`impedax.write_result` .csv; added 2026-12-06: the
+        CSV was refused): per quantity ``name``, ``level`` (``population`` for a per-trial one,
+        ``shared``, or ``discrepancy`` for δ), ``median`` and ``q05``/``q95`` (of the population
+        median exp(μ), of a shared value, of δ), ``spread`` (sd of ln between trials),
+        ``new_trial_q05``/``new_trial_q95`` (`new_trial`: of a new session too when there is a
+        session level), ``unit`` as the element spells it (``Ohm``); empty where it does not apply."""
+        empty = {"spread": None, "new_trial_q05": None, "new_trial_q95": None}
+        rows = []
+        for n in self.trial_names:
+            p, t = self.population(n), self.new_trial(n)
+            rows.append({"name": n, "level": "population", "median": p["value"], "q05": p["q05"], "q95": p["q95"], "spread": self.spread_between_trials(n)["value"],
+                         "new_trial_q05": t["q05"], "new_trial_q95": t["q95"], "unit": self._bounds_and_unit(n)[2]})
+        for j, n in enumerate(self.shared_names):
+            q = _interval(self.shared[..., j].ravel(), 0.9)
+            rows.append({"name": n, "level": "shared", "median": q["value"], "q05": q["q05"], "q95": q["q95"], **empty, "unit": self._bounds_and_unit(n)[2]})
+        if self.discrepancy:
+            q = _interval(self.delta.ravel(), 0.9)
+            rows.append({"name": "delta", "level": "discrepancy", "median": q["value"], "q05": q["q05"], "q95": q["q95"], **empty, "unit": "1"})
+        return rows
+
     def _sampler_line(self) -> str:
         """The sampling's health in one line (the report's second, the notebook's first)."""
         rhat, ess = self._other_mixing()
