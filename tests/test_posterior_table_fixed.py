@@ -37,3 +37,13 @@ def test_a_joint_posteriors_table_has_its_fixed_rows_too(with_sigma):  # noqa: F
     fixed = [row for row in table if row["fixed"]]
     assert [(row["name"], row["median"], row["q95"], row["unit"]) for row in fixed] == [("R0", 50.0, 50.0, "Ohm")]
     assert [row["name"] for row in table if not row["fixed"]] == list(with_sigma.names)
+
+
+def test_a_joint_posteriors_report_lists_its_fixed_values(with_sigma):  # noqa: F811
+    """A single spectrum's report ends its table with "R0  5  (fixed)  Ω"; a joint posterior's
+    (`sample --shared ... --fix R0=50`) left R0 out of its report altogether."""
+    lines = with_sigma.report().splitlines()
+    (row,) = [line for line in lines if line.split()[:1] == ["R0"]]
+    assert row.split() == ["R0", "50", "(fixed)", "Ω"]
+    header = next(i for i, line in enumerate(lines) if line.startswith("parameter"))
+    assert lines.index(row) == header + len(with_sigma.names) + 1  # (after the sampled rows, before the footnotes)

@@ -32,7 +32,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
-from ...data import checked_frequencies, column_width, counted, report_text, unit_text
+from ...data import checked_frequencies, column_width, counted, exact_number, report_text, unit_text
 from ...warning_groups import grouped_warnings
 from ..derived import draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
@@ -288,7 +288,8 @@ class SharedPosterior(PiledUp, FrozenResult):
 
     def report(self) -> str:
         q = self.quantiles()
-        width = column_width(self.names, "parameter")
+        fixed = self.fixed
+        width = column_width([*self.names, *fixed], "parameter")
         lines = [
             f"model      {self.model}   (joint posterior: {', '.join(self.shared)} shared over {', '.join(self.over)}, {counted(len(self.spectra), 'spectrum', 'spectra')})",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
@@ -303,6 +304,9 @@ class SharedPosterior(PiledUp, FrozenResult):
                 f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  "
                 + (f"{unit_text(self.units[i]):<{unit_width}}  {UNDETERMINED_MARK}" if n in loose else unit_text(self.units[i]))
             )
+        specs = self.circuit.parameter_specs(self.registry)
+        for n, value in fixed.items():  # (as a single spectrum's report: the model's values need them too; added 2026-12-06)
+            lines.append(f"{n:<{width}}  {exact_number(value):>11}  {'(fixed)':>11}  {'':>11}  {'':>9}  {'':>7}  {unit_text(specs[n].unit) if n in specs else ''}".rstrip())
         lines += footnotes
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
