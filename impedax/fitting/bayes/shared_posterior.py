@@ -279,6 +279,19 @@ class SharedPosterior(PiledUp, FrozenResult):
             "step_cap": self.settings.get("step_cap"),
             "stopped": self.settings.get("stopped"),
             "fixed": self.fixed,
+            "start_fit": self._start_fit_summary(),  # (added 2026-12-06, as `Posterior.summary`'s)
+        }
+
+    def _start_fit_summary(self) -> dict:
+        """The global least-squares fit the walkers started around, by sampled name (``R1[cycle=0]``,
+        a shared one's once): ``values``, ``stderr`` (linearised; None at a bound or where not
+        finite, as `Posterior.summary`'s ``start_fit``), ``at_bound``; ``model`` and ``weighting``."""
+        start = _start_of(self.fit.dataset, self.over, self.spectra, self.names)
+        return {
+            "model": self.model, "weighting": self.fit.weighting,
+            "values": {n: s.value for n, s in start.items()},
+            "stderr": {n: None if s.at_bound or not math.isfinite(s.stderr) else s.stderr for n, s in start.items()},
+            "at_bound": [n for n, s in start.items() if s.at_bound],
         }
 
     def _sampler_text(self) -> str:
