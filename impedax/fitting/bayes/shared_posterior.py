@@ -54,6 +54,12 @@ __all__ = ["SharedPosterior", "sample_shared", "spectrum_labels", "MAX_JOINT_PAR
 # any practical run
 MAX_JOINT_PARAMETERS = 60
 
+# `SharedPosterior` warns when the spectra's own noise scales (relative rms residuals at the most
+# probable draw) differ by more than this factor: one sigma_rel then fits none of them. Two
+# spectra of equal noise on 30 points differ by ~10 % (the rms of 60 Gaussian values has a
+# relative sd of 1/√120)
+NOISE_SCALE_RATIO = 2.0
+
 # `SharedPosterior.plot` draws one row per spectrum: every spectrum up to this many, else this
 # many spread over them
 PLOTTED_SPECTRA = 6
@@ -203,9 +209,42 @@ class SharedPosterior(PiledUp, FrozenResult):
         out += chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings), steps=self.settings.get("steps"))
         out.extend(self._prior_edges.warnings)
         out.extend(self._interval_warnings())
+        out.extend(self._noise_scale_warnings())
         out.extend(self.notes)
         out.extend(_start_fit_warnings(self.fit.warnings, len(self.spectra)))
         return tuple(out)
+
+    def spectrum_noise_scales(self) -> np.ndarray:
+        """Each spectrum's relative rms residual at the draw of highest posterior density,
+        √(mean over its 2N parts of (r_k/|Z_data,k|)²): the sigma_rel that spectrum alone would
+        give (spectra in the order of ``spectra``)."""
+        best = np.array([int(np.argmax(self.log_prob))])
+        values = self._circuit_draws(best)
+        impedance = compile_circuit(self.circuit, self.registry)
+        z = self.z_data
+        out = []
+        for row in range(len(self.spectra)):
+            model = np.asarray(impedance({n: float(v[row, 0]) for n, v in values.items()}, self.frequency))
+            rel = (model - z[row]) / np.abs(z[row])
+            out.append(math.sqrt(float(np.mean(np.concatenate([rel.real, rel.imag]) ** 2))))
+        return np.asarray(out)
+
+    def _noise_scale_warnings(self) -> list[str]:
+        """With proportional noise one ``sigma_rel`` is sampled for every spectrum; where the
+        spectra's own scales (`spectrum_noise_scales`) differ by more than `NOISE_SCALE_RATIO`,
+        that common scale is too large for some and too small for others, and so are their
+        intervals: said, with the spectra at both ends (added 2026-12-06)."""
+        if self.noise != NoiseModel.PROPORTIONAL or len(self.spectra) < 2:
+            return []
+        scales = self.spectrum_noise_scales()
+        low, high = int(np.argmin(scales)), int(np.argmax(scales))
+        if not scales[high] > NOISE_SCALE_RATIO * scales[low]:
+            return []
+        common = float(np.median(self.samples["sigma_rel"]))
+        return [f"one sigma_rel is sampled for all {len(self.spectra)} spectra, but their residuals differ {scales[high] / scales[low]:.2g}×: at the most probable draw "
+                f"{self.spectra[low]} misses its data by {scales[low]:.3g} rms (relative), {self.spectra[high]} by {scales[high]:.3g}, against sigma_rel {common:.3g}: "
+                "the intervals of the spectra that fit better are too wide and those of the spectra that fit worse too narrow; sample them one at a time, "
+                "or give each its own noise (noise='sigma' with the data's sigma)"]
 
     def _interval_warnings(self) -> list[str]:
         """`interval_warnings` (as `Posterior`'s) for the sampled circuit parameters, each against
