@@ -232,3 +232,27 @@ def test_the_batch_summary_reads_each_spectrum_s_suggestion_once(cycles, monkeyp
     assert sorted(calls) == sorted(id(one) for one in result.results)
     models = [row["suggested_model"] for row in out["spectra"]]
     assert out["suggested_model"] == Counter(models).most_common(1)[0][0] and out["n_suggesting"] == models.count(out["suggested_model"])
+
+
+def test_the_many_spectra_colour_bar_reads_the_spectra_labels_not_positions():
+    # SYNTHETIC 12 cycles labelled 100 … 111 (as `--select cycle=100:111` leaves them): the colour
+    # bar read 0 … 10, the positions, so the colour of cycle 110 was ticked "10"
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    cycles = list(range(100, 112))
+    spectra = np.stack([noisy(arcs(1.0 + 0.05 * i), 0.005, 40 + i) for i in range(12)])
+    batch = drt(ix.make_spectrum(F, spectra, dims=("cycle",), coords={"cycle": cycles}))
+    fig = batch.plot()
+    try:
+        fig.canvas.draw()
+        bar_axes = fig.axes[-1]  # the colour bar's axes, added last
+        ticks = [(t, label.get_text()) for t, label in zip(bar_axes.get_yticks(), bar_axes.get_yticklabels()) if label.get_text() and 0 <= t <= 11]
+        assert len(ticks) >= 3
+        # each tick at position k reads the k-th cycle's label, taken from the file's own coordinate
+        assert all(text == str(cycles[int(round(t))]) for t, text in ticks)
+        assert bar_axes.get_ylabel() == "cycle"
+    finally:
+        plt.close(fig)

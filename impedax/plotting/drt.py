@@ -135,6 +135,19 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
 LEGEND_MAX = 10  # batches of up to this many spectra get a legend of their labels, larger ones a colour bar
 
 
+def label_colour_bar(bar, labels, dims) -> None:
+    """Mark a colour bar over the positions 0 … n−1 of a batch's spectra with the spectra's
+    labels (``cycle`` 100 … 129), at most 8 integer ticks, named by the dimensions: its ticks
+    were the positions, so after ``--select cycle=100:129`` the colour of cycle 125 read "25"."""
+    from matplotlib.ticker import FuncFormatter, MaxNLocator
+
+    n = len(labels)
+    bar.locator = MaxNLocator(nbins=8, integer=True, min_n_ticks=1)
+    bar.formatter = FuncFormatter(lambda x, pos=None: labels[int(round(x))] if 0 <= round(x) < n and abs(x - round(x)) < 1e-6 else "")
+    bar.update_ticks()
+    bar.set_label(", ".join(dims))
+
+
 def plot_drt_batch(batch, *, title: str | None = None):
     """γ(τ) of every spectrum of a `DRTBatchResult` on one axes, coloured in batch order (viridis),
     and each DRT fit's rms_rel for each spectrum below (marked with the spectra's labels)."""
@@ -153,7 +166,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
         ax.add_collection(LineCollection([np.column_stack([one.tau, one.gamma]) for one in batch.results], colors=colours[:n], linewidths=1.2))
         ax.autoscale_view()
         bar = fig.colorbar(plt.cm.ScalarMappable(norm=plt.Normalize(0, n - 1), cmap="viridis"), ax=ax)
-        bar.set_label(f"spectrum ({labels[0]} … {labels[-1]})")
+        label_colour_bar(bar, [", ".join(label_text(v) for v in where.values()) for where in batch.labels()], batch.dims)
     # the measured τ window, shaded outside as `plot_drt` does (the union of the spectra's windows)
     lo = min(one.window[0] for one in batch.results)
     hi = max(one.window[1] for one in batch.results)
