@@ -248,11 +248,48 @@ def test_the_many_spectra_colour_bar_reads_the_spectra_labels_not_positions():
     fig = batch.plot()
     try:
         fig.canvas.draw()
-        bar_axes = fig.axes[-1]  # the colour bar's axes, added last
+        bar_axes = next(a for a in fig.axes if a.get_ylabel() == "cycle")  # the spectra's colour bar
         ticks = [(t, label.get_text()) for t, label in zip(bar_axes.get_yticks(), bar_axes.get_yticklabels()) if label.get_text() and 0 <= t <= 11]
         assert len(ticks) >= 3
         # each tick at position k reads the k-th cycle's label, taken from the file's own coordinate
         assert all(text == str(cycles[int(round(t))]) for t, text in ticks)
         assert bar_axes.get_ylabel() == "cycle"
+    finally:
+        plt.close(fig)
+
+
+def test_the_batch_figure_maps_gamma_over_the_spectra_with_each_spectrums_peaks():
+    # SYNTHETIC R0 + R1‖C1 + R2‖C2 over 3 cycles, τ1 = R1 C1 = 0.1 ms fixed and τ2 = R2 C2 moving
+    # 10 ms → 30 ms → 100 ms (R2 = 100 Ω, C2 = τ2/R2), 0.2 % noise: the batch figure drew γ(τ) of
+    # each cycle on one axes, without its peaks, so how a peak moves along a series was not shown
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PathCollection, QuadMesh
+
+    taus = (0.01, 0.03, 0.1)
+    spectra = np.stack([noisy(10.0 + 50.0 / (1 + 1j * W * 1e-4) + 100.0 / (1 + 1j * W * tau), 0.002, 60 + i) for i, tau in enumerate(taus)])
+    batch = drt(ix.make_spectrum(F, spectra, dims=("cycle",), coords={"cycle": [5, 6, 7]}))
+    fig = batch.plot()
+    try:
+        maps = [a for a in fig.axes if a.get_label() != "<colorbar>" and any(isinstance(c, QuadMesh) for c in a.collections)]
+        assert len(maps) == 1
+        ax = maps[0]
+        assert ax.get_yscale() == "log" and ax.get_ylabel() == "τ [s]"
+        # the mesh: one column per spectrum, its γ in Ω, on a colour bar named γ [Ω]
+        mesh = next(c for c in ax.collections if isinstance(c, QuadMesh))
+        assert np.asarray(mesh.get_array()).size == 3 * batch.results[0].gamma.size
+        assert any(a.get_ylabel().startswith("γ [Ω]") for a in fig.axes if a is not ax)
+        # the filled markers are each cycle's counted peaks: at 0.1 ms in every cycle and at the
+        # generating τ2, within 0.15 decade (the formula's R C, not impedax's numbers)
+        filled = next(c for c in ax.collections if isinstance(c, PathCollection) and c.get_label().startswith("peaks"))
+        points = np.asarray(filled.get_offsets())
+        for i, tau in enumerate(taus):
+            at = np.log10(points[np.isclose(points[:, 0], i), 1])
+            assert any(abs(t - np.log10(1e-4)) < 0.15 for t in at), (i, at)
+            assert any(abs(t - np.log10(tau)) < 0.15 for t in at), (i, at)
+        # the map shares the spectra's axis with the rms_rel panel below (labelled 5, 6, 7)
+        assert ax.get_xlim() == pytest.approx((-0.5, 2.5))
     finally:
         plt.close(fig)

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import counted, format_percent, format_quantity, format_time, label_text
-from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
+from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, legends_off_data, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -148,12 +148,60 @@ def label_colour_bar(bar, labels, dims) -> None:
     bar.set_label(", ".join(dims))
 
 
+def gamma_map(ax, batch, window: tuple[float, float]):
+    """γ(τ) of every spectrum of a batch as a map over the spectra (x, positions 0 … n−1) and τ
+    (y, log), each spectrum's peaks on it (filled: counted, resolved inside the measured τ window;
+    hollow: the others; area ∝ |R|), the window's ends dashed. The colour scale ends at the
+    largest |γ| inside the window (beyond it the colour saturates: the arcs below f_min, up to
+    3 Ω on the REAL battery cycles, would pale the peaks that were measured); a signed DRT's
+    is diverging about 0. Returns the mesh and whether γ goes beyond the scale (above, below)."""
+    from . import frequency_cell_edges
+
+    results = batch.results
+    tau = np.asarray(results[0].tau, float)
+    same = all(one.tau.shape == tau.shape and np.allclose(one.tau, tau, rtol=1e-12) for one in results)
+    if not same:  # (spectra on different grids: each γ read on the first one's τ, zero beyond its own)
+        tau = np.geomspace(min(float(one.tau.min()) for one in results), max(float(one.tau.max()) for one in results), tau.size)
+    order = np.argsort(tau)
+    tau = tau[order]
+    gamma = np.array([one.gamma[np.argsort(one.tau)] if same else np.interp(np.log(tau), np.log(np.sort(one.tau)), one.gamma[np.argsort(one.tau)], left=0.0, right=0.0) for one in results])
+    inside = (tau >= window[0]) & (tau <= window[1])
+    finite = gamma[:, inside][np.isfinite(gamma[:, inside])] if inside.any() else gamma[np.isfinite(gamma)]
+    signed = bool(np.nanmin(gamma) < 0)
+    scale = float(np.max(np.abs(finite))) if finite.size and np.max(np.abs(finite)) > 0 else 1.0
+    low = -scale if signed else 0.0
+    cells = frequency_cell_edges(tau)
+    x_edges = np.arange(len(results) + 1) - 0.5
+    mesh = ax.pcolormesh(x_edges, cells, gamma.T, vmin=low, vmax=scale, cmap="RdBu_r" if signed else "magma_r", shading="flat", rasterized=gamma.size > 5000)
+    ax.set_yscale("log")
+    ax.set_ylim(cells[0], cells[-1])
+    ends = [end for end in window if cells[0] < end < cells[-1]]
+    for k, end in enumerate(ends):
+        ax.axhline(end, color="tab:cyan", lw=0.9, ls="--", label="measured τ range" if k == 0 else None)
+    peaks = [(i, p) for i, one in enumerate(results) for p in one.peaks]
+    r_top = max((abs(p.r_ohm) for _, p in peaks), default=0.0) or 1.0
+    for kept, style in ((True, {"facecolors": "white", "edgecolors": "black", "label": "peaks (resolved, measured τ range)"}),
+                        (False, {"facecolors": "none", "edgecolors": "tab:cyan", "label": "other peaks"})):
+        chosen = [(i, p) for i, p in peaks if (p in counted_peaks([p])) == kept]
+        if chosen:
+            ax.scatter([i for i, _ in chosen], [p.tau_s for _, p in chosen], s=[8 + 40 * abs(p.r_ohm) / r_top for _, p in chosen], linewidths=0.8, zorder=3, **style)
+    ax.set_ylabel("τ [s]")
+    return mesh, (bool(np.nanmax(gamma) > scale), bool(np.nanmin(gamma) < low))
+
+
 def plot_drt_batch(batch, *, title: str | None = None):
-    """γ(τ) of every spectrum of a `DRTBatchResult` on one axes, coloured in batch order (viridis),
-    and each DRT fit's rms_rel for each spectrum below (marked with the spectra's labels)."""
+    """γ(τ) of every spectrum of a `DRTBatchResult` on one axes, coloured in batch order
+    (viridis); below, the same γ as a map over the spectra and τ with each spectrum's peaks
+    (`gamma_map`: how the peaks move and grow along the series, as the KK test's map of a batch
+    shows its residuals), and each DRT fit's rms_rel (marked with the spectra's labels)."""
     labels = [", ".join(f"{d}={label_text(v)}" for d, v in where.items()) for where in batch.labels()]
     n = len(batch.results)
-    fig, (ax, ax_rms) = plt.subplots(2, 1, figsize=(8, 6.5), height_ratios=[3, 1], layout="constrained")
+    # (axes made in the order overlay, rms_rel, map: fig.axes[1] stays the rms_rel panel it was)
+    fig = plt.figure(figsize=(8, 9), layout="constrained")
+    grid = fig.add_gridspec(3, 1, height_ratios=[3, 2.2, 1])
+    ax = fig.add_subplot(grid[0])
+    ax_rms = fig.add_subplot(grid[2])
+    ax_map = fig.add_subplot(grid[1], sharex=ax_rms)
     colours = plt.get_cmap("viridis")(np.linspace(0, 1, max(n, 2)))
     if n <= LEGEND_MAX:
         for i, (one, label) in enumerate(zip(batch.results, labels)):
@@ -179,6 +227,12 @@ def plot_drt_batch(batch, *, title: str | None = None):
     ax.set_ylabel("γ [Ω]")
     prefixed_axis(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
+    mesh, (above, below) = gamma_map(ax_map, batch, (lo, hi))
+    bar = fig.colorbar(mesh, ax=ax_map, extend={(True, True): "both", (True, False): "max", (False, True): "min"}.get((above, below), "neither"))
+    bar.set_label("γ [Ω]" + ("\n(scale: the largest γ inside\nthe measured τ range)" if above or below else ""))
+    # (above the map: inside, it covered the peaks below f_min, at the map's top)
+    ax_map.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), fontsize=font_size("legend", 7), frameon=False, ncols=3)
+    ax_map.tick_params(axis="x", labelbottom=False)
     ax_rms.plot(np.arange(n), [one.rms_rel * 100 for one in batch.results], "o-", ms=3, lw=0.8)
     label_spectra_axis(ax_rms, [", ".join(label_text(v) for v in where.values()) for where in batch.labels()], batch.dims)
     ax_rms.set_ylabel("DRT fit rms_rel [%]")
@@ -187,6 +241,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     low, high = min(counts), max(counts)
     peaks = f"{low} peak{'' if low == 1 else 's'}" if low == high else f"{low}–{high} peaks"
     fig.suptitle(title or f"DRT of {counted(n, 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {peaks} in the measured τ range (shaded: outside)")
+    legends_off_data(fig)
     return fig
 
 
