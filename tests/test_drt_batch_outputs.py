@@ -293,3 +293,39 @@ def test_the_batch_figure_maps_gamma_over_the_spectra_with_each_spectrums_peaks(
         assert ax.get_xlim() == pytest.approx((-0.5, 2.5))
     finally:
         plt.close(fig)
+
+
+def test_the_batch_rms_panel_sets_each_fit_beside_the_noise_and_marks_the_misfits_red():
+    # SYNTHETIC: three cycles of 10 Ω + 100 Ω/(1 + jω 1 ms) with 1 % relative noise on each part,
+    # and a fourth whose Re Z drifts by 110 Ω × f_min/f (no Im part: not a relaxation γ can
+    # reproduce): the rms_rel panel drew the four alike, with no noise level to read them against,
+    # where the KK batch figure draws its noise estimate and the spectra not valid in red
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    f = np.logspace(-2, 5, 71)
+    w = 2 * np.pi * f
+    clean = 10.0 + 100.0 / (1 + 1j * w * 1e-3)
+
+    def relative_noise(seed):
+        rng = np.random.default_rng(seed)
+        return clean * (1 + 0.01 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+
+    spectra = np.stack([relative_noise(70), relative_noise(71), relative_noise(72), relative_noise(73) + 110.0 * f.min() / f])
+    batch = drt(ix.make_spectrum(f, spectra, dims=("cycle",), coords={"cycle": [1, 2, 3, 4]}))
+    fig = batch.plot()
+    try:
+        ax = fig.axes[1]  # the rms_rel panel
+        lines = {line.get_label(): line for line in ax.get_lines()}
+        noise = next(line for label, line in lines.items() if label.startswith("rms_rel of the noise alone"))
+        # 1 % per part gives rms_rel √2 × 1 % = 1.41 % of the complex residual; loose: the
+        # first-difference estimate of 71 points scatters by some 10 %
+        assert np.asarray(noise.get_ydata())[:3] == pytest.approx([math.sqrt(2)] * 3, rel=0.3)
+        red = next(line for label, line in lines.items() if "beyond the noise" in label)
+        assert list(np.asarray(red.get_xdata())) == [3]  # the drifting cycle, and only it
+        assert list(np.asarray(lines["rms_rel"].get_xdata())) == [0, 1, 2]
+        assert ax.get_yscale() == "log"
+    finally:
+        plt.close(fig)

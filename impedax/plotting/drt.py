@@ -193,7 +193,8 @@ def plot_drt_batch(batch, *, title: str | None = None):
     """γ(τ) of every spectrum of a `DRTBatchResult` on one axes, coloured in batch order
     (viridis); below, the same γ as a map over the spectra and τ with each spectrum's peaks
     (`gamma_map`: how the peaks move and grow along the series, as the KK test's map of a batch
-    shows its residuals), and each DRT fit's rms_rel (marked with the spectra's labels)."""
+    shows its residuals), and each DRT fit's rms_rel beside the rms_rel the noise alone gives,
+    √2 × ``difference_noise``, red where it warns (marked with the spectra's labels)."""
     labels = [", ".join(f"{d}={label_text(v)}" for d, v in where.items()) for where in batch.labels()]
     n = len(batch.results)
     # (axes made in the order overlay, rms_rel, map: fig.axes[1] stays the rms_rel panel it was)
@@ -233,10 +234,25 @@ def plot_drt_batch(batch, *, title: str | None = None):
     # (above the map: inside, it covered the peaks below f_min, at the map's top)
     ax_map.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), fontsize=font_size("legend", 7), frameon=False, ncols=3)
     ax_map.tick_params(axis="x", labelbottom=False)
-    ax_rms.plot(np.arange(n), [one.rms_rel * 100 for one in batch.results], "o-", ms=3, lw=0.8)
+    # each fit's rms_rel beside what the noise alone gives, √2 × the first-difference noise (σ per
+    # part; `DRTResult.misfits`), the spectra whose γ does not reproduce them in red, as the KK
+    # batch figure sets rms_rel beside its noise estimate and marks the spectra not valid
+    x = np.arange(n)
+    rms = np.array([one.rms_rel for one in batch.results]) * 100
+    noise = np.array([np.sqrt(2.0) * one.difference_noise for one in batch.results]) * 100
+    bad = np.array([bool(one.misfits) for one in batch.results])
+    ax_rms.plot(x, rms, "-", color="0.5", lw=0.8)
+    ax_rms.plot(x[~bad], rms[~bad], "o", ms=3, color="tab:blue", label="rms_rel")
+    if bad.any():
+        ax_rms.plot(x[bad], rms[bad], "o", ms=4, color="tab:red", label="rms_rel beyond the noise (a warning)")
+    if np.isfinite(noise).any():
+        ax_rms.plot(x, noise, "--", color="0.3", lw=0.9, label="rms_rel of the noise alone (√2 × first-difference noise)", **({"marker": "_", "ms": 14, "mew": 1.2} if n == 1 else {}))
+    ax_rms.set_yscale("log")
+    plain_log_ticks(ax_rms.yaxis)
     label_spectra_axis(ax_rms, [", ".join(label_text(v) for v in where.values()) for where in batch.labels()], batch.dims)
     ax_rms.set_ylabel("DRT fit rms_rel [%]")
-    ax_rms.grid(alpha=0.3)
+    ax_rms.grid(alpha=0.3, which="both")
+    ax_rms.legend(fontsize=font_size("legend", 7), ncols=3, loc="best")
     counts = [len(counted_peaks(one.peaks)) for one in batch.results]  # resolved, inside the measured τ window
     low, high = min(counts), max(counts)
     peaks = f"{low} peak{'' if low == 1 else 's'}" if low == high else f"{low}–{high} peaks"
