@@ -38,7 +38,7 @@ def noisy(z: np.ndarray, seed: int, level: float = 0.01) -> np.ndarray:
 
 def stand_in_fit(model, f, z_data, z_model):
     residuals = (z_model - z_data) / np.abs(z_data)
-    return SimpleNamespace(model=model, frequency=f, z_data=z_data, z_model=z_model, residuals=residuals,
+    return SimpleNamespace(model=model, frequency=f, z_data=z_data, z_model=z_model, residuals=residuals, weighting="modulus",
                            rms_rel=float(np.sqrt(np.mean(np.abs(residuals) ** 2 / 2))))
 
 
@@ -224,3 +224,4 @@ def test_a_steep_cpe_line_is_not_taken_for_a_tail():
     line = 1 / (1e-5 * jw**0.99)
     assert 20 < np.ptp(-line.imag) / np.ptp(line.real) < TAIL_RATIO
     assert tail_frame(line, line) is None
+
