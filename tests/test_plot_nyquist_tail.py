@@ -225,3 +225,28 @@ def test_a_steep_cpe_line_is_not_taken_for_a_tail():
     assert 20 < np.ptp(-line.imag) / np.ptp(line.real) < TAIL_RATIO
     assert tail_frame(line, line) is None
 
+
+def test_a_capacitor_alone_beside_an_arc_frames_the_arc_not_its_round_off():
+    # SYNTHETIC: the demo's air gap, R_EP || CPE_EP || C_gap (113 MΩ, 4.19 nF s^(α-1), α 0.296,
+    # 410 pF) over 1 Hz–1 MHz with 0.5 % noise, −Z'' from 387 Ω to 26 MΩ, beside the naive model C_gap alone as
+    # impedax compiles it (its Z' round-off, nΩ, not 0): the panel took that round-off for the
+    # structure's Z' span and showed 6 nΩ of −Z'' around the 1 MHz point (the demo's step 2)
+    import impedax as ix
+
+    f = np.geomspace(1.0, 1e6, 61)
+    jw = 2j * np.pi * f
+    z = noisy(1 / (1 / 113e6 + 4.19e-9 * jw**0.296 + jw * 410e-12), 0, level=0.005)  # (noise puts Z' below 0 at the top, as the demo's)
+    assert z.real.min() < 0
+    z_model = np.asarray(ix.compile_circuit(ix.parse("C_gap"))({"C_gap": 959e-12}, f), complex)
+    z_model = z_model + 1e-18 * np.abs(z_model) * np.sin(np.arange(f.size))  # a fit's round-off in Z' (±4 nΩ in the demo)
+    assert tail_frame(z, z_model) is None  # an ordinary arc: the data's Z' span, 57 MΩ, is 0.4 × its −Z'' span
+    fig = plot_spectrum((f, z), (f, z_model))
+    try:
+        fig.canvas.draw()
+        ax = fig.axes[0]
+        low, high = ax.get_ylim()
+        # the panel shows the whole arc: −Z'' from its lowest to its highest point (the formula's)
+        assert low <= float((-z.imag).min()) and high >= float((-z.imag).max())
+        assert ax.get_xlim()[1] >= float(z.real.max())
+    finally:
+        plt.close(fig)

@@ -227,10 +227,16 @@ STRUCTURED_TAIL_RATIO = 10.0
 TAIL_COVER = 0.5
 
 
+# a model curve whose Z' spans less than this fraction of its largest |Z| has no Z' structure
+# (`tail_frame` then takes the data's): round-off of 1/(jωC) computed in float64 is ~1e-16 of it
+REACTIVE_ROUNDOFF = 1e-9
+
+
 def tail_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tuple[float, float, float, float] | None:
     """(Z' min, Z' max, −Z'' min, −Z'' max) of a Nyquist panel zoomed on the structure of a
     spectrum with a capacitive tail, or None for one of ordinary shape. The structure's Z' span
-    is that of the model curves ``z_models`` (noise-free) within the data's, else the data's
+    is that of the model curves ``z_models`` (noise-free) within the data's, else (no model, or
+    models with no Z' beyond round-off, `REACTIVE_ROUNDOFF`) the data's
     (complex Z ``z_data``); a tail is a −Z'' span of `TAIL_RATIO` times that or more (the
     equal scales then draw the spectrum as a vertical line), or of `STRUCTURED_TAIL_RATIO`
     times that or more where the points within `TAIL_VIEW` spans of the lowest −Z'' cover
@@ -245,8 +251,10 @@ def tail_frame(z_data, *z_models, overshoot: float = MODEL_OVERSHOOT) -> tuple[f
     x0, x1 = float(z.real.min()), float(z.real.max())
     models = [m[np.isfinite(m)] for m in (np.asarray(m, complex).ravel() for m in z_models)]
     models = [m for m in models if m.size]
-    if models:
-        curves = np.concatenate(models)
+    curves = np.concatenate(models) if models else np.zeros(0, complex)
+    # (a purely reactive model, a capacitor alone, has no Z' but round-off: the demo's naive C_gap
+    # fit, Z' within ±4 nΩ beside data to 57 MΩ, framed 6 nΩ of −Z'' around the top point)
+    if curves.size and np.ptp(curves.real) > REACTIVE_ROUNDOFF * float(np.abs(curves).max()):
         x0, x1 = max(x0, float(curves.real.min())), min(x1, float(curves.real.max()))
     span = x1 - x0
     y = -z.imag
