@@ -206,9 +206,21 @@ def test_too_few_points_for_refine_names_refine_and_counts_in_the_singular(tmp_p
     path = tmp_path / "two.csv"
     path.write_text(csv_text(np.array([1.0, 10.0])))  # SYNTHETIC: two points
     code, _, err = run(capsys, "refine", path, "--model", "R0 + R1 || C1")
-    assert code == 2 and "impedax refine: error: refine needs at least 4 frequencies for 3 free parameters" in err
+    assert code == 2 and f"impedax refine: error: {path}: refine needs at least 4 frequencies for 3 free parameters" in err
     code, _, err = run(capsys, "diagnose", path, "--model", "R1")
     assert code == 2 and "diagnose needs at least 4 frequencies for 1 free parameter and" in err
+
+
+def test_too_few_points_for_diagnose_names_the_file_and_the_band(capsys):
+    # REAL exampleDataZPlot.z (21 points, 3 kHz–300 kHz): 10–12 kHz keeps one (11.94 kHz), below
+    # 3.5 kHz one (3 kHz); the message said "got 1", naming neither the file nor the band
+    path = "tests/fixtures/real/exampleDataZPlot.z"
+    code, _, err = run(capsys, "diagnose", path, "--model", "R0 + R1 || CPE1", "--fmin", "1e4", "--fmax", "1.2e4")
+    assert code == 2
+    assert f"impedax diagnose: error: {path}: diagnose needs at least 4 frequencies for 4 free parameters and the Kramers–Kronig test, got 1 from --fmin = 10 kHz to --fmax = 12 kHz" in err
+    code, _, err = run(capsys, "refine", path, "--model", "R0 + R1 || CPE1", "--fmax", "3.5e3")
+    assert code == 2 and f"{path}: refine needs at least 4 frequencies for 4 free parameters and the Kramers–Kronig test, got 1 at or below --fmax = 3.5 kHz" in err
+    assert "Traceback" not in err
 
 
 def test_a_kk_batch_of_one_spectrum_is_one_spectrum(tmp_path, capsys):

@@ -59,7 +59,7 @@ import xarray as xr
 from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
-from ...data import concise_repr, report_text, counted, format_quantity, make_spectrum, unit_text
+from ...data import concise_repr, report_text, counted, format_frequency, format_quantity, make_spectrum, unit_text
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band, retested_band  # (frequency_text, left_out_options: here before 2026-12-02)
@@ -1195,7 +1195,7 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     circuit = parse(circuit, registry)  # (a circuit's errors before the data's, and both before the fit)
     if fixed or bounds:  # (an unknown name, a value or bound out of range, lower ≥ upper, every parameter fixed: fit's own errors, before the fit)
         ParameterTable.build(circuit, registry=registry, fixed=fixed, bounds=bounds)
-    require_points_for_diagnosis(ds.sizes["frequency"], len(circuit.parameter_names(registry)))
+    require_points_for_diagnosis(ds.sizes["frequency"], len(circuit.parameter_names(registry)), source=ds.attrs.get("source"), fmin=fmin, fmax=fmax)
     if not noise_given:
         _require_noise_without_kk(ds.sizes["frequency"], None, ds["sigma"] if "sigma" in ds else None, source=ds.attrs.get("source"))
     # the candidates depend on the circuit's structure: propose them around a stand-in fit, so
@@ -1255,15 +1255,23 @@ not a caveat, so it is no one of `Diagnosis.warnings`."""
 MIN_DIAGNOSIS_POINTS = 4  # what the KK test needs (R_0, one RC element, L, C)
 
 
-def require_points_for_diagnosis(n_points: int, n_free: int, command: str = "diagnose") -> None:
+def require_points_for_diagnosis(n_points: int, n_free: int, command: str = "diagnose", *, source: str | None = None, fmin: float | None = None, fmax: float | None = None) -> None:
     """`DataError` when the spectrum is too short to judge a model (before, one point was
     judged "adequate"): the KK test needs `MIN_DIAGNOSIS_POINTS` frequencies, and the real
     values must outnumber the free parameters by as many (a model with as many parameters as
     data values fits anything). ``command``: who needs them (refine checks before its first
-    diagnosis, whose words "diagnose needs" had answered ``impedax refine``)."""
+    diagnosis, whose words "diagnose needs" had answered ``impedax refine``). ``source``: the
+    file, named first; ``fmin``/``fmax``: the band that kept them, named after (REAL
+    exampleDataZPlot.z with --fmin 1e4 --fmax 1.2e4 said "got 1" and neither the file nor why)."""
     needed = max(MIN_DIAGNOSIS_POINTS, -(-(n_free + MIN_DIAGNOSIS_POINTS) // 2))
     if n_points < needed:
-        raise DataError(f"{command} needs at least {needed} frequencies for {counted(n_free, 'free parameter')} and the Kramers–Kronig test, got {n_points}")
+        if fmin is not None and fmax is not None:
+            band = f" from fmin = {format_frequency(fmin)} to fmax = {format_frequency(fmax)}"
+        elif fmin is not None or fmax is not None:  # (fit's words for its own count)
+            band = f" at or above fmin = {format_frequency(fmin)}" if fmin is not None else f" at or below fmax = {format_frequency(fmax)}"
+        else:
+            band = ""
+        raise DataError(f"{command} needs at least {needed} frequencies for {counted(n_free, 'free parameter')} and the Kramers–Kronig test, got {n_points}{band}", path=source)
 
 
 def _require_noise_without_kk(n_points: int, noise: float | None, sigma, *, source: str | None) -> None:

@@ -1206,7 +1206,7 @@ def refine(
     ds = open_spectrum(data, fmin=fmin, fmax=fmax, single="refine").data
     # (too few points are refine's to name, before its first diagnosis says "diagnose needs …")
     parsed = parse(circuit, registry) if isinstance(circuit, str) else circuit
-    require_points_for_diagnosis(int((~non_passive_points(ds)).sum()), len(parsed.parameter_names(registry)), "refine")
+    require_points_for_diagnosis(int((~non_passive_points(ds)).sum()), len(parsed.parameter_names(registry)), "refine", source=ds.attrs.get("source"), fmin=fmin, fmax=fmax)
     say(f"step 0: diagnosing {circuit}")
 
     def within(text: str) -> None:  # (a diagnosis' stages, under the step that runs it: none silent for long)
