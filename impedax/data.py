@@ -669,6 +669,20 @@ def format_factor(ratio: float, digits: int = 2) -> str:
     return f"{float(text):.0f}" if "e" in text and 1 <= abs(ratio) < 1e6 else text
 
 
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def format_lambda(value: float, digits: int = 3) -> str:
+    """A dimensionless λ as written by hand: ``0.0125``, ``2.6×10⁻⁵``, ``10⁻⁸`` (no e-notation;
+    the DRT's report and its figure's legend alike)."""
+    text = f"{value:.{digits}g}"
+    if "e" not in text:
+        return text
+    mantissa, exponent = text.split("e")
+    power = f"10{str(int(exponent)).translate(_SUPERSCRIPT)}"
+    return power if mantissa == "1" else f"{mantissa}×{power}"
+
+
 def format_time(tau: float, digits: int = 3) -> str:
     """A time constant [s] for text: ``2 ms``, ``0.3 s``, ``40 µs`` (``digits`` significant)."""
     for unit, scale in (("s", 1.0), ("ms", 1e-3), ("µs", 1e-6), ("ns", 1e-9)):

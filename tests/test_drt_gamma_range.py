@@ -36,7 +36,7 @@ def check_readable(ax, peaks_top: float, fig) -> None:
     for text in ax.texts:
         box = text.get_window_extent()
         assert frame.y0 <= box.y0 and box.y1 <= frame.y1, (text.get_text(), box, frame)
-    band = next(c for c in ax.collections if c.get_label() == "90 % band")
+    band = next(c for c in ax.collections if c.get_label().startswith("90 % band"))
     shading = [p for p in ax.patches]
     assert shading and all(p.get_zorder() < band.get_zorder() and p.get_alpha() is not None and p.get_alpha() < 1 for p in shading)
 

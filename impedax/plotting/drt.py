@@ -7,7 +7,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..data import counted, format_percent, format_quantity, format_time, label_text
+from ..data import counted, format_lambda, format_percent, format_quantity, format_time, label_text
 from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, legends_off_data, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
@@ -19,13 +19,24 @@ def counted_peaks(peaks) -> list:
     return [p for p in peaks if getattr(p, "resolved", True) and p.inside_window]
 
 
+def band_label(result) -> str:
+    """The credible band's legend entry: "90 % band", and where the band's λ is not γ's (the
+    evidence's, `DRTResult.band_lambda`) that λ and "noise only", as the report says: on the REAL
+    exampleDataZPlot.z the band at λ = 2.5×10⁻⁷ beside γ at 10⁻⁴ rose to 0.4 kΩ where γ is 0,
+    under a legend that called it the band of the curve drawn."""
+    lam, band_lam = float(getattr(result, "lam", np.nan)), float(getattr(result, "band_lambda", np.nan))
+    if not (np.isfinite(lam) and np.isfinite(band_lam)) or abs(band_lam - lam) <= 0.01 * lam:
+        return "90 % band"
+    return f"90 % band (noise only, at λ = {format_lambda(band_lam, 2)}; γ at {format_lambda(lam, 2)})"
+
+
 def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None, legend_above=False) -> None:
     """γ(τ) [Ω] on log τ with the 90 % band, peaks marked (τ and R), the measured τ range
     outside shaded, and ``overlay`` (an `AnalyticDRT` or a `DRTResult`) on top; the legend
     inside, or above the panel with ``legend_above`` (where no title is). The γ range is
     `gamma_top`'s: the band outside the measured window may run off the top."""
     before = ax.dataLim.frozen()  # (what was drawn on ``ax`` before keeps its range)
-    ax.fill_between(result.tau, result.gamma_q05, result.gamma_q95, color="tab:blue", alpha=0.2, lw=0, label="90 % band")
+    ax.fill_between(result.tau, result.gamma_q05, result.gamma_q95, color="tab:blue", alpha=0.2, lw=0, label=band_label(result))
     ax.semilogx(result.tau, result.gamma, color="tab:blue", lw=1.6, label=label)
     for p in result.peaks:
         ax.plot(p.tau_s, p.gamma_max_ohm, "v", color="tab:red", ms=7)

@@ -9,7 +9,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from ...data import checked_frequencies, concise_repr, report_text, counted, format_quantity, format_time, format_uncertain, label_text
+from ...data import checked_frequencies, concise_repr, report_text, counted, format_lambda, format_quantity, format_time, format_uncertain, label_text
 from ...errors import IN_MEMORY
 from .peaks import ROUNDOFF_SHARE, Peak, below_roundoff, counted_peaks
 from ..grid import ResultGrid
@@ -20,17 +20,6 @@ __all__ = ["DRTResult", "DRTBatchResult", "format_lambda"]
 LAMBDA_FLOOR = 1e-4
 """An automatic λ is never below this (docs/drt.md, "Choosing λ")."""
 
-_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
-
-
-def format_lambda(value: float, digits: int = 3) -> str:
-    """A dimensionless λ as written by hand: ``0.0125``, ``2.6×10⁻⁵``, ``10⁻⁸`` (no e-notation)."""
-    text = f"{value:.{digits}g}"
-    if "e" not in text:
-        return text
-    mantissa, exponent = text.split("e")
-    power = f"10{str(int(exponent)).translate(_SUPERSCRIPT)}"
-    return power if mantissa == "1" else f"{mantissa}×{power}"
 
 
 # a DRT fit worse than this (rms_rel) does not reproduce the data (`DRTResult.warnings`)
