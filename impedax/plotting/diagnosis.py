@@ -73,6 +73,8 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
     if data_bands:  # (the frequency axes: |Z|, phase and the residuals)
         shade_bands(fig.axes[1:], data_bands, label=DATA_PROBLEM_BANDS, color=DATA_PROBLEM_COLOR)
     _mark_masked(fig.axes[0], diagnosis, fig.axes[1:3])
+    if len(fig.axes) > 3 and mark_flagged_kept(fig.axes[3], b, diagnosis):  # (the residual panel)
+        refresh_legend(fig.axes[3])
     if best is not None:
         axes = fig.axes
         f, z = suggestion
@@ -100,6 +102,37 @@ def _masked_impedance(diagnosis) -> np.ndarray:
 
 
 MASKED_STYLE = dict(marker="x", ls="none", ms=6, mew=1.3, color="tab:red")
+
+FLAGGED_KEPT_STYLE = dict(marker="o", ls="none", ms=8, mfc="none", mew=1.2, color=DATA_PROBLEM_COLOR)
+
+
+def kk_flagged_kept(diagnosis) -> np.ndarray:
+    """The frequencies [Hz] the diagnosis' KK test flags and every fit kept (not masked): the
+    points its report names ("the KK test flags 4 point(s) inside the band (5.34 Hz, …): kept in
+    every fit")."""
+    kk = getattr(diagnosis, "kk", None)
+    if kk is None or getattr(kk, "flagged", None) is None:
+        return np.zeros(0)
+    flagged = np.asarray(kk.frequency, float)[np.asarray(kk.flagged, bool)]
+    masked = np.asarray(getattr(diagnosis, "masked_points", ()), float)
+    return np.array([f for f in flagged if not np.any(np.isclose(masked, f, rtol=1e-9))])
+
+
+def mark_flagged_kept(ax, fit, diagnosis, *, label: bool = True) -> bool:
+    """Ring the residuals (Re and Im, [%]) of ``fit`` at the points the KK test flags and the fits
+    kept (`kk_flagged_kept`), in the data-problem colour; True when there were any. Only the
+    failing bands that the flags fall in were shaded: on the REAL BioLogic file the report named
+    4 flagged points (5.34, 56.2, 123, 270 Hz) and the figure shaded 49–83 Hz alone."""
+    kept = kk_flagged_kept(diagnosis)
+    f = np.asarray(fit.frequency, float)
+    at = [int(np.argmin(np.abs(np.log(f / k)))) for k in kept if k > 0]
+    at = [i for i, k in zip(at, kept) if np.isclose(f[i], k, rtol=1e-6)]
+    if not at:
+        return False
+    r = np.asarray(fit.residuals)[at] * 100
+    ax.plot(f[at], r.real, label=f"KK-flagged, kept in the fit ({len(at)})" if label else None, **FLAGGED_KEPT_STYLE)
+    ax.plot(f[at], r.imag, **FLAGGED_KEPT_STYLE)
+    return True
 
 
 def _mark_masked(nyquist, diagnosis, bode=()) -> None:
@@ -215,6 +248,10 @@ def plot_refinement(refinement, *, title: str | None = None):
             fresh = fresh or fresh_data
         else:
             fresh = False
+        if s.diagnosis is not None:  # (the flagged points the report names, kept in the fit: named in the first row that shows them)
+            ringed = mark_flagged_kept(a, s.fit, s.diagnosis, label="kk flagged kept" not in named)
+            fresh = fresh or (ringed and "kk flagged kept" not in named)
+            named.update(["kk flagged kept"] if ringed else [])
         change = "start" if s.change == "(start)" else s.change
         # (no break inside "(rms_rel 1.72 %)": REAL VersaStudio's step 2 wrapped as "(rms_rel / 1.72 %)")
         head = wrap_model(f"step {i}: {change}  (rms_rel\u00a0{s.fit.rms_rel * 100:.3g}\u00a0%)", title_chars)
