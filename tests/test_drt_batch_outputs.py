@@ -329,3 +329,14 @@ def test_the_batch_rms_panel_sets_each_fit_beside_the_noise_and_marks_the_misfit
         assert ax.get_yscale() == "log"
     finally:
         plt.close(fig)
+
+
+def test_the_plot_option_says_what_a_file_of_several_spectra_gets(capsys):
+    # `impedax kk --help` says what --plot draws for several spectra; `impedax drt --help` spoke of
+    # one spectrum's figure (Nyquist/Bode), which a file of several does not get
+    with pytest.raises(SystemExit):
+        main(["drt", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    start = text.index("--plot FILE", text.index("options:"))
+    plot_help = text[start:text.index("--dpi N", start)]
+    assert "several spectra" in plot_help and "mapped over the spectra" in plot_help and "peaks" in plot_help

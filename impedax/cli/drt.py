@@ -56,7 +56,7 @@ def register(sub) -> None:
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
     add_exclude_option(p)
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    add_plot_option(p, "save gamma vs tau with peaks and band, and the fit on Nyquist/Bode")
+    add_plot_option(p, "save gamma vs tau with peaks and band, and the fit on Nyquist/Bode (several spectra: every gamma(tau), gamma mapped over the spectra and tau with each one's peaks, and each fit's rms_rel beside the noise's)")
     p.add_argument("--out", metavar="FILE.csv|.json|.nc", help="save gamma over tau with its band (CSV), the --json summary (JSON) or gamma, its band and the fit (netCDF), as impedax.write_result does; '-' the CSV to standard output (--json prints the JSON)")
     add_quiet_option(p)
     p.set_defaults(run=run)
