@@ -2,7 +2,8 @@
 points the report names: on the REAL exampleDataBioLogic.mpt (impedance.py, MIT) diagnosed with
 R0 + R1 || C1 the report says "the KK test flags 4 point(s) inside the band (5.34 Hz, 56.2 Hz,
 123 Hz, 270 Hz): kept in every fit", and the figures shaded 49–83 Hz alone (the one failing band
-the flags fall in). Oracle: the frequencies written in the report's own sentence."""
+the flags fall in). Oracle: the frequencies written in the report's own sentence. Also: the
+refinement figure's step labels end inside their panel (measured on the drawn figure)."""
 
 from __future__ import annotations
 
@@ -63,5 +64,25 @@ def test_the_refinement_figure_rings_them_on_every_step_shown():
         for ax in rows:
             rings = [np.sort(np.asarray(line.get_xdata(), float)) for line in ax.get_lines() if line.get_marker() == "o" and line.get_markerfacecolor() == "none"]
             assert rings and all(r == pytest.approx(named, rel=0.01) for r in rings)
+    finally:
+        plt.close(fig)
+
+
+@pytest.mark.slow
+def test_every_step_label_of_the_refinement_figure_ends_inside_its_panel():
+    # REAL exampleData.csv (impedance.py, MIT) refined from R0 + R1 || C1 takes 7 steps, the last
+    # "simplified / CPE1 → C1", whose label stands right of its point and ran 37 points past the
+    # error panel's frame, over the residual panel's "res. [%]"
+    refinement = ix.refine(ix.load("tests/fixtures/real/exampleData.csv"), "R0 + R1 || C1")
+    assert len(refinement.steps) >= 6
+    fig = refinement.plot()
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        panel = fig.axes[0]  # the error per step
+        assert panel.get_xlabel() == "refinement step"
+        frame = panel.get_window_extent(renderer)
+        ends = [t.get_window_extent(renderer).x1 - frame.x1 for t in panel.texts]
+        assert len(ends) == len(refinement.steps) and max(ends) <= 1.0  # (points; a pixel of slack)
     finally:
         plt.close(fig)
