@@ -4,6 +4,7 @@ REAL 130 battery cycles 49 were counted and one named."""
 
 import numpy as np
 import pytest
+from test_batch_misses_structure import two_arcs_and_one
 
 import impedax as ix
 
@@ -13,13 +14,7 @@ def test_the_hint_names_each_spectrum_it_counts():
     """SYNTHETIC: four noisy copies (0.05 %) of R0 + R1 ∥ C1 (numpy formula), trials 0 and 2
     with a second arc of 50 Ω at 11 Hz, fitted with R0 + R1 ∥ C1: the oracle is the hint's rule
     with `ix.kk_test`'s chain, rms_rel below 2 % and over 5× the chain's."""
-    f = np.geomspace(1.0, 1e5, 40)
-    rng = np.random.default_rng(7)
-    noise = 1 + 0.0005 * (rng.standard_normal((4, f.size)) + 1j * rng.standard_normal((4, f.size))) / np.sqrt(2)
-    arc = 20 + 1e3 / (1 + 2j * np.pi * f * 1e3 * 1e-6)
-    second = 50 / (1 + 2j * np.pi * f * 50 * 3e-4)
-    z = np.stack([arc + (second if k in (0, 2) else 0.0) for k in range(4)]) * noise
-    data = ix.make_spectrum(f, z, dims=("trial",))
+    data = two_arcs_and_one()
     fits = ix.fit("R0 + R1 || C1", data, progress=False)
     rms = fits.dataset["rms_rel"].values
     chain = np.array([ix.kk_test(data.isel(trial=k)).rms_rel for k in range(4)])

@@ -14,7 +14,7 @@ import impedax as ix
 BATTERY = os.path.join(os.path.dirname(__file__), "..", "benchmarks", "data", "autoeis_battery_130.nc")  # REAL, AutoEIS (MIT)
 
 
-def _two_arcs_and_one():
+def two_arcs_and_one():
     """SYNTHETIC: four noisy copies (0.05 %) of R0 + R1 ∥ C1 (numpy formula), trials 0 and 2
     with a second arc of 50 Ω at 11 Hz that R0 + R1 ∥ C1 cannot hold."""
     f = np.geomspace(1.0, 1e5, 40)
@@ -30,7 +30,7 @@ def _two_arcs_and_one():
 def test_misses_structure_marks_the_fits_missing_a_small_arc_batch_single_and_derive():
     """Oracle: the data's own making (trials 0 and 2 hold a second arc) and the rule computed
     apart, with `ix.kk_test`'s chain: rms_rel in [0.2 %, 2 %) and over 5× the chain's."""
-    data = _two_arcs_and_one()
+    data = two_arcs_and_one()
     fits = ix.fit("R0 + R1 || C1", data, progress=False)
     rms = fits.dataset["rms_rel"].values
     chain = np.array([ix.kk_test(data.isel(trial=k)).rms_rel for k in range(4)])
