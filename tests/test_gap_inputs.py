@@ -412,3 +412,13 @@ def test_a_drive_of_a_few_kilovolts_is_a_high_voltage_drive_not_a_unit_slip(caps
     assert "likely meant" not in warning and "most likely a unit slip" not in warning
     if model == "vezzoli":
         assert document["force_n"][0] == pytest.approx(_eq10(np.array([440.0]), v_m=5000.0)[0], rel=1e-9)
+
+
+def test_exchanged_columns_are_named_as_such():
+    """A skin file with Z' and Z'' in each other's columns (Z' ↔ Z'' of the SYNTHETIC skin) is told
+    the columns look exchanged, as inspect, kk and diagnose say, not given the real-part hint,
+    whose fix (−conj Z) turns it into conj of the other reading."""
+    total, skin, ts = _measurements()
+    z = _flat(skin)
+    with pytest.raises(ix.DataError, match=r"skin: Z' and Z'' may be stored in each other's columns"):
+        gap_analysis(total, _with(skin, z=z.imag + 1j * z.real), ts, area=AREA, method="pooled", progress=False)

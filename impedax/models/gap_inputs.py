@@ -40,7 +40,7 @@ import xarray as xr
 from ..data import label_value
 from ..errors import DataError, ParameterError
 from ..fitting.least_squares.result import is_remainder
-from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint
+from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint, swapped_evidence
 from ..io.table import SWEEP_RTOL
 from .sirin import SIRIN_DRIVE_V
 
@@ -87,7 +87,7 @@ def _check_sign(name: str, data: xr.Dataset) -> None:
     if real is None and np.count_nonzero(z.real < 0) > MAX_POSITIVE_SHARE * n:
         real = f"Z' < 0 at {int(np.count_nonzero(z.real < 0))} of {n} points, which no passive impedance has"
     if real:
-        hint = negative_real_hint(real, imaginary_too=positive > MAX_POSITIVE_SHARE * n)
+        hint = negative_real_hint(real, imaginary_too=positive > MAX_POSITIVE_SHARE * n, swapped=swapped_evidence(freq, z))
         raise DataError(f"{what}: {hint}; the gap analysis needs every spectrum as measured (passive, Z' > 0)")
     if positive > MAX_POSITIVE_SHARE * n:
         evidence = f"Z'' > 0 at {positive} of {n} points of the trial mean, where a {name} spectrum is capacitive (−Z'' > 0 over the band)"
