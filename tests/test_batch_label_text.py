@@ -75,10 +75,16 @@ def test_the_misfit_hint_names_its_spectra_short():
     assert {"soc": NOISY} in hints["labels"]
 
 
-def test_kk_and_select_messages_write_float_labels_short(tmp_path, capsys):
-    soc = np.arange(6) * 0.1
+def _soc_arcs(tmp_path, soc) -> str:
+    """SYNTHETIC: the RC arc scaled by 1 + soc for each label of ``soc``, saved as soc.nc."""
     path = str(tmp_path / "soc.nc")
     ix.save(ix.make_spectrum(F, np.stack([ARC * (1 + s) for s in soc]), dims="soc", coords={"soc": soc}), path)
+    return path
+
+
+def test_kk_and_select_messages_write_float_labels_short(tmp_path, capsys):
+    soc = np.arange(6) * 0.1
+    path = _soc_arcs(tmp_path, soc)
     assert main(["kk", path, "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "soc=0.3 " in out and "0.30000000000000004" not in out
@@ -112,8 +118,7 @@ def test_the_series_of_a_plot_against_a_coordinate_are_named_short():
 def test_drt_names_float_labelled_spectra_short(tmp_path, capsys):
     """`impedax drt`'s per-spectrum lines, as the fit and kk reports."""
     soc = np.arange(6) * 0.1
-    path = str(tmp_path / "soc.nc")
-    ix.save(ix.make_spectrum(F, np.stack([ARC * (1 + s) for s in soc]), dims="soc", coords={"soc": soc}), path)
+    path = _soc_arcs(tmp_path, soc)
     assert main(["drt", path, "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "  soc=0.3: rms_rel" in out and "0.30000000000000004" not in out
