@@ -42,7 +42,7 @@ from ..errors import DataError, ParameterError
 from ..fitting.least_squares.result import is_remainder
 from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint, swapped_evidence
 from ..io.table import SWEEP_RTOL
-from .sirin import SIRIN_DRIVE_V
+from .sirin import SIRIN_DRIVE_V, joined_names
 
 __all__ = ["GAP_INPUTS", "ONE_PART_REFUSED", "is_single_contact", "present_inputs", "MAX_POSITIVE_SHARE", "REPLICATE_DIM_WORDS", "VOLTAGE_NAME_WORDS", "NOT_DRIVE_WORDS", "V0_SOURCES", "CarriedVoltage", "DriveVoltage", "carried_voltages", "check_gap_inputs", "condition_notes", "drive_voltage", "is_voltage_name", "position_notes", "spectra_used"]
 
@@ -348,8 +348,7 @@ def condition_notes(total: xr.Dataset, skin: xr.Dataset | None, touchscreen: xr.
         labels = [format(v, ".12g") if isinstance(v, float) else str(v) for v in entry["labels"]]
         shown = ", ".join(labels[:_SHOWN_LABELS] + (["…"] if len(labels) > _SHOWN_LABELS else []))
         what = f"{len(labels)} {'positions' if entry['positions'] else 'labels'}: {shown}"
-        files = entry["files"]
-        files = files[0] if len(files) == 1 else f"{', '.join(files[:-1])} and {files[-1]}"
+        files = joined_names(entry["files"])
         notes.append(
             f"{dim} ({what}) of {files} is averaged as replicates together with the trials, although its name is none of a replicate dimension "
             f"({', '.join(REPLICATE_DIM_WORDS)}): if {dim} is a condition (a voltage, a material), the spectra of different conditions are mixed into one remainder; "

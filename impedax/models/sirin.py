@@ -226,7 +226,7 @@ def _sigma_method(sources: Mapping[str, str], sigma: np.ndarray) -> tuple[str, b
     single spectrum without sigma, trials that do not scatter)."""
     unknown = [name for name, source in sources.items() if source == "none"]
     if unknown:
-        return (f"not available: {_listed(unknown)} {'is one spectrum' if len(unknown) == 1 else 'are one spectrum each'} without a sigma of "
+        return (f"not available: {joined_names(unknown)} {'is one spectrum' if len(unknown) == 1 else 'are one spectrum each'} without a sigma of "
                 f"{'its' if len(unknown) == 1 else 'their'} own, so {'its' if len(unknown) == 1 else 'their'} error is unknown; a sigma column or variable "
                 "gives it, or trials as an extra dimension their standard error", False)
     if not np.all(sigma > 0):
@@ -238,12 +238,12 @@ def _sigma_method(sources: Mapping[str, str], sigma: np.ndarray) -> tuple[str, b
     elif not own:
         made = "SEM of Re and Im of each measurement over its trials, added in quadrature"
     else:
-        parts = ([f"SEM of Re and Im over the trials of {_listed(sem)}"] if sem else []) + [f"the stated sigma of {_listed(own)} (one spectrum{'' if len(own) == 1 else ' each'})"]
+        parts = ([f"SEM of Re and Im over the trials of {joined_names(sem)}"] if sem else []) + [f"the stated sigma of {joined_names(own)} (one spectrum{'' if len(own) == 1 else ' each'})"]
         made = "; ".join(parts) + ", added in quadrature"
     return made + "; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)", True
 
 
-def _listed(names: Sequence[str]) -> str:
+def joined_names(names: Sequence[str]) -> str:
     """``names`` as a sentence lists them: "total, skin and touchscreen"."""
     return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
 
