@@ -67,6 +67,13 @@ class RefinementStep(FrozenResult):
         return self.fit.model
 
     @property
+    def noise_ratio(self) -> float | None:
+        """The residuals against the noise the step's verdict was judged on (`Diagnosis.noise_ratio`,
+        √(mean |r|²/2σ²), docs/diagnosis.md section 2): ≈ 1 where they are noise, so the fall
+        from one step to the next is the step's gain beyond the noise; None without a diagnosis."""
+        return None if self.diagnosis is None else float(self.diagnosis.noise_ratio)
+
+    @property
     def removal_reasons(self) -> dict[str, str]:
         """Why an effect step left each of its ``removed`` elements out (name → reason), read
         from its placement text, where `diagnosis._left_out` (and the stray capacitance's
@@ -101,7 +108,8 @@ class RefinementStep(FrozenResult):
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
     def as_json(self) -> dict:
-        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit), "where": self.where or None, "removal_reasons": self.removal_reasons, "vanished": list(self.vanished)}
+        return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit), "where": self.where or None, "removal_reasons": self.removal_reasons, "vanished": list(self.vanished),
+                "noise_ratio": self.noise_ratio}  # (added 2026-12-06: the table's ×noise column)
 
 
 @dataclass(frozen=True, eq=False)
@@ -235,14 +243,18 @@ class Refinement(FrozenResult):
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
 
-        rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel [%]": f"{s.fit.rms_rel * 100:.3g}", "AIC": s.fit.aic} for i, s in enumerate(self.steps)]
+        rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel [%]": f"{s.fit.rms_rel * 100:.3g}", "AIC": s.fit.aic, "×noise": s.noise_ratio} for i, s in enumerate(self.steps)]
         return result_html(f"refinement: {self.final_model}", rows, lines=[f"verdict: {self.verdict}{self.verdict_scope}"])
 
     def table(self) -> str:
-        lines = [f"{'step':>4}  {'rms_rel':>9}  {'AIC':>9}  change / model"]
+        """One row per step: rms_rel, AIC, the residuals against the noise its verdict was judged
+        on (``×noise``, `RefinementStep.noise_ratio`: whether a step's gain is beyond the noise;
+        since 2026-12-06) and what it changed, with the model under it."""
+        lines = [f"{'step':>4}  {'rms_rel':>9}  {'AIC':>9}  {'×noise':>7}  change / model"]
         for i, s in enumerate(self.steps):
-            lines.append(f"{i:>4}  {s.fit.rms_rel * 100:>8.3g}%  {s.fit.aic:>9.1f}  {s.change}")
-            lines.append(f"{'':>4}  {'':>9}  {'':>9}  {s.model}")
+            ratio = f"{s.noise_ratio:.3g}×" if s.noise_ratio is not None else "–"
+            lines.append(f"{i:>4}  {s.fit.rms_rel * 100:>8.3g}%  {s.fit.aic:>9.1f}  {ratio:>7}  {s.change}")
+            lines.append(f"{'':>4}  {'':>9}  {'':>9}  {'':>7}  {s.model}")
         return "\n".join(lines)
 
     def report(self) -> str:
