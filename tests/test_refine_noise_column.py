@@ -59,3 +59,20 @@ def test_each_step_gives_its_residuals_against_the_noise(refined):
     assert table[0].split() == ["step", "rms_rel", "AIC", "×noise", "change", "/", "model"]
     for i, expected in enumerate(by_hand):
         assert table[1 + 2 * i].split()[3] == f"{expected:.3g}×"
+
+
+def test_the_notebook_table_rounds_it_and_a_step_without_diagnosis_has_none():
+    """The HTML rows give the ratio as the text table does (3 significant digits); a step with no
+    diagnosis (a refinement rebuilt from stand-ins or a saved file) shows "–" and JSON null."""
+    from types import SimpleNamespace
+
+    from impedax.fitting.diagnosis.refinement import Refinement, RefinementStep
+
+    f, z = _two_arcs()
+    fit = ix.fit("R0 + R1 || C1", (f, z))
+    judged = SimpleNamespace(verdict="adequate", verdict_heading="ADEQUATE", reason="the residuals are noise", beyond_catalog=False, noise_ratio=0.91234,
+                             not_passive_points=(), sign_hint=None, effects_left_out=())
+    html = Refinement((RefinementStep(fit, None, None, judged),), "adequate")._repr_html_()
+    assert "×noise" in html and "0.912" in html and "0.91234" not in html
+    bare = Refinement((RefinementStep(fit, None, None, None),), "adequate")
+    assert bare.table().splitlines()[1].split()[3] == "–" and bare.summary()["steps"][0]["noise_ratio"] is None

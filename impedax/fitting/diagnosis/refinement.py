@@ -243,7 +243,7 @@ class Refinement(FrozenResult):
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
 
-        rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel [%]": f"{s.fit.rms_rel * 100:.3g}", "AIC": s.fit.aic, "×noise": s.noise_ratio} for i, s in enumerate(self.steps)]
+        rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel [%]": f"{s.fit.rms_rel * 100:.3g}", "AIC": s.fit.aic, "×noise": "–" if s.noise_ratio is None else f"{s.noise_ratio:.3g}"} for i, s in enumerate(self.steps)]
         return result_html(f"refinement: {self.final_model}", rows, lines=[f"verdict: {self.verdict}{self.verdict_scope}"])
 
     def table(self) -> str:
