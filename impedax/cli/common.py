@@ -1588,14 +1588,46 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
         )
 
 
+# the keys of a result's JSON summary whose strings are prose a user reads (warnings, notes,
+# messages, hints and reasons), which ``--json`` gives in the words of the command's text output
+# (`json_in_command_words`); values, labels, models, paths and keys stay as they are
+PROSE_KEYS = frozenset({
+    "warnings", "warning", "notes", "note", "message", "hints", "misfit_hints", "best_misfit_hint", "best_misfit_hints", "reason", "reasons",
+    "removal_reasons", "suggestion_reasons", "explanation", "pattern", "sign_hint", "alarms", "advice", "lambda_note", "f_test_note", "candidate_warning",
+})
+_NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "source", "provenance", "label", "spectra_with_warnings"})
+
+
+def json_in_command_words(summary, command: str | None):
+    """``summary`` (a result's JSON) with each string under a `PROSE_KEYS` key in the words of
+    ``impedax command`` (`command_line_words`: ``consider weighting='modulus'`` → ``consider
+    --weighting modulus``, ``steps=45000`` → ``--steps 45000``), as its text output says them;
+    keys, values, labels and models are left as they are (until 2026-12-06 ``--json`` kept
+    Python's words where the text said the option). ``command`` None: ``summary`` unchanged."""
+    if command is None:
+        return summary
+
+    def walk(obj, prose: bool):
+        if isinstance(obj, Mapping):
+            return {k: walk(v, (prose or k in PROSE_KEYS) and k not in _NOT_PROSE_KEYS) for k, v in obj.items()}
+        if isinstance(obj, (list, tuple)):
+            return [walk(v, prose) for v in obj]
+        if prose and isinstance(obj, str):
+            return command_line_words(obj, command)
+        return obj
+
+    return walk(summary, False)
+
+
 def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, *, command: str | None = None, written: str | None = None, **report_options) -> None:
-    """``result.summary()`` as JSON (with ``source`` and ``provenance``, `with_source`), or
+    """``result.summary()`` as JSON (with ``source`` and ``provenance``, `with_source`; its
+    warnings and notes in the words of the text: `json_in_command_words`), or
     ``result.report(**report_options)`` as text (in the words of ``impedax command``:
     `command_line_words`). ``written``: the run's ``--out`` FILE, which a batch's report names
     as where each spectrum's values are (`each_spectrum_written`) instead of suggesting the
     options that write them."""
     if as_json:
-        emit_json(with_source(result.summary(), source, provenance))
+        emit_json(with_source(json_in_command_words(result.summary(), command), source, provenance))
         return
     text = result.report(**report_options)
     where = each_spectrum_written(written)

@@ -44,7 +44,7 @@ def run(args) -> int:
     from ..fitting.batch_comparison import FIT_COMMAND_WORDS
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
+    from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, json_in_command_words, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -108,7 +108,7 @@ def run(args) -> int:
     record = command_provenance(args, source=source, data_files=[args.data])
     outputs.save({"--out": result_writer(comparison, source, record), "--plot": figure_writer(comparison.plot, source, **figure_options(args))})
     if args.json:
-        emit_json(with_source(comparison.summary(), source, record))
+        emit_json(with_source(json_in_command_words(comparison.summary(), "compare"), source, record))
     elif extra and not outputs.uses_stdout:  # several spectra: the `BatchComparison`'s report
         pick = f"--select {extra[0]}=LABEL" + (" for each dimension" if len(extra) > 1 else "")
         where = each_spectrum_written(args.out, rows="a row per spectrum and model", netcdf="each model's criteria and fits over the spectra") or "--out FILE.csv (a row per spectrum and model) or --json's spectra"  # (not the options the run used)
