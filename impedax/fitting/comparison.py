@@ -539,9 +539,11 @@ class Comparison(FrozenResult):
     def to_xarray(self) -> xr.Dataset:
         # the coordinate "model" holds the labels (`fit_label`: a fit with fixed values named by
         # them, so each fit has its own); the variable "circuit" the models' text; "bounds" and
-        # "undetermined" as in `to_table` (``;``-joined, "" for none)
+        # "undetermined" as in `to_table` (``;``-joined, "" for none); "same_fit_as" the label or ""
+        # (until 2026-12-06 None, which a file read back as NaN, a float, where no model tied)
         cols = [c for c in self.rows[0] if c not in ("model", "label")]
         data = {c: ("model", [r.get(c, math.nan) for r in self.rows]) for c in cols}
+        data["same_fit_as"] = ("model", np.array([r.get("same_fit_as") or "" for r in self.rows], str))
         data["circuit"] = ("model", [r["model"] for r in self.rows])
         table = self.to_table()
         for column in ("bounds", "undetermined"):
