@@ -263,7 +263,8 @@ class FitResult(FrozenResult):
         """The JSON summary used by ``impedax fit --json``: each of ``params`` with its value,
         stderr, fixed and ``unit`` (the element spec's, as `to_table` and ``sample --json`` give
         it; added 2026-12-01) and ``linearised_stderr`` (`linearised_stderr`: at a bound, the
-        linearisation's, what scipy's curve_fit and impedance.py's ``conf_`` give; added 2026-12-02)."""
+        linearisation's, what scipy's curve_fit and impedance.py's ``conf_`` give; added 2026-12-02);
+        ``misses_structure`` (`misses_structure`, the key of a batch's rows; added 2026-12-06)."""
         specs = self.circuit.parameter_specs(self.registry)
         linearised = self.linearised_stderr
         return {
@@ -289,6 +290,7 @@ class FitResult(FrozenResult):
             "n_starts": self.n_starts,  # (added 2026-12-02: the starts the fit used, the start ladder's rungs included; the message words them)
             "user_bounds": bounds_attr(self.bounds),  # (added 2026-12-01: the bounds=, --bound, of free parameters; an open end inf, null in JSON)
             "notes": list(self.notes),  # (added 2026-12-02: advice that is not a warning, e.g. σ the weighting does not use)
+            "misses_structure": bool(self.misses_structure),  # (added 2026-12-06: as each row of a batch's "spectra" has it)
         }
 
     def _chi2_red_basis(self) -> str:
