@@ -52,3 +52,42 @@ def test_a_global_fit_s_table_marks_its_shared_parameter():
     assert lines[0].startswith("% impedax fit: R0 + R1 || CPE1, 3 spectra over trial (3), CPE1.alpha shared over trial, weighting modulus")
     assert lines[3].split(" & ")[4] == "CPE1.alpha (shared)" and lines[3].split(" & ")[1] == r"R0 [$\Omega$]"
     assert len({line.split(" & ")[4] for line in lines[5:8]}) == 1  # (one estimate, repeated)
+
+
+def _batch_of(n):
+    """A batch of ``n`` SYNTHETIC fits written by hand (no fit): R0 = 10 ± 0.5 Ω, R1 from 90 to
+    110 Ω ± 0.5 Ω, rms_rel 1 %, over ``cycle``."""
+    ds = xr.Dataset(
+        {
+            "value": (("param", "cycle"), np.vstack([np.full(n, 10.0), np.linspace(90.0, 110.0, n)])), "stderr": (("param", "cycle"), np.full((2, n), 0.5)),
+            "fixed": ("param", np.zeros(2, bool)), "at_bound": (("param", "cycle"), np.zeros((2, n), bool)),
+            "rms_rel": ("cycle", np.full(n, 0.01)), "converged": ("cycle", np.ones(n, bool)),
+            "Z": (("cycle", "frequency"), np.tile(Z, (n, 1))), "Z_model": (("cycle", "frequency"), np.tile(Z, (n, 1))),
+        },
+        coords={"param": ["R0", "R1"], "cycle": np.arange(n), "frequency": F},
+        attrs={"model": "R0 + R1", "weighting": "modulus", "impedax_kind": "batch_fit", "warnings": {}},
+    )
+    return BatchFitResult.from_xarray(ds)
+
+
+def test_130_spectra_make_a_longtable_that_breaks_across_pages():
+    """The REAL battery set's 130 cycles gave a tabular of 130 rows, which LaTeX does not break:
+    it ran off the page. More than 40 rows are a longtable: its heading before \\endhead (repeated on
+    every page), a rule in \\endfoot, every row of 4 cells, and a comment naming the package.
+    No LaTeX is installed to compile it: the structure is checked line by line."""
+    lines = _batch_of(130).to_latex().splitlines()
+    assert lines[0].startswith("% impedax fit: R0 + R1, 130 spectra over cycle (130)")
+    assert lines[1].startswith("%") and r"\usepackage{longtable}" in lines[1]
+    assert lines[2:9] == [r"\begin{longtable}{llll}", r"\hline", r"cycle & R0 [$\Omega$] & R1 [$\Omega$] & rms\_rel [\%] \\", r"\hline", r"\endhead", r"\hline", r"\endfoot"]
+    rows = lines[9:-1]
+    assert len(rows) == 130 and all(r.endswith(r" \\") and len(r[:-3].split(" & ")) == 4 for r in rows)
+    assert rows[0] == r"0 & $10.00 \pm 0.50$ & $90.00 \pm 0.50$ & 1 \\" and rows[-1] == r"129 & $10.00 \pm 0.50$ & $110.00 \pm 0.50$ & 1 \\"
+    assert lines[-1] == r"\end{longtable}" and "tabular" not in "\n".join(lines)
+    body = "\n".join(lines)
+    assert body.count(r"\begin{") == body.count(r"\end{") == 1
+
+
+def test_40_spectra_stay_a_plain_tabular():
+    lines = _batch_of(40).to_latex().splitlines()
+    assert lines[1] == r"\begin{tabular}{llll}" and lines[-2:] == [r"\hline", r"\end{tabular}"] and "longtable" not in "\n".join(lines)
+    assert len(lines) == 1 + 4 + 40 + 2

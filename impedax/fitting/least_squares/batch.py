@@ -42,6 +42,11 @@ __all__ = ["BatchFitResult", "fit_batch", "labels_by_keyword"]
 
 _STATS = ("chi2", "converged", "n_evaluations")
 
+LONG_TABLE_ROWS = 40
+"""The most spectra `BatchFitResult.to_latex` writes as a ``tabular``, which a page of A4 or
+letter at 10–12 pt holds (about 45 rows below a caption); more become a ``longtable``, which
+breaks across pages."""
+
 
 _spectrum_fit: Callable | None = None
 """`single.fit`, registered by that module (`register_spectrum_fit`) for `BatchFitResult.fit_of`:
@@ -409,7 +414,9 @@ class BatchFitResult(FrozenResult):
         return rows
 
     def to_latex(self) -> str:
-        """The fits as a plain LaTeX ``tabular`` (no package needed), one row per spectrum: its
+        """The fits as a plain LaTeX ``tabular`` (no package needed), or of more than
+        `LONG_TABLE_ROWS` spectra a ``longtable`` (``\\usepackage{longtable}``, said in a comment
+        line; it breaks across pages, the heading repeated), one row per spectrum: its
         labels under the heading of its dimensions (``0.3``, not ``0.30000000000000004``:
         `label_text`), each parameter's value ± standard error as `FitResult.to_latex` writes one
         (the error to two significant digits, the value to its last digit; "(fixed)", "(at
@@ -428,13 +435,13 @@ class BatchFitResult(FrozenResult):
         shared, over = tuple(getattr(self, "shared", ())), tuple(getattr(self, "over", ()))
         heads = [latex_text(", ".join(self.dims))] + [latex_text(n) + (f" [{latex_unit(specs[n].unit)}]" if latex_unit(specs[n].unit) else "") + (" (shared)" if n in shared else "") for n in names] + [r"rms\_rel [\%]"]
         sharing = f", {', '.join(shared)} shared over {', '.join(over)}" if shared else ""
-        lines = [
-            f"% impedax fit: {self.model}, {self.n_spectra} spectr{'um' if self.n_spectra == 1 else 'a'} over {_dims_text({d: ds.sizes[d] for d in self.dims})}{sharing}, weighting {self.weighting}; value ± standard error",
-            r"\begin{tabular}{" + "l" * len(heads) + "}",
-            r"\hline",
-            " & ".join(heads) + r" \\",
-            r"\hline",
-        ]
+        lines = [f"% impedax fit: {self.model}, {self.n_spectra} spectr{'um' if self.n_spectra == 1 else 'a'} over {_dims_text({d: ds.sizes[d] for d in self.dims})}{sharing}, weighting {self.weighting}; value ± standard error"]
+        long = self.n_spectra > LONG_TABLE_ROWS
+        if long:  # (a tabular does not break across pages: the REAL 130 battery cycles' ran off the first)
+            lines += [f"% {self.n_spectra} rows: a longtable, which breaks across pages with the heading on each; needs \\usepackage{{longtable}} in the preamble, and no table float around it",
+                      r"\begin{longtable}{" + "l" * len(heads) + "}", r"\hline", " & ".join(heads) + r" \\", r"\hline", r"\endhead", r"\hline", r"\endfoot"]
+        else:
+            lines += [r"\begin{tabular}{" + "l" * len(heads) + "}", r"\hline", " & ".join(heads) + r" \\", r"\hline"]
         for row in self.summary()["spectra"]:
             cells = []
             for p, n in enumerate(names):
@@ -448,7 +455,7 @@ class BatchFitResult(FrozenResult):
                     note = " (undetermined)" if undetermined(value, error) else ""
                 cells.append(latex_value_error(value, error, exact=fixed[p]) + note)
             lines.append(" & ".join([latex_text(", ".join(label_text(v) for v in row["labels"].values()))] + cells + [f"{row['rms_rel'] * 100:.3g}"]) + r" \\")
-        lines += [r"\hline", r"\end{tabular}"]
+        lines += [r"\end{longtable}"] if long else [r"\hline", r"\end{tabular}"]
         return "\n".join(lines) + "\n"
 
     def _spectrum_statistics(self) -> dict[str, np.ndarray]:
