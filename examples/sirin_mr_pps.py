@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 import _example
+from impedax.data import format_frequency
 from impedax.models import example_spectra, sirin
 
 LABELS = {"skin": "skin", "touchscreen": "touchscreen", "remaining": "remaining (air gap + EP)"}
@@ -41,21 +42,21 @@ def main(argv=None):
     print("Sirin Figs 4c/4d — SYNTHETIC example (finger sliding, trial means)")
     for name in LABELS:
         i = int(np.argmax(pps.sel(component=name).values))
-        print(f"  {name:<12} PPS peak {pps.sel(component=name).values[i]:5.1f} % at {freq[i]:9.0f} Hz   MR at 1 kHz {float(mr.sel(component=name).interp(frequency=1e3)):.3f}")
+        print(f"  {name:<12} PPS peak {pps.sel(component=name).values[i]:5.1f} % at {format_frequency(freq[i]):>9}   MR at 1 kHz {float(mr.sel(component=name).interp(frequency=1e3)):.3f}")
     remaining = mr.sel(component="remaining").values
     others = np.maximum(mr.sel(component="skin").values, mr.sel(component="touchscreen").values)
     # the last frequency where the remainder leads (the first where it is overtaken lies one grid step above)
     leads = remaining > others
     last_lead = freq[np.flatnonzero(leads)[-1]] if np.any(leads) else np.nan
-    print(f"  the remaining impedance has the largest MR up to {last_lead / 1e3:.0f} kHz   (paper: until ≈ 100 kHz)")
+    print(f"  the remaining impedance has the largest MR up to {format_frequency(last_lead)}   (paper: until ≈ 100 kHz)")
     print("  (paper: skin PPS peaks near 250 Hz, touchscreen near 100 kHz)")
     skin, screen = mr.sel(component="skin"), mr.sel(component="touchscreen")
     flat = skin.sel(frequency=slice(30.0, 3e4)).values
     above_screen = freq[np.flatnonzero(skin.values > screen.values)]
     low_lead = above_screen[above_screen < 1e4].max() if np.any(above_screen < 1e4) else np.nan
     print(
-        f"  skin MR {float(skin[0]):.3f} at {freq[0]:.0f} Hz (above the touchscreen's up to {low_lead:.0f} Hz), {flat.min():.3f}–{flat.max():.3f} over 30 Hz–30 kHz,"
-        f" {float(skin.interp(frequency=1e5)):.3f} at 100 kHz, {float(skin[-1]):.2f} at {freq[-1] / 1e6:.0f} MHz"
+        f"  skin MR {float(skin[0]):.3f} at {format_frequency(freq[0])} (above the touchscreen's up to {format_frequency(low_lead)}), {flat.min():.3f}–{flat.max():.3f} over 30 Hz–30 kHz,"
+        f" {float(skin.interp(frequency=1e5)):.3f} at 100 kHz, {float(skin[-1]):.2f} at {format_frequency(freq[-1])}"
     )
 
     fig, (ax_mr, ax_pps) = plt.subplots(1, 2, figsize=(12, 4.8), layout="constrained")
