@@ -177,7 +177,8 @@ def noise_levels(steps) -> list[tuple[int, float]]:
 
 def plot_refinement(refinement, *, title: str | None = None):
     """Error per step (rms_rel, log scale, with each step's noise level, `noise_levels`), the relative
-    residuals of the last five steps vs frequency, each step's failing bands shaded, and a
+    residuals of the last five steps vs frequency (of more steps, the first row's title says
+    which are shown), each step's failing bands shaded, and a
     Nyquist panel of the data with the first and the last step's model (matplotlib Figure).
     The axes are: the error per step, the residual panels from the top, the Nyquist panel. A
     flat spectrum (`FLAT_NYQUIST`) has its Nyquist panel across the top, a steeper one above
@@ -255,6 +256,8 @@ def plot_refinement(refinement, *, title: str | None = None):
         change = "start" if s.change == "(start)" else s.change
         # (no break inside "(rms_rel 1.72 %)": REAL VersaStudio's step 2 wrapped as "(rms_rel / 1.72 %)")
         head = wrap_model(f"step {i}: {change}  (rms_rel\u00a0{s.fit.rms_rel * 100:.3g}\u00a0%)", title_chars)
+        if row == 0 and shown[0] > 0:  # (steps left out: said above the first row shown, where 7 steps showed 2–6 without a word until 2026-12-06)
+            head = wrap_model(f"residuals of the last {len(shown)} of {n} steps ({shown[0]}–{shown[-1]}; all {n} in the error panel)", title_chars) + "\n" + head
         a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=font_size("title", 8))
         a.set_ylabel("res. [%]", fontsize=font_size("label", 8))
         a.grid(alpha=0.3)
