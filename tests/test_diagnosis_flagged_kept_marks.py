@@ -59,7 +59,7 @@ def test_the_refinement_figure_rings_them_on_every_step_shown():
         assert len(lines) == 1  # named once, in the first row's legend
         assert lines[0] == pytest.approx(named, rel=0.01)
         # every row's residual panel rings them (the named line and its unnamed twins)
-        rows = [ax for ax in fig.axes if ax.get_ylabel() == "res. [%]"]
+        rows = [ax for ax in fig.axes if ax.get_ylabel() == "(Z_model − Z)/|Z| [%]"]
         assert len(rows) == len(refinement.steps)
         for ax in rows:
             rings = [np.sort(np.asarray(line.get_xdata(), float)) for line in ax.get_lines() if line.get_marker() == "o" and line.get_markerfacecolor() == "none"]

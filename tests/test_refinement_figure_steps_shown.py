@@ -31,7 +31,7 @@ def _refinement(fit, n):
 
 
 def _residual_titles(fig):
-    return [ax.get_title() for ax in fig.axes if ax.get_ylabel() == "res. [%]"]
+    return [ax.get_title() for ax in fig.axes if ax.get_ylabel() == "(Z_model − Z)/|Z| [%]"]
 
 
 def test_seven_steps_say_which_five_are_drawn(fit):

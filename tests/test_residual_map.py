@@ -62,7 +62,7 @@ def test_the_maps_hold_each_fits_relative_residuals():
         for k in range(6):
             z_model = r_rc(*(float(batch.values(name).isel(cycle=k)) for name in ("R0", "R1", "C1")))
             z = data["Z"].isel(cycle=k).values
-            expected = (z - z_model) / np.abs(z) * 100  # F is ascending already
+            expected = (z_model - z) / np.abs(z) * 100  # F is ascending already; model minus data, as FitResult.residuals (data minus model until 2026-12-06)
             np.testing.assert_allclose(re_map[:, k], expected.real, atol=1e-6)
             np.testing.assert_allclose(im_map[:, k], expected.imag, atol=1e-6)
         assert "modulus weighting" in fig._suptitle.get_text()
@@ -193,7 +193,7 @@ def test_the_colour_bar_says_where_the_colour_saturates():
         label = bar.get_ylabel()
         assert f"up to {largest:.3g} %" in label, label
         mesh = fig.axes[1].collections[0]  # (the bar is made from the second map)
-        assert mesh.colorbar.extend in ("max", "both")
+        assert mesh.colorbar.extend in ("min", "both")  # (the ×11 point lies above its model: model minus data, far below 0)
         fig.draw_without_rendering()  # (the label, on two lines, stays inside the figure: on one it ran past the top)
         text, box = bar.yaxis.label, fig.bbox
         extent = text.get_window_extent()

@@ -3,7 +3,8 @@ shows what the fits weighed: in units of the data's σ for ``--weighting sigma``
 2026-12-06 it showed (Z − Z_model)/|Z| there too, where users judge residuals against σ), and
 marks the frequencies ``--exclude`` left out as hatched grey rows named in a legend (until
 2026-12-06 their neighbours' cells stretched over them without a word). Oracles: residuals
-written by hand (Z_model = Z − σ (2 − 1j): 2 and −1 in σ), cell edges halfway in log f."""
+written by hand (Z_model = Z − σ (2 − 1j): −2 and 1 in σ, model minus data as a single fit's
+figure, since 2026-12-06), cell edges halfway in log f."""
 
 import math
 
@@ -59,10 +60,10 @@ def test_a_sigma_weighted_batch_maps_its_residuals_in_sigma():
     fig = batch("sigma").plot_residual_map()
     try:
         re_map, im_map = maps_of(fig)
-        np.testing.assert_allclose(re_map, 2.0, rtol=1e-12)
-        np.testing.assert_allclose(im_map, -1.0, rtol=1e-12)
+        np.testing.assert_allclose(re_map, -2.0, rtol=1e-12)  # (Z_model − Z)/σ = −σ(2 − j)/σ: model minus data, as FitResult.residuals
+        np.testing.assert_allclose(im_map, 1.0, rtol=1e-12)
         label = fig.axes[-1].get_ylabel()
-        assert label.startswith("(Z − Z_model)/σ [σ]\n(± 2 σ: the 99th percentile"), label
+        assert label.startswith("(Z_model − Z)/σ [σ]\n(± 2 σ: the 99th percentile"), label
         assert "sigma weighting (map in σ)" in fig._suptitle.get_text()
         # (below: each fit's chi2_red, as written, and the line at 1 a fit at the noise lies on)
         lines = fig.axes[2].get_lines()
@@ -77,9 +78,9 @@ def test_a_modulus_weighted_batch_still_maps_relative_residuals():
     try:
         re_map, im_map = maps_of(fig)
         relative = np.geomspace(0.002, 0.1, F.size) * 100  # σ/|Z| [%], by construction
-        np.testing.assert_allclose(re_map, np.tile(2 * relative[:, None], (1, N)), rtol=1e-9)
-        np.testing.assert_allclose(im_map, np.tile(-relative[:, None], (1, N)), rtol=1e-9)
-        assert fig.axes[-1].get_ylabel().startswith("(Z − Z_model)/|Z| [%]")
+        np.testing.assert_allclose(re_map, np.tile(-2 * relative[:, None], (1, N)), rtol=1e-9)
+        np.testing.assert_allclose(im_map, np.tile(relative[:, None], (1, N)), rtol=1e-9)
+        assert fig.axes[-1].get_ylabel().startswith("(Z_model − Z)/|Z| [%]")
         assert fig.axes[2].get_ylabel() == "rms_rel [%]" and fig.axes[2].get_lines()[0].get_ydata().tolist() == [1.0] * N
     finally:
         closed(fig)

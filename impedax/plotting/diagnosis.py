@@ -175,6 +175,11 @@ def noise_levels(steps) -> list[tuple[int, float]]:
     return out
 
 
+REFINEMENT_RESIDUAL_LABEL = "(Z_model − Z)/|Z| [%]"
+"""The y label of the refinement figure's residual panels: model minus data, `FitResult.residuals`,
+as the fit and diagnosis figures name it ("res. [%]", no sign, until 2026-12-06)."""
+
+
 def plot_refinement(refinement, *, title: str | None = None):
     """Error per step (rms_rel, log scale, with each step's noise level, `noise_levels`), the relative
     residuals of the last five steps vs frequency (of more steps, the first row's title says
@@ -259,7 +264,7 @@ def plot_refinement(refinement, *, title: str | None = None):
         if row == 0 and shown[0] > 0:  # (steps left out: said above the first row shown, where 7 steps showed 2–6 without a word until 2026-12-06)
             head = wrap_model(f"residuals of the last {len(shown)} of {n} steps ({shown[0]}–{shown[-1]}; all {n} in the error panel)", title_chars) + "\n" + head
         a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=font_size("title", 8))
-        a.set_ylabel("res. [%]", fontsize=font_size("label", 8))
+        a.set_ylabel(REFINEMENT_RESIDUAL_LABEL, fontsize=font_size("label", 8))
         a.grid(alpha=0.3)
         if row == 0 or fresh:
             a.legend(fontsize=font_size("legend", 7), ncol=3)
@@ -276,7 +281,7 @@ def room_for_step_labels(ax, passes: int = 3) -> None:
     """Widen the error panel's step axis to the right until every step's label ends inside the
     panel: the last step's label stands right of its point, and on the REAL exampleData.csv's
     7 steps "simplified / CPE1 → C1" ran 37 points past the frame, over the residual panel's
-    "res. [%]". Measured after the layout, again after each widening (which narrows the steps)."""
+    label. Measured after the layout, again after each widening (which narrows the steps)."""
     fig = ax.get_figure()
     for _ in range(passes):
         fig.draw_without_rendering()

@@ -381,10 +381,11 @@ def sharing_text(batch) -> str:
 
 def residuals_shown(batch) -> tuple[np.ndarray, str, str]:
     """The residuals a batch's residual map draws, (spectra, frequency as stored): in units of
-    the data's σ, (Z − Z_model)/σ, where the fits were weighted by it (``sigma``: what they
-    minimised, judged against the noise; until 2026-12-06 the map showed (Z − Z_model)/|Z| for
-    them too), else relative to |Z| in % (`plot_residual_map`); with the colour bar's quantity
-    and unit."""
+    the data's σ, (Z_model − Z)/σ, where the fits were weighted by it (``sigma``: what they
+    minimised, judged against the noise; until 2026-12-06 the map showed them relative to |Z|
+    too), else relative to |Z| in % (`plot_residual_map`); with the colour bar's quantity
+    and unit. Model minus data, as `FitResult.residuals` and a single fit's figure (docs/physics.md;
+    until 2026-12-06 the map drew data minus model, the opposite colour of the same residual)."""
     ds = batch.dataset
     dims = tuple(batch.dims)
     z = ds["Z"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)
@@ -392,8 +393,8 @@ def residuals_shown(batch) -> tuple[np.ndarray, str, str]:
     with np.errstate(divide="ignore", invalid="ignore"):
         if batch.weighting == "sigma" and "sigma" in ds:
             sigma = ds["sigma"].transpose(*dims, "frequency").values.reshape(z.shape)
-            return (z - z_model) / sigma, "(Z − Z_model)/σ", "σ"
-        return (z - z_model) / np.abs(z) * 100, "(Z − Z_model)/|Z|", "%"
+            return (z_model - z) / sigma, "(Z_model − Z)/σ", "σ"
+        return (z_model - z) / np.abs(z) * 100, "(Z_model − Z)/|Z|", "%"
 
 
 def excluded_rows(fitted, excluded) -> np.ndarray:
@@ -416,8 +417,8 @@ def excluded_rows(fitted, excluded) -> np.ndarray:
 def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     """Where a model fails across a batch: the residuals of every spectrum, real and imaginary
     parts, as two maps over the spectra (x, in the batch's order, marked with their labels) and
-    frequency (y, log): relative to |Z|, (Z − Z_model)/|Z| [%], or, for fits weighted by the
-    data's σ, in units of it, (Z − Z_model)/σ (`residuals_shown`, the colour bar says which); on
+    frequency (y, log): relative to |Z|, (Z_model − Z)/|Z| [%], or, for fits weighted by the
+    data's σ, in units of it, (Z_model − Z)/σ (`residuals_shown`, the colour bar says which); on
     one diverging colour scale symmetric about 0 (its ends at the 99th percentile of |residual|,
     so a few outliers do not pale the rest; beyond it the colour saturates), and each fit's
     rms_rel below (in σ: its chi2_red, a dashed line at 1). ``excluded``: frequencies [Hz] left
