@@ -375,3 +375,20 @@ def test_no_area_warning_for_a_fingertip_area(analysis):
 
     assert _fingertip_area_notes(130e-6) == [] and _fingertip_area_notes(1e-6) == [] and len(_fingertip_area_notes(2e-2)) == 1
     assert not any("fingertip" in w for w in analysis.warnings)
+
+
+def test_the_u_histogram_gives_its_density_per_micrometre(analysis):
+    """The u panel's y axis read "density" without its unit: a density of u over an axis in µm
+    is per µm. Oracle: the bars' areas, height × width read off the axis in µm, sum to 1."""
+    import matplotlib.pyplot as plt
+
+    fig = analysis.plot()
+    try:
+        ax = fig.axes[1]
+        assert ax.get_xlabel() == "gap thickness u [µm]" and ax.get_xscale() == "linear"
+        assert ax.get_ylabel() == "probability density [1/µm]"
+        (bars,) = ax.containers  # (the histogram's)
+        area = sum(p.get_height() * p.get_width() for p in bars.patches)
+        assert area == pytest.approx(1.0, rel=1e-6)
+    finally:
+        plt.close(fig)

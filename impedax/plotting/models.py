@@ -85,7 +85,8 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     title = ("air-gap thickness" if identified else "air-gap thickness: NOT determined (lower bound only)" if bounded
              else "air-gap thickness: NOT determined (no bound: the model misfits)" if getattr(gap, "gap_bound_withheld", None) is not None
              else "air-gap thickness: NO AIR GAP (see the heading)")
-    ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "density", title=title)
+    # (the density of u in µm: its bars' areas sum to 1 over the axis in µm; "density" alone until 2026-12-06)
+    ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "probability density [1/µm]", title=title)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]
     wide = force_span(gap.force) > FORCE_LOG_SPAN
