@@ -74,3 +74,22 @@ def test_only_prose_is_translated_and_per_command():
     assert json_in_command_words(summary, "sample")["notes"] == ["use --noise proportional otherwise"]
     assert json_in_command_words(summary, "gap")["warnings"] == summary["warnings"]  # (gap has no --weighting: its text keeps Python's words)
     assert json_in_command_words(summary, None) is summary
+
+
+def test_out_json_is_the_json_document_and_the_csv_says_the_option(tmp_path, capsys):
+    """``--out FILE.json`` is the ``--json`` document (docs/robustness.md), in the same words;
+    the CSV's warnings column says what the text says. Read back with json and csv."""
+    import csv
+
+    data = _crossing_spectrum(tmp_path / "cross.csv")
+    argv = ["fit", data, "--model", "R0 + L1 + R1 || C1", "--weighting", "proportional", "-q"]
+    code, out, _ = run(argv + ["--json", "--out", tmp_path / "fit.json"], capsys)
+    assert code == 0
+    printed, written = json.loads(out), json.loads((tmp_path / "fit.json").read_text(encoding="utf-8"))
+    assert written["warnings"] == printed["warnings"] and any(w.endswith("consider --weighting modulus") for w in written["warnings"])
+    code, _, _ = run(argv + ["--out", tmp_path / "fit.csv"], capsys)
+    assert code == 0
+    with open(tmp_path / "fit.csv", newline="", encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows and all("consider --weighting modulus" in r["warnings"] and "weighting='" not in r["warnings"] for r in rows)
+    assert all(r["weighting"] == "proportional" for r in rows)

@@ -1232,14 +1232,39 @@ def latex_writer(result) -> Callable[[Path], None]:
     return write
 
 
+class InCommandWords:
+    """``result`` whose ``summary()`` and ``to_table()`` give their prose (a row's ``warnings``)
+    in the words of ``impedax command`` (`json_in_command_words`), so that a command's ``--out
+    FILE.json`` (or ``--out -``) is its ``--json`` document and its CSV says what its text says;
+    every other attribute (the dataset) is the result's own."""
+
+    def __init__(self, result, command: str):
+        self._result, self._command = result, command
+
+    def summary(self) -> dict:
+        return json_in_command_words(self._result.summary(), self._command)
+
+    @property
+    def to_table(self):
+        table = self._result.to_table  # (AttributeError for a result without a table, as the result's own)
+        return lambda: json_in_command_words(table(), self._command)
+
+    def __getattr__(self, name: str):
+        return getattr(self._result, name)
+
+
 def result_writer(result, source: str | None = None, provenance: Mapping | None = None) -> Callable[[Path], None]:
     """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`),
     naming the data's ``source`` (`data_source`) and recording ``provenance``
-    (`command_provenance`) when given."""
+    (`command_provenance`) when given; a JSON file's prose in the words of the command that
+    ``provenance`` names (`InCommandWords`, as its ``--json``: since 2026-12-06)."""
+    command = str((provenance or {}).get("command") or "").removeprefix("impedax ")
+    command = command if command in COMMANDS_IN_THEIR_WORDS else None
+
     def write(path: Path) -> None:
         from ..io import write_result
 
-        write_result(result, path, source=source, provenance=provenance)
+        write_result(InCommandWords(result, command) if command and callable(getattr(result, "summary", None)) else result, path, source=source, provenance=provenance)
 
     return write
 
@@ -1596,6 +1621,10 @@ PROSE_KEYS = frozenset({
     "removal_reasons", "suggestion_reasons", "explanation", "pattern", "sign_hint", "alarms", "advice", "lambda_note", "f_test_note", "candidate_warning",
 })
 _NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "source", "provenance", "label", "spectra_with_warnings"})
+
+
+# the commands whose text output (`print_result`, compare's) and so --json say Python's words as their options
+COMMANDS_IN_THEIR_WORDS = frozenset({"fit", "compare", "diagnose", "refine", "sample", "gap"})
 
 
 def json_in_command_words(summary, command: str | None):
