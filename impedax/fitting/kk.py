@@ -589,7 +589,7 @@ class KKResult(FrozenResult):
         if self.noise_from == "sigma":
             scale = self.scale_per_point
             lines.insert(3, f"noise: the data's sigma (the chain weighted by 1/σ; each point judged against its own σ/|Z|, {scale.min() * 100:.3g}–{scale.max() * 100:.3g} %; "
-                            "kk_test(noise='residuals') judges by the noise estimate instead)")
+                            "kk_test(noise='residuals'), impedax kk --noise residuals, judges by the noise estimate instead)")  # (both: "kk_test(...)" alone until 2026-12-06, an impedax kk user's only words)
         if self.sparse_note:
             lines.append(self.sparse_note)
         if self.bad_bands:
