@@ -79,4 +79,20 @@ def test_the_first_line_counts_one_point_in_the_singular(tmp_path, capsys):
     path = written(tmp_path, "frequency_hz,z_real_ohm,z_imag_ohm")
     assert main(["inspect", str(path)]) == 0
     # |Z| from √(10² + 1²) = 10.05 to √(15² + 2²) = 15.13
-    assert capsys.readouterr().out.splitlines()[0] == f"{path}: delimited text, 3 frequencies 1–100 Hz, |Z| 10.05–15.13 Ω, dims {{'frequency': 3}}"
+    assert capsys.readouterr().out.splitlines()[0] == f"{path}: delimited text, 3 frequencies 1 Hz–100 Hz, |Z| 10.05 Ω–15.13 Ω, dims {{'frequency': 3}}"
+
+
+def test_the_first_line_writes_frequencies_and_z_with_their_prefixes(capsys):
+    """REAL exampleDataParstat.txt (impedance.py, MIT) read "31 frequencies 10–1e+04 Hz, |Z|
+    0.0165–0.03349 Ω": now as impedax writes quantities elsewhere. Oracle: the file's own
+    columns (rows with f > 0), read here with numpy: 10 Hz to 10 kHz, |Z| 16.50 mΩ to 33.49 mΩ."""
+    import numpy as np
+
+    path = "tests/fixtures/real/exampleDataParstat.txt"
+    table = np.genfromtxt(path, delimiter="\t", skip_header=1, usecols=(3, 4, 5))
+    table = table[table[:, 0] > 0]
+    modulus = np.hypot(table[:, 1], table[:, 2])
+    assert (table[:, 0].min(), table[:, 0].max()) == (10.0, 10000.0)
+    assert (f"{modulus.min() * 1e3:.4g}", f"{modulus.max() * 1e3:.4g}") == ("16.5", "33.49")
+    assert main(["inspect", path]) == 0
+    assert capsys.readouterr().out.splitlines()[0] == f"{path}: Parstat text, 31 frequencies 10 Hz–10 kHz, |Z| 16.5 mΩ–33.49 mΩ, dims {{'frequency': 31}}"

@@ -264,14 +264,15 @@ def _foreign_models(ds) -> list[str]:
 
 
 def _points_text(summary: dict) -> str:
-    """``21 frequencies 3000–3e+05 Hz, |Z| 148.2–628.8 Ω``; for one point ``1 frequency, 1 Hz,
-    |Z| 3.606 Ω`` (it read "1 frequencies 1–1 Hz, |Z| 3.606–3.606 Ω" until 2026-12-06)."""
-    def span(low: float, high: float) -> str:
-        return f"{low:.4g}" if f"{low:.4g}" == f"{high:.4g}" else f"{low:.4g}–{high:.4g}"
+    """``21 frequencies 3 kHz–300 kHz, |Z| 148.2 Ω–628.8 Ω`` (frequencies as impedax writes them,
+    `format_band`, |Z| with its SI prefix: until 2026-12-06 "3000–3e+05 Hz", and REAL
+    exampleDataParstat.txt's "10–1e+04 Hz, |Z| 0.0165–0.03349 Ω"); for one point ``1 frequency,
+    1 Hz, |Z| 3.606 Ω`` (it read "1 frequencies 1–1 Hz, |Z| 3.606–3.606 Ω" until 2026-12-06)."""
+    from ..data import format_band, format_quantity
 
+    low, high = (format_quantity(summary[k], "Ω", 4) for k in ("z_abs_min_ohm", "z_abs_max_ohm"))
     count = "1 frequency," if summary["points"] == 1 else f"{summary['points']} frequencies"
-    return (f"{count} {span(summary['frequency_min_hz'], summary['frequency_max_hz'])} Hz, "
-            f"|Z| {span(summary['z_abs_min_ohm'], summary['z_abs_max_ohm'])} Ω")
+    return f"{count} {format_band(summary['frequency_min_hz'], summary['frequency_max_hz'])}, |Z| {low if low == high else f'{low}–{high}'}"
 
 
 def _read_with(kind: str, ds) -> str:
