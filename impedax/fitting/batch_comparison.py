@@ -393,13 +393,16 @@ class BatchComparison(FrozenResult):
         parameters that do nothing), ``same_fit_as_best`` (the labels of the models whose fit is
         the best one's in another writing, `_same_as_winner`), ``lead`` (the nearest other
         rival's ΔAIC; null when every rival is one of those), ``weak_evidence`` (that lead below `WEAK_DELTA_AIC`) and
-        ``models``: each model's `PER_SPECTRUM_CRITERIA` with its ``model``, ``label`` and
-        ``warnings`` (its fit's warnings on that spectrum, `BatchFitResult.warnings`; [] if none)."""
+        ``models``: each model's `PER_SPECTRUM_CRITERIA` with its ``model``, ``label``,
+        ``misses_structure`` (`BatchFitResult.misses_structure` on that spectrum, as a batch fit's
+        rows; added 2026-12-06) and ``warnings`` (its fit's warnings on that spectrum,
+        `BatchFitResult.warnings`; [] if none)."""
         best, runner_up = self._winners()
         _, reduces, lead = self._leads()
         same = self._same_as_winner(best)
         values = {c: self._per_spectrum(c) for c in PER_SPECTRUM_CRITERIA}
         warned = [[list(batch.warnings.get(key, ())) for key in _keys(batch)] for batch in self.batches]
+        misses = [batch.misses_structure.transpose(*batch.dims).values.reshape(-1) for batch in self.batches]  # (C order, as `_labels`)
         rows = []
         for s, labels in enumerate(_labels(self.batches[0])):
             b = int(best[s])
@@ -409,7 +412,8 @@ class BatchComparison(FrozenResult):
                 "runner_up_delta_aic": float(runner_up[s]), "reduces_to_best": [self.labels[m] for m in np.flatnonzero(reduces[:, s])],
                 "same_fit_as_best": [self.labels[m] for m in np.flatnonzero(same[:, s])],
                 "lead": float(lead[s]) if np.isfinite(lead[s]) else None, "weak_evidence": bool(lead[s] < WEAK_DELTA_AIC),
-                "models": [{"model": batch.model, "label": label, **{c: (bool(values[c][m, s]) if c == "converged" else float(values[c][m, s])) for c in PER_SPECTRUM_CRITERIA}, "warnings": warned[m][s]}
+                "models": [{"model": batch.model, "label": label, **{c: (bool(values[c][m, s]) if c == "converged" else float(values[c][m, s])) for c in PER_SPECTRUM_CRITERIA},
+                            "misses_structure": bool(misses[m][s]), "warnings": warned[m][s]}
                            for m, (batch, label) in enumerate(zip(self.batches, self.labels))],
             })
         return rows
@@ -470,9 +474,10 @@ class BatchComparison(FrozenResult):
         """One row per spectrum and model (``compare --out FILE.csv``): the spectrum's labels,
         ``model`` (the label), ``circuit``, `PER_SPECTRUM_CRITERIA` and ``best`` (whether it is
         that spectrum's best by AIC), then ``warnings`` (that fit's warnings joined by "; ", as
-        `spectra`' list; "" if none)."""
+        `spectra`' list; "" if none) and ``misses_structure`` (`spectra`'; added 2026-12-06)."""
         best, _ = self._winners()
-        return [{**{d: v for d, v in r["labels"].items()}, **{k: v for k, v in m.items() if k not in ("model", "label", "warnings")}, "model": m["label"], "circuit": m["model"], "best": bool(best[s] == j), "warnings": "; ".join(m["warnings"])}
+        return [{**{d: v for d, v in r["labels"].items()}, **{k: v for k, v in m.items() if k not in ("model", "label", "warnings", "misses_structure")}, "model": m["label"], "circuit": m["model"], "best": bool(best[s] == j), "warnings": "; ".join(m["warnings"]),
+                 "misses_structure": m["misses_structure"]}  # (last: added 2026-12-06, after the columns readers already count)
                 for s, r in enumerate(self.spectra()) for j, m in enumerate(r["models"])]
 
     def to_xarray(self) -> xr.Dataset:
