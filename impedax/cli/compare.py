@@ -119,7 +119,10 @@ def run(args) -> int:
 
             from .common import fit_command
 
-            report = report.replace(FIT_COMMAND_WORDS, f"{fit_command(args)} --model {shlex.quote(warned[0])}")
+            # (each warned model's command, "; " between them: the first alone until 2026-12-06, and "each batch's report()
+            # lists them", the Python API's words, before it)
+            commands = "; ".join(f"{fit_command(args)} --model {shlex.quote(model)}" for model in warned)
+            report = report.replace(f"each batch's report() lists them; from the command line, {FIT_COMMAND_WORDS}", f"impedax fit lists them: {commands}")
         print(report)
         hints = comparison.best_misfit_hints()
         if hints is not None:  # (the report's line says it; the command for its worst spectrum: added 2026-12-03)
