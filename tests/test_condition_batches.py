@@ -271,11 +271,12 @@ def test_the_chi2_red_note_reads_as_chi2_red_against_the_noise_not_as_a_bound_on
     assert Diagnosis._chi2_red_basis(NS(baseline=NS(weighting="sigma", chi2_red=4000.0), noise_ratio=38.2)).endswith("; against the noise σ given below, chi2_red ≈ 1.46e+03, as the residuals are 38.2× that noise)")
 
 
-def test_a_sigma_from_trials_is_named_trial_scatter():
+def test_a_sigma_from_trials_is_named_by_its_trials():
     from impedax.fitting.diagnosis.noise import sigma_origin
 
-    assert sigma_origin({"sigma_method": "SEM of Re and Im of each measurement over its trials"}) == "trial scatter"
-    assert sigma_origin({"n_trials": 5}) == "trial scatter"
+    # (the standard error of trial means since 2026-12-06, "trial scatter" before: tests/test_remainder_sigma_words.py)
+    assert sigma_origin({"sigma_method": "SEM of Re and Im of each measurement over its trials"}) == "the standard error of trial means"
+    assert sigma_origin({"n_trials": 5}) == "the standard error of trial means"
     assert sigma_origin({"source": "edl.csv"}) == "sigma column"
 
 

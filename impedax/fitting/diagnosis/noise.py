@@ -3,8 +3,8 @@
 σ_k, the relative standard deviation per component at frequency k that the residuals are judged
 against, has two parts:
 
-* the measurement noise σ_meas,k: the data's ``sigma`` (a sigma column, or the trial scatter
-  `sigma_origin` recognises) where they have it, else
+* the measurement noise σ_meas,k: the data's ``sigma`` (a sigma column, or a remainder's
+  standard error of trial means or stated sigma, as `sigma_origin` words it) where they have it, else
   a local robust estimate from the first differences of the Kramers–Kronig residuals in a
   window of `LOCAL_WINDOW` frequencies (heteroscedastic: noise that grows toward low frequency
   is seen where it is);
@@ -21,6 +21,7 @@ explains what is left", not "the residuals are at the instrument noise".
 from __future__ import annotations
 
 import math
+import re
 from typing import NamedTuple
 
 import numpy as np
@@ -125,21 +126,34 @@ def _usable(local: np.ndarray | None) -> bool:
 
 
 def sigma_origin(attrs) -> str:
-    """What a spectrum's ``sigma`` is, by its attrs: ``"trial scatter"`` when they say it was
-    computed from replicate trials (``sigma_method``, as `sirin.remaining_impedance` writes it;
-    ``n_trials``, as `sirin.trial_mean`), else ``"sigma column"`` (a column of the file or
-    ``make_spectrum(sigma=...)``, whose origin impedax does not know). A walkthrough's sigma column
-    was called "trial scatter" (2026-12-01)."""
+    """What a spectrum's ``sigma`` is, by its attrs, in words that follow where it came from:
+    a remainder's (``sigma_method``, as `sirin.remaining_impedance` writes it) is "the standard
+    error of trial means" (with the counts ``n_trials_*`` when they are there), "the stated sigma
+    of the one spectrum", or which inputs gave a standard error of their trial means and which
+    their own stated sigma; a `sirin.trial_mean` (``n_trials``, ``sigma_from``) likewise; else
+    ``"sigma column"`` (a column of the file or ``make_spectrum(sigma=...)``, whose origin impedax
+    does not know). A walkthrough's sigma column was called "trial scatter" until 2026-12-01, and
+    every remainder's sigma, a single input's own sigma among them, until 2026-12-06."""
     attrs = attrs or {}
-    method = str(attrs.get("sigma_method", "")).lower()
-    if "trial" in method or "sem" in method or "n_trials" in attrs or "n_trials_total" in attrs:
-        return "trial scatter"
+    method = str(attrs.get("sigma_method", ""))
+    if method.startswith("not available"):  # (the remainder has none: this sigma came from elsewhere)
+        return "sigma column"
+    mean_of = re.search(r"over the trials of (.+?);", method)
+    stated_of = re.search(r"the stated sigma of (.+?) \(one spectrum", method)
+    if "the stated sigma of the one spectrum" in method or ("n_trials" in attrs and attrs.get("sigma_from") == "own sigma"):
+        return "the stated sigma of the one spectrum"
+    if stated_of:
+        means = f"the standard error of the trial means of {mean_of.group(1)} and " if mean_of else ""
+        return f"{means}the stated sigma of {stated_of.group(1)}, added in quadrature"
+    if "sem" in method.lower() or "trial" in method.lower() or "n_trials" in attrs or "n_trials_total" in attrs:
+        counts = [f"{int(attrs[f'n_trials_{name}'])} {name}" for name in ("total", "skin", "touchscreen") if f"n_trials_{name}" in attrs]
+        return "the standard error of trial means" + (f" of {', '.join(counts)} spectra" if counts else "")
     return "sigma column"
 
 
 def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float, floor_kk: KKResult | None = None, sigma_kind: str = "sigma column") -> NoiseModel:
     """The `NoiseModel` at ``frequency``: a ``noise`` level given by the user (used as it is,
-    no discrepancy floor), else the data's ``sigma`` (|Z|-relative trial scatter), else the
+    no discrepancy floor), else the data's ``sigma`` (relative to |Z|), else the
     local KK estimate (`local_noise`, interpolated in log f), else ``fallback_rms``/√2 (the
     fit's own residuals; ``sigma_kind``: what the sigma is, `sigma_origin`, which the source
     names); plus the discrepancy floor δ from the KK residuals (`_discrepancy`)
