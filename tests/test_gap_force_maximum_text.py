@@ -4,6 +4,7 @@ plateau, a flat force. Forces are SYNTHETIC numpy curves over a log grid (no fit
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import xarray as xr
 
 from impedax.models.gap import force_maximum_text, force_maximum_shape
@@ -36,9 +37,28 @@ def test_a_plateau_at_the_band_end_is_named_as_one():
 
 
 def test_a_force_rising_past_the_band_says_so():
+    """∝ f^0.5: d ln F/d ln f = 0.5 over every grid step; said as `impedax force` says it (until
+    2026-12-06 "(it may rise past it)" whatever the slope)."""
     force = 0.1 * (FREQ / 1e6) ** 0.5  # (rises to the top of the band and past it: no plateau)
-    assert force_maximum_shape(_median(force)) == {"index": FREQ.size - 1, "band_edge": "fmax", "plateau_hz": None}
-    assert force_maximum_text(_median(force)) == "max 100 mN at 1 MHz, the band's upper end (it may rise past it)"
+    shape = force_maximum_shape(_median(force))
+    assert shape == {"index": FREQ.size - 1, "band_edge": "fmax", "plateau_hz": None, "edge_slope": pytest.approx(0.5, rel=1e-12)}
+    assert force_maximum_text(_median(force)) == "max 100 mN at 1 MHz, the band's upper end, and still rises above it (∝ f^0.5 there)"
+    # the lower end of a force falling with frequency, ∝ f^-2
+    assert force_maximum_text(_median(0.3 * FREQ ** -2.0)) == "max 300 mN at 1 Hz, the band's lower end, and still rises below it (∝ f^-2 there)"
+
+
+def test_a_force_levelled_off_at_the_band_end_says_so():
+    """F = 0.2 N/(1 + (fc/f)²), fc = 1 MHz/30: within 1 % of its largest only from 316 kHz (less
+    than a decade: no plateau), and levelled off at 1 MHz, where over the grid's last step (0.1
+    decade) ln F changes by ln(1 + 1/900·10^0.2) − ln(1 + 1/900) = 6.489e-4, a slope of
+    6.489e-4/ln 10^0.1 = 2.818e-3, 10^2.818e-3 − 1 = 0.651 % per decade (by hand). It read "(it may
+    rise past it)", as of a force still growing."""
+    force = 0.2 / (1.0 + (1e6 / 30 / FREQ) ** 2)
+    shape = force_maximum_shape(_median(force))
+    assert shape["band_edge"] == "fmax" and shape["plateau_hz"] is None
+    assert shape["edge_slope"] == pytest.approx(2.818e-3, rel=1e-3)
+    assert force_maximum_text(_median(force)) == ("max 200 mN at 1 MHz, the band's upper end, where it has levelled off: it changes by 0.651 % "
+                                                 "per decade there (it may still rise above 1 MHz, as slowly)")
 
 
 def test_a_flat_force_keeps_its_every_frequency_wording():

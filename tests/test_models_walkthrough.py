@@ -251,7 +251,11 @@ def test_gap_json_gives_the_frequency_of_the_force_without_ep(stationary):
     assert bare["frequency_hz"] == with_ep["frequency_hz"] and len(bare["median"]) == len(bare["frequency_hz"])
     j = int(np.argmax(bare["median"]))
     line = next(x for x in result.report().splitlines() if x.startswith("force (peak"))
-    assert line.endswith(f"without EP: max {format_quantity(bare['median'][j], 'N')} at {format_frequency(bare['frequency_hz'][j])}, the band's lower end (it may rise past it)")  # (its largest at 1 Hz, the band's end: 2026-12-05)
+    # (its largest at 1 Hz, the band's end: 2026-12-05; what the grid's first step shows, d ln F/d ln f, since 2026-12-06)
+    slope = np.log(bare["median"][0] / bare["median"][1]) / np.log(bare["frequency_hz"][0] / bare["frequency_hz"][1])
+    assert slope < -0.1  # (the oracle's premise: still rising toward 1 Hz, not levelled off)
+    assert line.endswith(f"without EP: max {format_quantity(bare['median'][j], 'N')} at {format_frequency(bare['frequency_hz'][j])}, the band's lower end, and still rises below it (∝ f^{slope:.2g} there)")
+    assert s["force_max_without_ep_n"]["edge_slope"] == pytest.approx(slope, rel=1e-9) and s["force_max_n"]["edge_slope"] is None
     assert j == 0 and s["force_max_without_ep_n"]["band_edge"] == "fmin" and s["force_max_n"]["band_edge"] is None
 
 
@@ -264,7 +268,8 @@ def test_report_and_figure_scale_the_force_unit(stationary):
     # the maximum without EP on the same line (the JSON's force_without_ep_n)
     bare = result.force.sel(branch="without_ep")["median"]
     j = int(np.argmax(bare.values))
-    assert line.split("; ")[-1] == f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}, the band's lower end (it may rise past it)"
+    slope = float(np.log(bare[0] / bare[1]) / np.log(bare["frequency"][0] / bare["frequency"][1]))
+    assert line.split("; ")[-1] == f"without EP: max {format_quantity(float(bare[j]), 'N')} at {format_frequency(float(bare['frequency'][j]))}, the band's lower end, and still rises below it (∝ f^{slope:.2g} there)"
     assert not np.isclose(bare.values.max(), peak.max())  # (two branches, two maxima: the line can tell them apart)
     fig = result.plot()
     ax = fig.axes[2]

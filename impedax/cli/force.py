@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..arguments import number_text
-from ..data import format_band, format_frequency, format_percent, format_quantity
+from ..data import format_band, format_frequency, format_quantity
 from .common import accept_negative_numbers, add_output_options, add_positional_model, check_band_options, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
@@ -307,7 +307,7 @@ def _figure(model: str, freq, force, peak: dict, params: dict[str, float], conve
 def _peak_text(peak: dict) -> str:
     """The stderr line's peak, in SI prefixes as the figure's legend: ``peak 164.2 mN at 37 kHz
     (refined between grid points; grid maximum 164.2 mN at 35.5 kHz)``."""
-    from ..models.peak import FORCE_PLATEAU_REL, LEVELLED_SLOPE
+    from ..models.peak import FORCE_PLATEAU_REL, band_end_words
 
     where = f"{format_quantity(peak['force_n'], 'N', 4)} at {format_frequency(peak['frequency_hz'])}"
     if peak["band_edge"] == "fmin=fmax":
@@ -323,21 +323,9 @@ def _peak_text(peak: dict) -> str:
                     f"where it levels off (it may still rise {side} {option})")
         # (what the band's end shows, 2026-12-06: over 10–50 kHz Vezzoli's eq 10 changes by 0.012 % per decade at 50 kHz, and
         # "and still rises above it" was said as of a force that grows; no plateau is judged on less than a decade)
-        slope = peak.get("edge_slope")
-        if slope is not None and abs(slope) < LEVELLED_SLOPE:
-            return (f"no peak in the band: the force is largest at {option}, {where}, where it has levelled off: it changes by "
-                    f"{_change_per_decade(slope)} per decade there (it may still rise {side} {option}, as slowly)")
-        rate = "" if slope is None else f" (∝ f^{slope:.2g} there)"
-        return f"no peak in the band: the force is largest at {option}, {where}, and still rises {side} it{rate}"
+        return f"no peak in the band: the force is largest at {option}, {where}, {band_end_words(peak.get('edge_slope'), side, option)}"
     grid = f"{format_quantity(peak['grid_force_n'], 'N', 4)} at {format_frequency(peak['grid_frequency_hz'])}"
     return f"peak {where} (refined between grid points; grid maximum {grid})"
-
-
-def _change_per_decade(slope: float) -> str:
-    """The relative change per decade of a force of log-slope ``slope``, 10^|slope| − 1, as impedax
-    writes a percentage (``0.012 %``), "less than 0.001 %" below that."""
-    change = 10.0 ** abs(slope) - 1.0
-    return format_percent(change) if change >= 1e-5 else "less than 0.001 %"
 
 
 def _out_path(path: str | None) -> str | None:

@@ -52,7 +52,7 @@ from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SI
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
-from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, force_plateau  # noqa: F401 (FORCE_PLATEAU_SPAN: gap.FORCE_PLATEAU_SPAN as before 2026-12-06)
+from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, band_end_words, force_plateau, grid_edge_slope  # noqa: F401 (FORCE_PLATEAU_SPAN: gap.FORCE_PLATEAU_SPAN as before 2026-12-06)
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_CUTOFF_HZ, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
@@ -468,7 +468,7 @@ class GapAnalysis(FrozenResult):
         ``frequency_hz``, where the median force of ``branch`` (``"with_ep"`` or ``"without_ep"``)
         is largest on the force's frequency grid: the report's "force (peak …) max", the CSV's
         ``force_max_n`` and the JSON's ``force_max_n`` (eq 1, F = ½ ε0 ε_gap A |ΔV_gap|²/u²),
-        with ``band_edge`` and ``plateau_hz`` (`force_maximum_shape`). Added 2026-12-02."""
+        with ``band_edge``, ``plateau_hz`` and ``edge_slope`` (`force_maximum_shape`). Added 2026-12-02."""
         band = self.force.sel(branch=branch)
         shape = force_maximum_shape(band["median"])
         i = shape["index"]
@@ -476,7 +476,9 @@ class GapAnalysis(FrozenResult):
                 "q05": float(band["q05"][i]), "q95": float(band["q95"][i]),
                 # (added 2026-12-05: "fmin"/"fmax" when the largest force is at an end of the band, "flat" (2026-12-06) when it is the same
                 # at every frequency, else null; the plateau it lies on, else null)
-                "band_edge": shape["band_edge"], "plateau_hz": list(shape["plateau_hz"]) if shape["plateau_hz"] else None}
+                "band_edge": shape["band_edge"], "plateau_hz": list(shape["plateau_hz"]) if shape["plateau_hz"] else None,
+                # (added 2026-12-06: d ln F/d ln f over the grid's step at that end of the band, as impedax force's peak.edge_slope; else null)
+                "edge_slope": shape["edge_slope"]}
 
     def _sampling_summary(self) -> dict | None:
         """Hierarchical: the NUTS diagnostics (divergent transitions of all draws, the largest
@@ -847,13 +849,17 @@ def force_maximum_shape(median: xr.DataArray) -> dict:
     end of the band (the force may still rise past it), ``"flat"`` for a force the same at every
     frequency (`FLAT_FORCE_REL`; as `impedax force` says it: a single contact's was "fmin",
     2026-12-06) else None, and ``plateau_hz`` (low, high): the contiguous frequencies about it
-    within `FORCE_PLATEAU_REL` of it, when they span more than `FORCE_PLATEAU_SPAN`, else None."""
+    within `FORCE_PLATEAU_REL` of it, when they span more than `FORCE_PLATEAU_SPAN`, else None;
+    ``edge_slope``: d ln F/d ln f over the grid's step at that end of the band (`grid_edge_slope`),
+    None for a maximum inside the band or a flat force (added 2026-12-06, as `impedax force`'s
+    ``peak.edge_slope``)."""
     values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
     i = int(np.argmax(values))
     edge = ("fmin" if freq[i] == freq.min() else "fmax") if values.size > 1 and freq[i] in (freq.min(), freq.max()) else None
     if _flat(values):
         edge = "flat"
-    return {"index": i, "band_edge": edge, "plateau_hz": force_plateau(freq, values, i)}
+    slope = grid_edge_slope(freq, values, i) if edge in ("fmin", "fmax") else None
+    return {"index": i, "band_edge": edge, "plateau_hz": force_plateau(freq, values, i), "edge_slope": slope}
 
 
 def force_maximum_text(median: xr.DataArray) -> str:
@@ -861,8 +867,11 @@ def force_maximum_text(median: xr.DataArray) -> str:
     ``2.835 N at every frequency (1 Hz–100 kHz)``: its maximum's frequency is rounding's choice
     (a single contact's force without EP read "max 2.835 N at 1 Hz", 2026-12-03); one on a
     plateau (`force_maximum_shape`) ``412 mN on a plateau over 1 Hz–22.4 Hz (within 1%;
-    largest at 1 Hz, the band's lower end)``; one at an end of the band ``max 1.2 N at 1 Hz, the
-    band's lower end (it may rise past it)``. The maximum of the grid's medians, not refined
+    largest at 1 Hz, the band's lower end)``; one at an end of the band says what the grid's last
+    step there shows (`band_end_words`, as `impedax force` does): ``max 56.2 N at 1 Hz, the band's
+    lower end, and still rises below it (∝ f^-0.41 there)``, or ``…, where it has levelled off: it
+    changes by 0.3 % per decade there (it may still rise below 1 Hz, as slowly)`` (until 2026-12-06
+    always ``(it may rise past it)``). The maximum of the grid's medians, not refined
     between grid points as `impedax force` refines a model's force (`impedax.models.force_maximum`):
     a median over posterior draws has no value between them. `impedax gap`'s report and
     `impedax demo`'s "peak force with EP" write it so."""
@@ -877,7 +886,8 @@ def force_maximum_text(median: xr.DataArray) -> str:
         return (f"{format_quantity(float(values[i]), 'N')} on a plateau over {format_band(low, high)} (within {FORCE_PLATEAU_REL:.0%}; "
                 f"largest at {format_frequency(float(freq[i]))}{', ' + end if end else ''})")
     if end:
-        return f"max {format_quantity(float(values[i]), 'N')} at {format_frequency(float(freq[i]))}, {end} (it may rise past it)"
+        side = "below" if shape["band_edge"] == "fmin" else "above"
+        return f"max {format_quantity(float(values[i]), 'N')} at {format_frequency(float(freq[i]))}, {end}, {band_end_words(shape['edge_slope'], side, format_frequency(float(freq[i])))}"
     return f"max {format_quantity(float(values[i]), 'N')} at {format_frequency(float(freq[i]))}"
 
 

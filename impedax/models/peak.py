@@ -15,9 +15,10 @@ from typing import Callable
 
 import numpy as np
 
+from ..data import format_percent
 from ..errors import ParameterError
 
-__all__ = ["ForceMaximum", "force_maximum", "force_plateau", "edge_slope", "BAND_EDGES", "FORCE_PLATEAU_REL", "FORCE_PLATEAU_SPAN", "LEVELLED_SLOPE"]
+__all__ = ["ForceMaximum", "force_maximum", "force_plateau", "edge_slope", "grid_edge_slope", "band_end_words", "change_per_decade", "BAND_EDGES", "FORCE_PLATEAU_REL", "FORCE_PLATEAU_SPAN", "LEVELLED_SLOPE"]
 
 # what `ForceMaximum.band_edge` may say besides None (a peak inside the band)
 BAND_EDGES = ("fmin", "fmax", "fmin=fmax", "flat")
@@ -64,6 +65,40 @@ def edge_slope(force_at: Callable[[float], float], freq, index: int) -> float | 
         return None
     slope = math.log(end / near) / math.log(float(freq[index]) / inner)
     return slope if math.isfinite(slope) else None
+
+
+def grid_edge_slope(freq, force, index: int) -> float | None:
+    """d ln F/d ln f over the grid's step at the band's end ``index`` (0 or the last) of the
+    forces ``force`` on the grid ``freq``: ln(F_end/F_next)/ln(f_end/f_next), as `edge_slope`
+    takes it of a force known between grid points; None with one frequency, or a force not
+    positive there."""
+    freq, force = np.asarray(freq, float).reshape(-1), np.asarray(force, float).reshape(-1)
+    if freq.size < 2 or index not in (0, freq.size - 1):
+        return None
+    other = 1 if index == 0 else freq.size - 2
+    if not (force[index] > 0 and force[other] > 0 and freq[index] > 0 and freq[other] > 0 and freq[index] != freq[other]):
+        return None
+    slope = math.log(force[index] / force[other]) / math.log(freq[index] / freq[other])
+    return slope if math.isfinite(slope) else None
+
+
+def change_per_decade(slope: float) -> str:
+    """The relative change per decade of a force of log-slope ``slope``, 10^|slope| − 1, as impedax
+    writes a percentage (``0.012 %``), "less than 0.001 %" below that."""
+    change = 10.0 ** abs(slope) - 1.0
+    return format_percent(change) if change >= 1e-5 else "less than 0.001 %"
+
+
+def band_end_words(slope: float | None, side: str, past: str) -> str:
+    """What a force largest at an end of the band does there, by its slope d ln F/d ln f
+    (`edge_slope`, `grid_edge_slope`): "where it has levelled off: it changes by 0.012 % per
+    decade there (it may still rise above --fmax, as slowly)" below `LEVELLED_SLOPE`, else "and
+    still rises above it (∝ f^2 there)" (without the rate when ``slope`` is None). ``side``:
+    "below" or "above"; ``past``: the end's name (``--fmax``, ``1 MHz``). The words of `impedax
+    force` and `impedax gap` alike."""
+    if slope is not None and abs(slope) < LEVELLED_SLOPE:
+        return f"where it has levelled off: it changes by {change_per_decade(slope)} per decade there (it may still rise {side} {past}, as slowly)"
+    return f"and still rises {side} it" + ("" if slope is None else f" (∝ f^{slope:.2g} there)")
 
 
 def force_plateau(freq, force, index: int) -> tuple[float, float] | None:
