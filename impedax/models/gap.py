@@ -316,13 +316,14 @@ class GapAnalysis(FrozenResult):
     def averages_trials(self) -> bool:
         """Whether the remainder is a mean over trials: some input holds more than one spectrum
         (the figure's data legend; a single sweep was called "mean of trials", 2026-12-06)."""
-        return _has_bounds(self.remaining)
+        return _several_spectra(self.remaining)
 
     @property
     def paper_has_bounds(self) -> bool:
         """False when total, skin and screen are one spectrum each: the paper's bounds (from the
-        lowest- and highest-impedance trials) then equal its estimate and are no interval."""
-        return _has_bounds(self.remaining)
+        lowest- and highest-impedance trials) then equal its estimate and are no interval. The same
+        inputs as `averages_trials`: an input of several spectra has a lowest and a highest one."""
+        return self.averages_trials
 
     @property
     def paper_bounds_no_interval(self) -> bool:
@@ -690,7 +691,7 @@ class GapAnalysis(FrozenResult):
         if "sigma" in self.remaining:
             return "Bayesian on the trial means: their noise only, not the spread between trials"
         proportional = "noise ∝ |Z| at a sampled level (sigma_rel: the fit's residual scatter), not a measured noise nor a spread between trials"
-        if not self.paper_has_bounds:
+        if not self.averages_trials:
             return f"Bayesian on one spectrum per file: {proportional}"
         return f"Bayesian on the trial means without their SEM (an input holds a single spectrum): {proportional}"
 
@@ -1184,7 +1185,7 @@ def _paper_bound_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[s
     """A warning when the paper's u (from the trial means) lies far outside its own bounds (from
     the lowest- and highest-impedance trials): beyond their width and `PAPER_BOUND_SLACK` × u."""
     u, low, high = paper.gap, paper.gap_lower, paper.gap_upper
-    if not _has_bounds(remaining) or not _far_outside(u, low, high):
+    if not _several_spectra(remaining) or not _far_outside(u, low, high):
         return []
     return [
         f"the paper method's u = {_gap_length(u, 3)} lies far outside its own bounds {_gap_range(low, high, 3)} "
@@ -1212,7 +1213,7 @@ def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> lis
     (highest) skin and screen are subtracted from the lowest (highest) total, so the extremes of
     the three sets offset each other. Left to `_paper_bound_notes` when u is far outside."""
     u, low, high = paper.gap, paper.gap_lower, paper.gap_upper
-    if not _has_bounds(remaining) or _far_outside(u, low, high):
+    if not _several_spectra(remaining) or _far_outside(u, low, high):
         return []
     spread = paper.gap_trial_max - paper.gap_trial_min  # NaN with one total spectrum
     outside = not low <= u <= high
@@ -1237,7 +1238,7 @@ def _estimate_bound_notes(what: str, u: float, paper: PaperGapEstimate, remainin
     """A warning when a Bayesian u [m] lies far outside the paper method's bounds, by the rule of
     `_far_outside`: those bounds come from two extreme trials and need not contain even the
     paper's own u, so a small miss says nothing."""
-    if not _has_bounds(remaining) or not _far_outside(u, paper.gap_lower, paper.gap_upper):
+    if not _several_spectra(remaining) or not _far_outside(u, paper.gap_lower, paper.gap_upper):
         return []
     return [f"the {what} {_gap_length(u, 3)} lies far outside the paper method's bounds ({_gap_range(paper.gap_lower, paper.gap_upper, 3)}{detail}): the two methods disagree (the figure's air-gap thickness panel shows both)"]
 
@@ -1558,8 +1559,11 @@ def _per_trial_centre_notes(batch, edl, reparametrization, per_trial) -> list[st
     return notes
 
 
-def _has_bounds(remaining: xr.Dataset) -> bool:
-    """Some input holds more than one spectrum (the inputs given: a single contact's total alone)."""
+def _several_spectra(remaining: xr.Dataset) -> bool:
+    """Some input holds more than one spectrum (the inputs given: a single contact's total alone):
+    the remainder is a mean over trials (`GapAnalysis.averages_trials`), and the paper's bounds,
+    from each input's lowest- and highest-impedance spectrum, are two sets of spectra
+    (`GapAnalysis.paper_has_bounds`)."""
     inputs = ("total",) if _single(remaining) else ("total", "skin", "touchscreen")
     return any(remaining.attrs.get(f"n_trials_{k}", 2) > 1 for k in inputs)
 
