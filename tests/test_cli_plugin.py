@@ -215,7 +215,8 @@ def test_a_plugin_reader_whose_sniff_raises_is_named_with_its_file_and_line(tmp_
     data.write_text("LABEIS\n0.1 10 -1\n1 9 -2\n")
     code, out, err = run(["inspect", data, "--plugin", bad], capsys)
     assert code == 2 and out == ""
-    assert f"reader 'Bad': its sniff ({bad}, line 4) raised TypeError: unsupported operand" in err
+    # (the plugin named as a read's fault names it, since 2026-12-06: "reader 'Bad': its sniff (FILE, line 4)" before)
+    assert f"reader 'Bad' of --plugin {bad}: its sniff (line 4) raised TypeError: unsupported operand" in err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
 
 

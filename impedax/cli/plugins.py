@@ -166,32 +166,14 @@ def _claims(spec) -> list[tuple[str, str]]:
     return claims + [(what, s) for what, s in (("CDC letter", spec.cdc), ("impedance.py symbol", spec.impedance_py)) if s is not None]
 
 
-def _guarded(reader, plugin: str, where: str):
-    """``reader`` whose ``read`` turns an exception other than impedax's own into one
-    `DataError` naming the data file, the reader, the plugin and its line (a bug in a user's
-    reader printed a traceback)."""
+def _quiet_reader(reader, where: str):
+    """``reader`` with its ``origin`` ``where`` (`_where`: ``impedax.load`` names it, with the line
+    that raised, in the one `DataError` a failing read or sniff becomes), printing to stderr, not
+    stdout: a sniff's or read's ``print`` came before ``inspect --json``'s JSON (until 2026-12-06 a
+    wrapper of its own here turned the read's exceptions into that message, besides the loader's)."""
     import dataclasses
 
-    from ..errors import DataError, ImpedaxError
-
-    read, sniff = reader.read, reader.sniff
-
-    @functools.wraps(sniff)
-    def quiet_sniff(path, head):
-        with contextlib.redirect_stdout(sys.stderr):  # (a sniff's print came before inspect --json's JSON)
-            return sniff(path, head)
-
-    def guarded_read(path):
-        try:
-            with contextlib.redirect_stdout(sys.stderr):  # (as while the plugin runs, `_execute`)
-                return read(path)
-        except ImpedaxError:
-            raise
-        except Exception as exc:
-            line = _line_in(exc, Path(plugin))
-            raise DataError(f"the reader {reader.name!r} of {where}{f' (line {line})' if line else ''} raised {type(exc).__name__}: {exc}", path=path) from None
-
-    return dataclasses.replace(reader, read=guarded_read, sniff=quiet_sniff)
+    return dataclasses.replace(reader, read=_quiet(reader.read), sniff=_quiet(reader.sniff), origin=where)
 
 
 # each plugin formula's quiet wrapper (`_quiet_formula`), by the formula: the same wrapper for a
@@ -275,7 +257,7 @@ def load_plugins(files: Sequence[str], from_environment: Collection[str] = ()) -
                 raise ParameterError(f"{where}: a reader named {reader.name!r} is declared in {reader_files[reader.name]} too")
             reader_files[reader.name] = path
             own.append(reader)
-    own = [_guarded(reader, reader_files[reader.name], _where(reader_files[reader.name], from_environment)) for reader in own]
+    own = [_quiet_reader(reader, _where(reader_files[reader.name], from_environment)) for reader in own]
     # each plugin's readers before the built-in ones, in the order given (`register_reader`: one
     # named as a built-in replaces it)
     readers = (*own, *(r for r in READERS if r.name not in reader_files)) if own else None

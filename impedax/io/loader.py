@@ -53,14 +53,20 @@ def _head(path: Path) -> bytes:
         raise DataError(f"cannot read file: {exc.strerror}", path=path) from None
 
 
-def _raised_at(function, exc: BaseException) -> str:
-    """`` (FILE, line N)``: where in ``function``'s own file ``exc`` was raised (the innermost
-    such frame: a user's sniff named by its file and line, a plugin's too); "" when unknown."""
+def _raised_at(function, exc: BaseException, origin: str = "") -> tuple[str, str]:
+    """Where a reader's ``function`` raised ``exc``: ("" or `` of --plugin lab.py``, the reader's
+    ``origin``, `Reader.origin`), then `` (FILE, line N)``, the innermost frame in the function's
+    own file, FILE left out when it is the one ``origin`` names; "" when unknown. A user's read or
+    sniff is so named by its file and line, a plugin's by the plugin too (until 2026-12-06 the
+    command line wrapped a plugin's read to say so, and found no line outside the plugin file)."""
     code = getattr(inspect.unwrap(function), "__code__", None)  # (a --plugin sniff is wrapped to print to stderr)
-    if code is None:
-        return ""
-    lines = [frame.lineno for frame in traceback.extract_tb(exc.__traceback__) if frame.filename == code.co_filename]
-    return f" ({code.co_filename}, line {lines[-1]})" if lines else ""
+    lines = [frame.lineno for frame in traceback.extract_tb(exc.__traceback__) if code is not None and frame.filename == code.co_filename]
+    of = f" of {origin}" if origin else ""
+    if not lines:
+        return of, ""
+    named = {os.path.realpath(text) for text in (origin, origin.partition(" ")[2]) if text}
+    own = os.path.realpath(code.co_filename) in named
+    return of, f" ({'' if own else code.co_filename + ', '}line {lines[-1]})"
 
 
 def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> tuple[Reader | None, list[str]]:
@@ -82,7 +88,8 @@ def _identify(path: str | os.PathLike, readers: Sequence[Reader] | None) -> tupl
         except Exception as exc:  # a user's sniff must not hide the other formats
             reason = f"sniff failed ({type(exc).__name__})"
             detail = (str(exc).strip().splitlines() or [""])[0][:200]
-            faults.append(f"reader {reader.name!r}: its sniff{_raised_at(reader.sniff, exc)} raised {type(exc).__name__}{': ' + detail if detail else ''}")
+            of, at = _raised_at(reader.sniff, exc, reader.origin)
+            faults.append(f"reader {reader.name!r}{of}: its sniff{at} raised {type(exc).__name__}{': ' + detail if detail else ''}")
         else:
             if answer is None or answer is True:
                 return reader, tried, faults
@@ -199,9 +206,10 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
 
 def _read_with(reader: Reader, path: Path) -> xr.Dataset:
     """``reader.read(path)``; an exception other than impedax's own (a bug or an unchecked
-    input in a user's reader) becomes one `DataError` naming the file, the reader and the line
-    of its code that raised, the original kept as ``__cause__`` (until 2026-12-06 only the
-    command line did this: in Python a user's ``float('oops')`` came out as a bare traceback)."""
+    input in a user's reader) becomes one `DataError` naming the file, the reader, where it was
+    declared (`Reader.origin`: a ``--plugin`` file) and the line of its code that raised, the
+    original kept as ``__cause__`` (until 2026-12-06 only the command line did this: in Python a
+    user's ``float('oops')`` came out as a bare traceback)."""
     from ..errors import ImpedaxError
 
     try:
@@ -210,7 +218,7 @@ def _read_with(reader: Reader, path: Path) -> xr.Dataset:
         raise
     except Exception as exc:
         reason = (str(exc).strip().splitlines() or [""])[0][:300]
-        raise DataError(f"the reader {reader.name!r}{_raised_at(reader.read, exc)} raised {type(exc).__name__}{': ' + reason if reason else ''}", path=path) from exc
+        raise DataError(f"the reader {reader.name!r}{''.join(_raised_at(reader.read, exc, reader.origin))} raised {type(exc).__name__}{': ' + reason if reason else ''}", path=path) from exc
 
 
 def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str) -> xr.Dataset:

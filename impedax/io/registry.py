@@ -39,6 +39,9 @@ class Reader:
     ``read(path)`` returns the spectrum Dataset or raises `impedax.DataError` naming the line.
     ``extensions``: the suffixes it is known by (``(".lab",)``; one text alone is one suffix).
     ``conventions`` says in one line how the file stores Z and its units (README, ``inspect``).
+    ``origin``: where the reader was declared, as a message names it before the file and line of
+    its code that raised (`impedax.load`): ``--plugin lab.py`` or ``$IMPEDAX_PLUGINS lab.py`` for a
+    plugin's reader on the command line (which sets it); "" for one made in Python (added 2026-12-06).
     """
 
     name: str
@@ -46,6 +49,7 @@ class Reader:
     sniff: Callable[[Path, bytes], str | bool | None]
     read: Callable[[Path], xr.Dataset]
     conventions: str = ""
+    origin: str = ""
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name.strip():
@@ -66,3 +70,5 @@ class Reader:
                 raise TypeError(f"Reader {self.name!r}: {field_name} must be a function, got {type(getattr(self, field_name)).__name__}")
         if not isinstance(self.conventions, str):
             raise TypeError(f"Reader {self.name!r}: conventions must be text, got {type(self.conventions).__name__}")
+        if not isinstance(self.origin, str):
+            raise TypeError(f"Reader {self.name!r}: origin must be text, got {type(self.origin).__name__}")
