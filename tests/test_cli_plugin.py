@@ -307,7 +307,8 @@ def test_a_user_reader_returning_a_dataset_that_is_no_spectrum_is_named(tmp_path
     data.write_text("RAWDS\n")
     code, out, err = run(["inspect", data, "--plugin", plugin], capsys)
     assert code == 2 and out == ""
-    assert err.strip() == (f"impedax inspect: error: {data}: reader 'Raw' returned a Dataset that is not a spectrum: dataset has no variable 'Z' "
+    # (the plugin named, as a read that raises names it, since 2026-12-06)
+    assert err.strip() == (f"impedax inspect: error: {data}: reader 'Raw' of --plugin {plugin} returned a Dataset that is not a spectrum: dataset has no variable 'Z' "
                            "(its data variables: 'impedance') (build it with impedax.make_spectrum(frequency_hz, Z))")
 
 

@@ -96,3 +96,25 @@ def test_a_reader_raising_without_a_message_ends_with_the_exception_name(tmp_pat
 def test_an_origin_that_is_not_text_is_refused():
     with pytest.raises(TypeError, match="origin must be text"):
         Reader("x", (".x",), lambda path, head: None, lambda path: None, origin=3)
+
+
+def test_a_plugin_reader_returning_no_dataset_or_a_sniff_returning_a_number_names_the_plugin(tmp_path, capsys):
+    """Its other faults are named with the plugin as its exceptions are: "reader 'none' returned
+    NoneType" named no file (until 2026-12-06)."""
+    plugin = tmp_path / "faulty.py"
+    plugin.write_text(textwrap.dedent('''\
+        from impedax.io import Reader
+
+        NONE = Reader("none", (".non",), lambda path, head: path.suffix == ".non" or "not .non", lambda path: None)
+        NUMBER = Reader("number", (".num",), lambda path, head: 1, lambda path: None)
+    '''))
+    data = tmp_path / "run.non"
+    data.write_text("anything\n")
+    code, out, err = run(["inspect", data, "--plugin", plugin], capsys)
+    assert code == 2 and out == "" and "Traceback" not in err
+    assert err.strip() == (f"impedax inspect: error: {data}: reader 'none' of --plugin {plugin} returned NoneType, not a spectrum Dataset "
+                           "(build it with impedax.make_spectrum)")
+    other = tmp_path / "run.txt"
+    other.write_text("not a table\n")
+    code, out, err = run(["inspect", other, "--plugin", plugin], capsys)
+    assert code == 2 and f"reader 'number' of --plugin {plugin}: its sniff returned int 1" in err

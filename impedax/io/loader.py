@@ -69,6 +69,12 @@ def _raised_at(function, exc: BaseException, origin: str = "") -> tuple[str, str
     return of, f" ({'' if own else code.co_filename + ', '}line {lines[-1]})"
 
 
+def _named(reader: Reader) -> str:
+    """``reader 'LAB'``, with where it was declared when known (`Reader.origin`): ``reader 'LAB' of
+    --plugin lab.py``, as the messages of its read and sniff name it."""
+    return f"reader {reader.name!r}" + (f" of {reader.origin}" if reader.origin else "")
+
+
 def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> tuple[Reader | None, list[str]]:
     """The reader that claims ``path`` (``None`` for plain text) and the reasons of those that did not."""
     reader, tried, _faults = _identify(path, readers)
@@ -99,7 +105,7 @@ def _identify(path: str | os.PathLike, readers: Sequence[Reader] | None) -> tupl
                 reason = answer
             else:
                 reason = f"sniff returned {type(answer).__name__}"
-                faults.append(f"reader {reader.name!r}: its sniff returned {type(answer).__name__} {shown(answer)}")
+                faults.append(f"{_named(reader)}: its sniff returned {type(answer).__name__} {shown(answer)}")
         tried.append(f"{reader.name}: {reason}")
     return None, tried, faults
 
@@ -155,7 +161,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
     if reader is not None:
         ds = _read_with(reader, path)
         if not isinstance(ds, xr.Dataset):
-            raise DataError(f"reader {reader.name!r} returned {type(ds).__name__}, not a spectrum Dataset (build it with impedax.make_spectrum)", path=path)
+            raise DataError(f"{_named(reader)} returned {type(ds).__name__}, not a spectrum Dataset (build it with impedax.make_spectrum)", path=path)
         held = not_a_spectrum(ds) if isinstance(ds, xr.Dataset) else None
         if held:  # (a saved result, e.g. of impedax gap: say how to read it, not that it lacks Z)
             raise DataError(held, path=path)
@@ -184,7 +190,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
         try:  # a user's reader: its Dataset's fault is named as the reader's (2026-12-06: "dataset has no variable 'Z'" alone)
             return _checked(ds, path)
         except DataError as exc:
-            raise DataError(f"reader {reader.name!r} returned a Dataset that is not a spectrum: {exc.detail} (build it with impedax.make_spectrum(frequency_hz, Z))",
+            raise DataError(f"{_named(reader)} returned a Dataset that is not a spectrum: {exc.detail} (build it with impedax.make_spectrum(frequency_hz, Z))",
                             path=path, line=exc.line) from None
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
