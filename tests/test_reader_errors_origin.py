@@ -118,3 +118,36 @@ def test_a_plugin_reader_returning_no_dataset_or_a_sniff_returning_a_number_name
     other.write_text("not a table\n")
     code, out, err = run(["inspect", other, "--plugin", plugin], capsys)
     assert code == 2 and f"reader 'number' of --plugin {plugin}: its sniff returned int 1" in err
+
+
+NO_PATH_PLUGIN = textwrap.dedent('''\
+    import impedax as ix
+    from impedax.io import Reader
+
+
+    def read(path):
+        raise ix.DataError("no 'f;re;im' header line", line=1)
+
+
+    LAB2 = Reader("lab2", (".lab2",), lambda path, head: path.suffix == ".lab2" or "not .lab2", read)
+''')
+
+
+def test_a_data_error_raised_without_its_path_names_the_file_and_its_line(tmp_path, capsys, monkeypatch):
+    """docs/io.md asks readers for DataError(message, path=path, line=n); one that left out path=
+    printed the message alone, "impedax inspect: error: no 'f;re;im' header line", its line=1 lost
+    with the file (DataError shows a line only after a path). Now the file is given to it."""
+    plugin = tmp_path / "lab2plugin.py"
+    plugin.write_text(NO_PATH_PLUGIN)
+    data = tmp_path / "x.lab2"
+    data.write_text("x\n")
+    code, out, err = run(["inspect", data, "--plugin", plugin], capsys)
+    assert code == 2 and out == "" and "Traceback" not in err
+    assert err.strip() == f"impedax inspect: error: {data}, line 1: no 'f;re;im' header line"
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import lab2plugin
+
+    with pytest.raises(ix.DataError) as caught:
+        ix.load(data, readers=register_reader(lab2plugin.LAB2))
+    assert str(caught.value) == f"{data}, line 1: no 'f;re;im' header line"
+    assert (caught.value.path, caught.value.line) == (str(data), 1)

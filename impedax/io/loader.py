@@ -215,11 +215,17 @@ def _read_with(reader: Reader, path: Path) -> xr.Dataset:
     input in a user's reader) becomes one `DataError` naming the file, the reader, where it was
     declared (`Reader.origin`: a ``--plugin`` file) and the line of its code that raised, the
     original kept as ``__cause__`` (until 2026-12-06 only the command line did this: in Python a
-    user's ``float('oops')`` came out as a bare traceback)."""
+    user's ``float('oops')`` came out as a bare traceback). A `DataError` raised without ``path=``
+    is given the file, so that its ``line=`` is shown too (until 2026-12-06 "impedax inspect:
+    error: no header line", naming neither)."""
     from ..errors import ImpedaxError
 
     try:
         return reader.read(path)
+    except DataError as exc:
+        if exc.path is None and type(exc) is DataError:  # (raised without path=: the file and its line were named nowhere)
+            raise DataError(exc.detail, path=path, line=exc.line) from exc
+        raise
     except ImpedaxError:
         raise
     except Exception as exc:
