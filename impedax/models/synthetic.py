@@ -226,8 +226,10 @@ _PARTS = {
 def example_spectra(ds: xr.Dataset | None = None) -> dict[str, xr.Dataset]:
     """The example as standard spectrum Datasets (complex ``Z`` over ``frequency`` with dims
     ``session``, ``trial``): keys ``total_sliding``, ``total_stationary``, ``skin``,
-    ``touchscreen``. ``ds`` defaults to `load_example`."""
+    ``touchscreen``. ``ds`` defaults to `load_example`; another Dataset is a `DataError` saying
+    what it lacks (until 2026-12-06 a KeyError from inside xarray; a spectrum's ``Z`` is no example)."""
     ds = load_example() if ds is None else ds
+    _check_example(ds)
     out = {}
     for key, (var, sel, what) in _PARTS.items():
         z = ds[var].sel(sel).transpose("session", "trial", "frequency")
@@ -240,6 +242,25 @@ def example_spectra(ds: xr.Dataset | None = None) -> dict[str, xr.Dataset]:
             source=f"impedax synthetic example: {key}",
         )
     return out
+
+
+def _check_example(ds) -> None:
+    """``ds`` holds what `example_spectra` takes apart (`_PARTS`: Z_total over ``contact`` sliding
+    and stationary, Z_skin, Z_touchscreen, each over session, trial and frequency), else one
+    `DataError` naming the first thing missing."""
+    if not isinstance(ds, xr.Dataset):
+        raise DataError(f"example_spectra: ds must be the example Dataset (impedax.models.load_example() or generate_sirin_synthetic()), got {type(ds).__name__}")
+    for var, sel, _ in _PARTS.values():
+        missing = f"no variable {var!r}" if var not in ds.data_vars else next(
+            (f"{var} has no dimension {d!r}" for d in ("session", "trial", "frequency", *sel) if d not in ds[var].dims), None)
+        if missing is None:
+            missing = next((f"{var} has no {d} {label!r} (its {d}s: {', '.join(map(str, ds[d].values))})" for d, label in sel.items()
+                            if d not in ds.coords or label not in [str(v) for v in ds[d].values]), None)
+        if missing and var not in ds.data_vars:
+            held = ", ".join(map(str, ds.data_vars)) or "none"
+            missing += f"; its variables: {held}" + (" (a spectrum: analyse its Z as it is)" if "Z" in ds.data_vars else "")
+        if missing:
+            raise DataError(f"example_spectra: ds is not the SYNTHETIC example (impedax.models.load_example() or generate_sirin_synthetic()): {missing}")
 
 
 TWO_ARC_TRUTH: dict[str, float] = {"R0": 20.0, "R1": 100.0, "CPE1.Q": 1e-5, "CPE1.alpha": 0.85, "R2": 300.0, "CPE2.Q": 1e-3, "CPE2.alpha": 0.75}
@@ -277,5 +298,7 @@ def sirin_trial_remainders(ds: xr.Dataset, contact: str = "sliding") -> xr.Datas
     (session, trial, frequency)."""
     from .sirin import trial_remainders
 
+    if contact not in ("sliding", "stationary"):
+        raise DataError(f"contact must be 'sliding' or 'stationary' (the example's two totals), got {contact!r}")
     parts = example_spectra(ds)
     return trial_remainders(parts[f"total_{contact}"], parts["skin"], parts["touchscreen"])
