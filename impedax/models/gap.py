@@ -51,7 +51,7 @@ from ..fitting.kk import KKChains
 from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import FrozenResult, freeze_fields
-from .gap_inputs import DriveVoltage, check_gap_inputs, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
+from .gap_inputs import DriveVoltage, check_gap_inputs, check_spectra, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
 from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, band_end_words, force_plateau, grid_edge_slope  # noqa: F401 (FORCE_PLATEAU_SPAN: gap.FORCE_PLATEAU_SPAN as before 2026-12-06)
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_CUTOFF_HZ, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
@@ -983,6 +983,7 @@ def gap_analysis(
         raise ParameterError(f"unknown gap method {method!r}; use one of {', '.join(GAP_METHODS)}")
     _check_single_edl_fit(edl_fit)
     single = is_single_contact(skin, touchscreen)
+    check_spectra(total, skin, touchscreen)  # (Datasets of spectra, before any check reads them)
     check_not_a_remainder(total, skin, touchscreen)
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)  # (sign, grids, distinct: DataError naming the file)
     drive = drive_voltage(total, v0)

@@ -38,13 +38,13 @@ import numpy as np
 import xarray as xr
 
 from ..data import label_value
-from ..errors import DataError, ParameterError
+from ..errors import IN_MEMORY, DataError, ParameterError
 from ..fitting.least_squares.result import is_remainder
 from ..io.sign_check import negative_real_evidence, negative_real_hint, opposite_sign_hint, swapped_evidence
 from ..io.table import SWEEP_RTOL
 from .sirin import SIRIN_DRIVE_V, joined_names
 
-__all__ = ["GAP_INPUTS", "ONE_PART_REFUSED", "is_single_contact", "present_inputs", "MAX_POSITIVE_SHARE", "REPLICATE_DIM_WORDS", "VOLTAGE_NAME_WORDS", "NOT_DRIVE_WORDS", "V0_SOURCES", "CarriedVoltage", "DriveVoltage", "carried_voltages", "check_gap_inputs", "condition_notes", "drive_voltage", "is_voltage_name", "position_notes", "spectra_used"]
+__all__ = ["GAP_INPUTS", "ONE_PART_REFUSED", "is_single_contact", "check_spectra", "present_inputs", "MAX_POSITIVE_SHARE", "REPLICATE_DIM_WORDS", "VOLTAGE_NAME_WORDS", "NOT_DRIVE_WORDS", "V0_SOURCES", "CarriedVoltage", "DriveVoltage", "carried_voltages", "check_gap_inputs", "condition_notes", "drive_voltage", "is_voltage_name", "position_notes", "spectra_used"]
 
 GAP_INPUTS = ("total", "skin", "touchscreen")
 MAX_POSITIVE_SHARE = 0.5
@@ -264,6 +264,24 @@ def check_not_a_remainder(total, skin, touchscreen) -> None:
         "the remainder alone is for impedax fit and sample (C_gap, whence u = ε0 ε_gap A / C_gap)",
         path=source,
     )
+
+
+def check_spectra(total, skin, touchscreen) -> None:
+    """Each input given (the total always; skin and touchscreen unless None) is a spectrum
+    Dataset (`impedax.data.validate_spectrum`), else one `DataError` naming the input and what it
+    is (until 2026-12-06 `gap_analysis(None)` or a file name in place of a Dataset raised an
+    AttributeError from inside the checks)."""
+    from ..arguments import shown
+    from ..data import validate_spectrum
+
+    for name, data in zip(GAP_INPUTS, (total, skin, touchscreen)):
+        if data is None and name != "total":
+            continue
+        if not isinstance(data, xr.Dataset):
+            read = " (a file name: read it with impedax.load first)" if isinstance(data, str) else ""
+            raise DataError(f"{name}: expected a spectrum Dataset with complex 'Z' over 'frequency' (impedax.load, impedax.make_spectrum), got {shown(data)} ({type(data).__name__}){read}")
+        source = str(data.attrs.get("source") or IN_MEMORY)
+        validate_spectrum(data, source=name if source == IN_MEMORY else source)  # (a file's own name: `validate_spectrum` then says what changed since it was read)
 
 
 def present_inputs(total, skin, touchscreen) -> dict[str, xr.Dataset]:

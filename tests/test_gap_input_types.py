@@ -1,0 +1,41 @@
+"""`impedax.models.gap_analysis` refuses inputs that are no spectrum Dataset with one `DataError`
+naming the input, before any fit (until 2026-12-06 None or a file name raised an AttributeError,
+a Dataset without Z a KeyError, from inside its checks)."""
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import impedax as ix
+from impedax.models import gap_analysis
+
+FREQ = np.geomspace(1.0, 1e6, 31)
+
+
+@pytest.fixture(scope="module")
+def spectrum():
+    return ix.make_spectrum(FREQ, 1e3 + 1.0 / (2j * np.pi * FREQ * 1e-9))
+
+
+EXPECTED = "expected a spectrum Dataset with complex 'Z' over 'frequency' (impedax.load, impedax.make_spectrum), got"
+
+
+@pytest.mark.parametrize(("which", "given", "message"), [
+    ("total", None, f"total: {EXPECTED} None (NoneType)"),
+    ("total", [1, 2], f"total: {EXPECTED} [1, 2] (list)"),
+    ("total", "total.nc", f"total: {EXPECTED} 'total.nc' (str) (a file name: read it with impedax.load first)"),
+    ("skin", "skin.nc", f"skin: {EXPECTED} 'skin.nc' (str) (a file name: read it with impedax.load first)"),
+    ("touchscreen", 3.0, f"touchscreen: {EXPECTED} 3.0 (float)"),
+])
+def test_an_input_that_is_no_dataset_is_named(spectrum, which, given, message):
+    inputs = {"total": spectrum, "skin": spectrum * 0.1, "touchscreen": spectrum * 0.2, which: given}
+    with pytest.raises(ix.DataError) as caught:
+        gap_analysis(inputs["total"], inputs["skin"], inputs["touchscreen"], method="pooled", steps=20, progress=False)
+    assert str(caught.value) == message
+
+
+def test_a_dataset_without_z_is_named_as_the_total(spectrum):
+    other = xr.Dataset({"impedance": ("frequency", spectrum["Z"].values)}, coords={"frequency": FREQ})
+    with pytest.raises(ix.DataError) as caught:
+        gap_analysis(other, method="pooled", steps=20, progress=False)
+    assert str(caught.value) == "total: dataset has no variable 'Z' (its data variables: 'impedance')"
