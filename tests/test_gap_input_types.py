@@ -8,6 +8,7 @@ import xarray as xr
 
 import impedax as ix
 from impedax.models import gap_analysis
+from impedax.models.gap import gap_remainder
 
 FREQ = np.geomspace(1.0, 1e6, 31)
 
@@ -39,3 +40,13 @@ def test_a_dataset_without_z_is_named_as_the_total(spectrum):
     with pytest.raises(ix.DataError) as caught:
         gap_analysis(other, method="pooled", steps=20, progress=False)
     assert str(caught.value) == "total: dataset has no variable 'Z' (its data variables: 'impedance')"
+
+
+def test_gap_remainder_names_them_alike(spectrum):
+    """`impedax remaining`'s function: None raised an AttributeError, a file name a TypeError."""
+    with pytest.raises(ix.DataError) as caught:
+        gap_remainder(None, None, None)
+    assert str(caught.value) == f"total: {EXPECTED} None (NoneType)"
+    with pytest.raises(ix.DataError) as caught:
+        gap_remainder(spectrum, "skin.nc", spectrum * 0.2)
+    assert str(caught.value) == f"skin: {EXPECTED} 'skin.nc' (str) (a file name: read it with impedax.load first)"

@@ -1392,6 +1392,7 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset | None = None, touchscreen
     if kind not in REMAINDER_KINDS:
         raise ParameterError(f"unknown remainder kind {kind!r}; use one of {', '.join(REMAINDER_KINDS)}")
     is_single_contact(skin, touchscreen)
+    check_spectra(total, skin, touchscreen)  # (as `gap_analysis`: None or a file name was an AttributeError, 2026-12-06)
     # (a remainder given as a single contact's total is refused here as by `gap_analysis`:
     # `impedax remaining` of it wrote a "single contact" file that `gap` then read, its force
     # 412 mN flat over frequency where the contact's peaks at 352 mN; walkthrough 2026-12-06)
