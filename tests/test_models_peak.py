@@ -76,3 +76,14 @@ def test_meyer_thesis_values_against_a_dense_grid():
 def test_bad_input_is_named(freq, force, says):
     with pytest.raises(ParameterError, match=says):
         force_maximum(lambda f: 1.0, freq, force)
+
+
+def test_a_force_at_that_is_no_function_or_gives_no_number_is_named():
+    """Until 2026-12-06 TypeError "'int' object is not callable" and NumPy's ValueError "could not
+    convert string to float" came out of force_maximum."""
+    with pytest.raises(ParameterError, match="force_at must be a function of one frequency .* got int"):
+        force_maximum(3, [1.0, 10.0])
+    with pytest.raises(ParameterError, match="freq must be numbers: could not convert string to float: 'abc'"):
+        force_maximum(lambda f: 1.0, "abc")
+    with pytest.raises(ParameterError, match="force_at's values must be numbers: could not convert string to float: 'a'"):
+        force_maximum(lambda f: "a", [1.0, 10.0])

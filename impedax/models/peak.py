@@ -152,6 +152,15 @@ class ForceMaximum:
         return asdict(self)
 
 
+def _numbers(values, name: str) -> np.ndarray:
+    """``values`` as a flat float array, else one `ParameterError` naming ``name`` (text or
+    objects that are no numbers: until 2026-12-06 NumPy's ValueError)."""
+    try:
+        return np.asarray(values, float).reshape(-1)
+    except (TypeError, ValueError) as exc:
+        raise ParameterError(f"{name} must be numbers: {exc}") from None
+
+
 def force_maximum(force_at: Callable[[float], float], freq, force=None) -> ForceMaximum:
     """The largest of ``force`` (``force_at`` on the grid ``freq`` [Hz] when not given), refined
     by Brent's bounded maximisation of ``force_at(f)`` in ln f between the grid maximum's
@@ -162,12 +171,14 @@ def force_maximum(force_at: Callable[[float], float], freq, force=None) -> Force
     `impedax.data.log_frequencies`)."""
     from scipy.optimize import minimize_scalar
 
-    freq = np.asarray(freq, float).reshape(-1)
+    if not callable(force_at):
+        raise ParameterError(f"force_at must be a function of one frequency [Hz] returning the force [N], got {type(force_at).__name__}")
+    freq = _numbers(freq, "freq")
     if freq.size == 0:
         raise ParameterError("freq: no frequencies given")
     if not np.all(np.isfinite(freq)) or np.any(freq <= 0) or np.any(np.diff(freq) < 0):
         raise ParameterError("freq: frequencies must be positive, finite and rising")
-    force = np.array([force_at(float(f)) for f in freq], float) if force is None else np.asarray(force, float).reshape(-1)
+    force = _numbers([force_at(float(f)) for f in freq], "force_at's values") if force is None else _numbers(force, "force")
     if force.shape != freq.shape:
         raise ParameterError(f"force: {force.size} values for {freq.size} frequencies")
     if not np.all(np.isfinite(force)):
@@ -185,7 +196,7 @@ def force_maximum(force_at: Callable[[float], float], freq, force=None) -> Force
     at_end["plateau_hz"] = force_plateau(freq, force, k)
     lo, hi = math.log(freq[max(k - 1, 0)]), math.log(freq[min(k + 1, n - 1)])
     best = minimize_scalar(lambda x: -force_at(math.exp(lo + x * (hi - lo))), bounds=(0.0, 1.0), method="bounded", options={"xatol": _XATOL})
-    value = -float(best.fun)
+    value = -float(best.fun)  # (force_at gave numbers on the grid: the bracket's are numbers too)
     if k in (0, n - 1):
         end = 0.0 if k == 0 else 1.0
         if abs(best.x - end) <= _EDGE or not value > force[k]:
