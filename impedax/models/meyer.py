@@ -391,21 +391,21 @@ def _some_layer(arguments) -> None:
         raise ParameterError("d_i and d_sc are both 0: eq 3.7 needs a dielectric between the plates (the force is infinite without one)")
 
 
-@checked_arguments(_some_layer, area=numeric_array(positive=True), d_i=_thickness, d_sc=_thickness, eps_i=relative_permittivity, eps_sc=relative_permittivity)
+@checked_arguments(_some_layer, v_f=numeric_array(), area=numeric_array(positive=True), d_i=_thickness, d_sc=_thickness, eps_i=relative_permittivity, eps_sc=relative_permittivity)
 def static_force_series(v_f, *, area: float, d_i: float, eps_i: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.7: force [N] of two dielectrics in series with no leaked charge,
     F = ε0 A V_F² / (2 (d_i/ε_i + d_sc/ε_sc)²)."""
     return EPSILON_0 * area * jnp.asarray(v_f) ** 2 / (2.0 * (d_i / eps_i + d_sc / eps_sc) ** 2)
 
 
-@checked_arguments(area=numeric_array(positive=True), d_sc=numeric_array(positive=True), eps_sc=relative_permittivity)
+@checked_arguments(v_f=numeric_array(), area=numeric_array(positive=True), d_sc=numeric_array(positive=True), eps_sc=relative_permittivity)
 def static_force_f1(v_f, *, area: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.8 (zero insulator thickness; the form Meyer argues is right for a solid
     dielectric slab): F1 = ε0 A V_F² / (2 (d_sc/ε_sc)²) = Q²/(2 ε0 A)."""
     return EPSILON_0 * area * jnp.asarray(v_f) ** 2 / (2.0 * (d_sc / eps_sc) ** 2)
 
 
-@checked_arguments(area=numeric_array(positive=True), d_sc=numeric_array(positive=True), eps_sc=relative_permittivity)
+@checked_arguments(v_f=numeric_array(), area=numeric_array(positive=True), d_sc=numeric_array(positive=True), eps_sc=relative_permittivity)
 def static_force_f2(v_f, *, area: float, d_sc: float, eps_sc: float):
     """Thesis eq 3.9 (the textbook parallel-plate form, correct only for a dielectric fluid):
     F2 = ε0 ε_sc A V_F² / (2 d_sc²) = Q²/(2 ε0 ε_sc A) = F1/ε_sc."""
@@ -425,11 +425,20 @@ class FrictionLine:
         return xr.Dataset({"mu": self.mu, "offset": self.offset, "mu_stderr": self.mu_stderr}, attrs={"n_points": self.n_points, "offset_units": "N"})
 
 
+def _measured(values, name: str, *, flat: bool = True) -> np.ndarray:
+    """Measured forces [N] as a float array (flattened unless ``flat`` is False), else one
+    `DataError` naming ``name`` (text where numbers go: NumPy's ValueError until 2026-12-06)."""
+    try:
+        array = np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise DataError(f"{name} must be numbers [N], got {shown(values)}") from None
+    return array.ravel() if flat else array
+
+
 def friction_coefficient(normal_force, friction_force, *, through_origin: bool = False) -> FrictionLine:
     """µ from a linear regression of friction force on normal force [N] measured without
     voltage (thesis §4.4, Fig 4.8); ``through_origin`` forces the offset to zero."""
-    fn = np.asarray(normal_force, dtype=np.float64).ravel()
-    ft = np.asarray(friction_force, dtype=np.float64).ravel()
+    fn, ft = _measured(normal_force, "normal_force"), _measured(friction_force, "friction_force")
     if fn.shape != ft.shape:
         raise DataError(f"normal_force has {fn.size} values but friction_force has {ft.size}")
     need = 2 if through_origin else 3
@@ -453,4 +462,4 @@ def force_from_friction(delta_friction, mu):
     mu = mu.mu if isinstance(mu, FrictionLine) else mu
     if not np.all(np.asarray(mu) > 0):
         raise ParameterError(f"friction coefficient must be positive, got {mu}")
-    return np.asarray(delta_friction, dtype=np.float64) / mu
+    return _measured(delta_friction, "delta_friction", flat=False) / mu

@@ -189,18 +189,19 @@ def voltage_for_force(force, freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], area
 @contextlib.contextmanager
 def _warned_at_caller():
     """The `Eq8ValidityWarning` of the calls inside a sweep said once, pointing at the sweep's
-    caller; other warnings passed on as they were."""
+    caller (the sweeps are `checked_arguments` functions: one frame more); other warnings passed on as they were."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         yield
     eq8 = [w for w in caught if issubclass(w.category, Eq8ValidityWarning)]
-    if eq8:  # (this generator ← contextlib's __exit__ ← the sweep ← its caller)
-        warnings.warn(eq8[0].message, Eq8ValidityWarning, stacklevel=4)
+    if eq8:  # (this generator ← contextlib's __exit__ ← the sweep ← its argument checks ← its caller)
+        warnings.warn(eq8[0].message, Eq8ValidityWarning, stacklevel=5)
     for w in caught:
         if not issubclass(w.category, Eq8ValidityWarning):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
+@checked_arguments(h_i=numeric_array(positive=True), eps_i=numeric_array(positive=True))
 def insulator_sweep(h_i, eps_i, *, freq=500.0, v_m=140.0, **params) -> xr.DataArray:
     """Fig 9: time-averaged force [N] over insulator thickness ``h_i`` [m] × permittivity
     ``eps_i`` (paper: ε_i 1–36, 500 Hz, 140 V; other parameters from Table 2 unless given)."""
@@ -210,6 +211,7 @@ def insulator_sweep(h_i, eps_i, *, freq=500.0, v_m=140.0, **params) -> xr.DataAr
     return xr.DataArray(np.asarray(force), dims=("eps_i", "h_i"), coords={"eps_i": eps_i, "h_i": ("h_i", h_i, {"units": "m"})}, name="force", attrs={"units": "N", "convention": "time-average", "figure": "Vezzoli Fig 9", "frequency_hz": float(freq), "v_m": float(v_m)})
 
 
+@checked_arguments(eps_i=numeric_array(positive=True))
 def voltage_sweep(eps_i, *, force=0.01, h_i=1e-6, freq=500.0, **params) -> xr.DataArray:
     """Fig 10: voltage amplitude [V] needed for a time-averaged ``force`` (0.01 N) over
     ``eps_i`` with a 1 µm insulator at 500 Hz (other parameters from Table 2 unless given)."""
@@ -219,6 +221,7 @@ def voltage_sweep(eps_i, *, force=0.01, h_i=1e-6, freq=500.0, **params) -> xr.Da
     return xr.DataArray(np.asarray(v), dims=("eps_i",), coords={"eps_i": eps_i}, name="voltage", attrs={"units": "V", "figure": "Vezzoli Fig 10", "force_n": float(force), "h_i_m": float(h_i), "frequency_hz": float(freq)})
 
 
+@checked_arguments(freq=numeric_array(positive=True), h_s=numeric_array(positive=True))
 def stratum_corneum_sweep(freq, h_s, **params) -> xr.DataArray:
     """Fig 8: time-averaged force [N] over frequency × stratum corneum thickness ``h_s`` [m]
     under Meyer's conditions (`MEYER_CONDITIONS`: 140 V, 1 µm, ε_i 3.4; the rest Table 2)."""
