@@ -50,3 +50,21 @@ def test_gap_remainder_names_them_alike(spectrum):
     with pytest.raises(ix.DataError) as caught:
         gap_remainder(spectrum, "skin.nc", spectrum * 0.2)
     assert str(caught.value) == f"skin: {EXPECTED} 'skin.nc' (str) (a file name: read it with impedax.load first)"
+
+
+def test_a_results_methods_name_a_bad_branch_or_true_gap():
+    """`GapAnalysis.force_at_max("x")` raised xarray's KeyError "not all values found in index
+    'branch'", `plot(true_gap="x")` a TypeError and `plot(true_gap=-1)` drew a negative gap; the
+    arguments are checked before the result is read (so a stand-in for it serves here)."""
+    from types import SimpleNamespace
+
+    from impedax.models.gap import GapAnalysis
+
+    for method in (GapAnalysis.force_at_max, GapAnalysis.gap_voltage_at_force_max):
+        with pytest.raises(ix.ParameterError) as caught:
+            method(SimpleNamespace(), "with EP")
+        assert str(caught.value) == "unknown branch 'with EP'; did you mean 'with_ep'? (choose one of with_ep, without_ep)"
+    with pytest.raises(ix.ParameterError, match=r"true_gap must be a number, got '2.8 um' \(str\)"):
+        GapAnalysis.plot(SimpleNamespace(), true_gap="2.8 um")
+    with pytest.raises(ix.ParameterError, match="true_gap must be positive, got -2.8e-06"):
+        GapAnalysis.plot(SimpleNamespace(), true_gap=-2.8e-6)

@@ -56,8 +56,10 @@ from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, band_end_words, force_p
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_CUTOFF_HZ, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
-__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area", "force_maximum_text", "force_maximum_shape", "force_conditions_of"]
+__all__ = ["GapAnalysis", "gap_analysis", "gap_remainder", "REMAINDER_KINDS", "GAP_TABLE_COLUMNS", "GAP_METHODS", "FORCE_BRANCHES", "GAP_MIN_STEPS", "FINGERTIP_AREA_M2", "IDENTIFIED_C_REMAINDER", "C_GAP_BOUNDS_F", "HIERARCHICAL_AUTO_DRAWS", "GAP_DRAW_ALIASES", "GAP_SAVED_DRAWS", "GAP_VARIABLE_LABELS", "gap_bounds", "check_fingertip_area", "force_maximum_text", "force_maximum_shape", "force_conditions_of"]
 
+FORCE_BRANCHES = ("with_ep", "without_ep")
+"""The force bands' ``branch`` labels: with the electrode-polarization branch, and C_gap alone."""
 GAP_METHODS = ("hierarchical", "pooled")
 _EP_PER_TRIAL = ("R_EP", "CPE_EP.Q", "C_EP")  # the contact's EP branch varies with each trial
 
@@ -452,6 +454,7 @@ class GapAnalysis(FrozenResult):
         band = self.force.sel(branch=branch)
         return {"frequency_hz": self.force["frequency"].values, **{k: band[f"gap_voltage_{k}"].values for k in ("median", "q05", "q95")}}
 
+    @checked_arguments(branch=choice(FORCE_BRANCHES))  # (2026-12-06: another branch was xarray's KeyError)
     def gap_voltage_at_force_max(self, branch: str = "with_ep") -> dict[str, float] | None:
         """The amplitude of the gap voltage |ΔV_gap| [V] (``value`` its posterior median,
         ``q05``, ``q95``) at ``frequency_hz``, where the median PEAK force of ``branch``
@@ -464,6 +467,7 @@ class GapAnalysis(FrozenResult):
         return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["gap_voltage_median"][i]),
                 "q05": float(band["gap_voltage_q05"][i]), "q95": float(band["gap_voltage_q95"][i])}
 
+    @checked_arguments(branch=choice(FORCE_BRANCHES))  # (2026-12-06: another branch was xarray's KeyError)
     def force_at_max(self, branch: str = "with_ep") -> dict:
         """The PEAK force [N] (``value`` the posterior median, ``q05``, ``q95`` its 90 % band) at
         ``frequency_hz``, where the median force of ``branch`` (``"with_ep"`` or ``"without_ep"``)
@@ -695,6 +699,7 @@ class GapAnalysis(FrozenResult):
             return f"Bayesian on one spectrum per file: {proportional}"
         return f"Bayesian on the trial means without their SEM (an input holds a single spectrum): {proportional}"
 
+    @checked_arguments(true_gap=real(positive=True, optional=True))  # (2026-12-06: text was a TypeError, -1 drawn as a gap)
     def plot(self, *, true_gap: float | None = None, figsize: tuple[float, float] | None = None):
         """Remaining impedance with both fits, the posterior of u against the paper's bounds
         (and ``true_gap`` [m] when known, e.g. for synthetic data), and the force bands with and
@@ -1738,7 +1743,7 @@ def _band_dataset(force, voltage, freq) -> xr.Dataset:
 
 def _branches(bands) -> xr.Dataset:
     """The with-EP and without-EP bands (`_band_dataset`) over ``branch``, with their units."""
-    force = xr.concat(bands, dim=xr.DataArray(["with_ep", "without_ep"], dims="branch"))
+    force = xr.concat(bands, dim=xr.DataArray(list(FORCE_BRANCHES), dims="branch"))
     for k in ("median", "q05", "q95"):
         force[k].attrs.update(units="N", convention=FORCE_CONVENTION)
         force[f"gap_voltage_{k}"].attrs.update(units="V", description="amplitude |ΔV_gap| of the voltage across C_gap for a drive of amplitude v0 (Sirin §2.4)")
