@@ -46,3 +46,18 @@ def test_the_sweeps_still_compute_and_warn_at_their_caller():
     assert sweep.shape == (2, 2)
     eq8 = [w for w in caught if issubclass(w.category, vezzoli.Eq8ValidityWarning)]
     assert len(eq8) == 1 and eq8[0].filename == __file__
+
+
+def test_meyer_parameters_and_sirins_ratios_name_what_they_were_given():
+    """meyer_parameters('x') raised AttributeError "'str' object has no attribute 'c_s'", and
+    Sirin eq 3's magnitude_ratio of text NumPy's UFuncTypeError (until 2026-12-06). Numbers pass:
+    |1+1j|/|2| = √2/2 by hand."""
+    from impedax.models import meyer_parameters, sirin
+
+    with pytest.raises(ix.ParameterError, match=r"physical must be a MeyerPhysical .* got 'x' \(str\)"):
+        meyer_parameters("x")
+    with pytest.raises(ix.ParameterError, match=r"z_i must be impedances \(complex numbers\), got 'a'"):
+        sirin.magnitude_ratio("a", [1.0])
+    with pytest.raises(ix.ParameterError, match=r"z_total must be impedances \(complex numbers\), got 'b'"):
+        sirin.phase_synchronization([1j], "b")
+    assert float(sirin.magnitude_ratio([1 + 1j], [2.0])[0]) == pytest.approx(2 ** 0.5 / 2, rel=1e-12)

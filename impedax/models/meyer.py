@@ -182,6 +182,8 @@ def meyer_parameters(physical: MeyerPhysical = THESIS_PHYSICAL, *, variant: str 
     CPE: ``CPE_sc.alpha = alpha`` and ``CPE_sc.Q = C_sc ω_ref^(1−α)`` with ω_ref = 2π·1 kHz, so
     the CPE has the capacitor's impedance magnitude at 1 kHz, where ρ_sc and ε_sc were quoted.
     """
+    if not isinstance(physical, MeyerPhysical):  # (2026-12-06: an AttributeError "'str' object has no attribute 'c_s'")
+        raise ParameterError(f"physical must be a MeyerPhysical (impedax.models.MeyerPhysical(rho_sc=…, d_sc=…, …)), got {shown(physical)} ({type(physical).__name__})")
     variant = _check_variant(variant)
     params = {"C_s": physical.c_s, "C_i": physical.c_i, "R_sc": physical.r_sc, "R_f": physical.r_f}
     if variant == "rc":

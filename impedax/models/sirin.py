@@ -681,14 +681,23 @@ def gap_force_time_average(params: Mapping[str, object], freq, z_skin, z_ts, **k
 
 def magnitude_ratio(z_i, z_total):
     """MR_i = |Z_i|/|Z_total| (Sirin eq 3, Fig 4c)."""
-    return np.abs(np.asarray(z_i)) / np.abs(np.asarray(z_total))
+    return np.abs(_impedances(z_i, "z_i")) / np.abs(_impedances(z_total, "z_total"))
+
+
+def _impedances(values, name: str) -> np.ndarray:
+    """Impedances [Ω] as a NumPy array, else one `ParameterError` naming ``name`` (text: NumPy's
+    UFuncTypeError until 2026-12-06)."""
+    array = np.asarray(values)
+    if array.dtype == bool or not np.issubdtype(array.dtype, np.number):
+        raise ParameterError(f"{name} must be impedances (complex numbers), got {shown(values)} (dtype {array.dtype})")
+    return array
 
 
 def phase_synchronization(z_i, z_total):
     """Percent phase synchronization PPS_i = [1 − |Φ_i − Φ_total|/|Φ_total|]·100 (Sirin eq 4,
     Fig 4d); phases Φ = arg Z. Eq 4 divides by |Φ_total|, so it is undefined where the total
     is purely resistive (Φ_total = 0): NaN there (no −inf, no warning), whatever Φ_i."""
-    phi_i, phi_t = np.angle(np.asarray(z_i)), np.angle(np.asarray(z_total))
+    phi_i, phi_t = np.angle(_impedances(z_i, "z_i")), np.angle(_impedances(z_total, "z_total"))
     phi_i, phi_t = np.broadcast_arrays(phi_i, phi_t)
     scale = np.abs(phi_t)
     defined = scale > 0
