@@ -235,14 +235,23 @@ def _read_with(reader: Reader, path: Path) -> xr.Dataset:
 
 def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str) -> xr.Dataset:
     """Sweep ``label`` of file ``path`` (`load`'s ``sweep``): alone when the file's sweeps are on
-    different grids (`SweepGridsDiffer.spectrum`), else picked from its sweep or cycle dimension."""
+    different grids (`SweepGridsDiffer.spectrum`), else picked from its sweep or cycle dimension,
+    or from the one dimension its spectra lie along (a workbook's sheets, Ivium's measurements on
+    one grid: until 2026-12-06 "the file holds no sweeps to pick from", where the same label read
+    the sheet alone when the sheets' grids differed)."""
     try:
         ds = load(path, readers)
     except SweepGridsDiffer as exc:
         return _sweep_of(exc, label, path)
     dims = [d for d in ("sweep", "cycle") if d in ds["Z"].dims]
+    others = [d for d in ds["Z"].dims if d != "frequency"]
+    if not dims and len(others) == 1:  # (a file's sheets, curves or measurements on one grid, as on different grids: 2026-12-06)
+        dims = others
     if not dims:
-        raise DataError(f"sweep={label}: the file holds no sweeps to pick from ({'one spectrum' if ds['Z'].ndim == 1 else ', '.join(ds['Z'].dims)})", path=path)
+        held = "one spectrum" if ds["Z"].ndim == 1 else f"spectra along {', '.join(others)}: pick one with data.sel({others[0]}=LABEL) (on the command line --select {others[0]}=LABEL)"
+        raise DataError(f"sweep={label}: the file holds no sweeps to pick from ({held})", path=path)
+    if dims[0] not in ds.coords:
+        ds = ds.assign_coords({dims[0]: range(ds.sizes[dims[0]])})
     labels = [str(v) for v in ds[dims[0]].values]
     if label not in labels:
         raise DataError(f"sweep={label}: no {dims[0]} {label}; its {dims[0]}s: {', '.join(labels)}", path=path)
