@@ -29,3 +29,11 @@ def test_an_unknown_label_lists_the_files_labels_and_one_spectrum_still_has_none
         ix.load(REAL / "data.xlsx", sweep="Sheet9")
     with pytest.raises(ix.DataError, match=r"sweep=0: the file holds no sweeps to pick from \(one spectrum\)"):
         ix.load(REAL / "exampleDataGamry.DTA", sweep="0")
+
+
+def test_identify_names_a_path_that_is_no_path_as_load_does():
+    """impedax.io.identify(123) raised Python's TypeError "expected str, bytes or os.PathLike
+    object, not int" (until 2026-12-06); load's own message now, and a REAL file is still identified."""
+    with pytest.raises(ix.DataError, match=r"a file path \(str or pathlib.Path\) is needed, got 123 \(int\)"):
+        ix.io.identify(123)
+    assert ix.io.identify(REAL / "data.dfr")[0].name == "Autolab FRA dfr"

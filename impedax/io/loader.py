@@ -76,7 +76,9 @@ def _named(reader: Reader) -> str:
 
 
 def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> tuple[Reader | None, list[str]]:
-    """The reader that claims ``path`` (``None`` for plain text) and the reasons of those that did not."""
+    """The reader that claims ``path`` (``None`` for plain text) and the reasons of those that did
+    not; a path that is no str or os.PathLike is one `DataError`, as `load`'s (a TypeError until 2026-12-06)."""
+    _check_path(path)
     reader, tried, _faults = _identify(path, readers)
     return reader, tried
 
