@@ -87,3 +87,18 @@ def test_a_force_at_that_is_no_function_or_gives_no_number_is_named():
         force_maximum(lambda f: 1.0, "abc")
     with pytest.raises(ParameterError, match="force_at's values must be numbers: could not convert string to float: 'a'"):
         force_maximum(lambda f: "a", [1.0, 10.0])
+
+
+def test_a_flat_force_lies_on_a_plateau_over_the_band_as_gap_says_it():
+    """A force the same at every frequency is within 1 % of its largest over the whole band: its
+    plateau_hz is the band when that spans more than a decade (`force_plateau`'s rule), as
+    `impedax gap`'s force_maximum_shape gives it; it was None (until 2026-12-06)."""
+    from impedax.models.gap import force_maximum_shape
+    import xarray as xr
+
+    freq = np.geomspace(1.0, 1e3, 7)
+    flat = force_maximum(lambda f: 2.0, freq)
+    assert flat.band_edge == "flat" and flat.plateau_hz == (1.0, 1e3)
+    shape = force_maximum_shape(xr.DataArray(np.full(freq.size, 2.0), dims="frequency", coords={"frequency": freq}))
+    assert shape["band_edge"] == "flat" and shape["plateau_hz"] == flat.plateau_hz
+    assert force_maximum(lambda f: 2.0, [1.0, 5.0]).plateau_hz is None  # (less than a decade: no plateau judged)

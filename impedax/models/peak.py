@@ -189,8 +189,9 @@ def force_maximum(force_at: Callable[[float], float], freq, force=None) -> Force
     k = n - 1 if ties[-1] == n - 1 else int(ties[0])  # (on a flat top reaching fmax: the force rises to fmax)
     grid = {"grid_frequency_hz": float(freq[k]), "grid_force_n": float(force[k])}
     at_end = {"frequency_hz": float(freq[k]), "force_n": float(force[k]), **grid, "at_band_edge": True}
-    if n > 1 and force.max() == force.min():  # (flat, e.g. zero: no end to call rising)
-        return ForceMaximum(**{**at_end, "frequency_hz": float(freq[0]), "grid_frequency_hz": float(freq[0]), "at_band_edge": False, "band_edge": "flat"})
+    if n > 1 and force.max() == force.min():  # (flat, e.g. zero: no end to call rising; its plateau the band, as impedax gap's JSON gives it: 2026-12-06)
+        return ForceMaximum(**{**at_end, "frequency_hz": float(freq[0]), "grid_frequency_hz": float(freq[0]), "at_band_edge": False, "band_edge": "flat",
+                               "plateau_hz": force_plateau(freq, force, 0)})
     if n == 1 or freq[0] == freq[-1]:
         return ForceMaximum(**at_end, band_edge="fmin=fmax")
     at_end["plateau_hz"] = force_plateau(freq, force, k)
