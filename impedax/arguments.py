@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import decimal
 import difflib
+import enum
 import functools
 import inspect
 import math
@@ -70,6 +71,13 @@ __all__ = [
     "MAX_POINTS",
     "GAP_MIN_STEPS",
     "EXCLUDE_RTOL",
+    "NoiseModel",
+    "NOISE_MODELS",
+    "SAMPLE_NOISE_MODELS",
+    "PriorKind",
+    "PRIOR_KINDS",
+    "CHAIN_TAU_MULTIPLE",
+    "AUTO_MAX_STEPS",
 ]
 
 MAX_MESSAGE = 300  # characters: a message is read, not scrolled
@@ -207,10 +215,55 @@ frequency = real(positive=True, optional=True)
 """A band limit ``fmin``/``fmax`` [Hz]: positive and finite, or None (no limit)."""
 
 
-SAMPLE_NOISE_MODELS = ("proportional", "sigma")
-"""The names of `sample`'s noise models (`fitting.bayes.NOISE_MODELS`, spelled here so that a
-relative level's check need not import the sampler): given where a level belongs, they are
+class NoiseModel(enum.StrEnum):
+    """How the noise scale σ_k of each point is known; the values are what users write
+    (`impedax.fitting.bayes.logprob`, where the log-probability reads them)."""
+
+    PROPORTIONAL = "proportional"
+    SIGMA = "sigma"
+
+
+NOISE_MODELS = {
+    NoiseModel.PROPORTIONAL: "Re and Im of each point carry Gaussian noise σ_k = sigma_rel·|Z_data,k|; sigma_rel is sampled",
+    NoiseModel.SIGMA: "Re and Im of each point carry Gaussian noise with the known σ_k of the data's 'sigma' variable (e.g. SEM of repeated trials)",
+}
+"""`sample`'s noise models in words. They, `PriorKind`, `CHAIN_TAU_MULTIPLE` and `AUTO_MAX_STEPS`
+are the sampler's vocabulary, defined here below JAX (and re-exported by `impedax.fitting.bayes`)
+so that ``impedax sample --help`` quotes them without importing JAX."""
+
+SAMPLE_NOISE_MODELS = tuple(str(m) for m in NoiseModel)
+"""The names of `sample`'s noise models: given where a relative level belongs, they are
 refused with a hint."""
+
+
+class PriorKind(enum.StrEnum):
+    """The prior families; the values are the names users write (``--prior R1=loguniform:…``;
+    `impedax.fitting.bayes.priors`)."""
+
+    UNIFORM = "uniform"
+    LOGUNIFORM = "loguniform"
+    NORMAL = "normal"
+    LOGNORMAL = "lognormal"
+
+
+PRIOR_KINDS = {
+    PriorKind.UNIFORM: "uniform:LO,HI — flat on [LO, HI]",
+    PriorKind.LOGUNIFORM: "loguniform:LO,HI — flat in log x on [LO, HI], 0 < LO (the default)",
+    PriorKind.NORMAL: "normal:MU,SD — Gaussian (truncated to the parameter's bounds)",
+    PriorKind.LOGNORMAL: "lognormal:MEDIAN,S — ln x Gaussian with standard deviation S (truncated to the bounds)",
+}
+
+CHAIN_TAU_MULTIPLE = 50
+"""The autocorrelation times a kept chain must span (`impedax.fitting.bayes.diagnostics`'s
+chain-length warning; ``steps="auto"`` runs until every parameter's chain is this long)."""
+
+AUTO_MAX_STEPS = 20_000
+"""The most steps ``steps="auto"`` runs before it stops with the chain-length warning. The
+8-parameter battery circuit of the examples (9 sampled parameters, τ ≈ 140–150 steps) needed
+9 750–13 000 steps, so the cap leaves it room by 1.5–2×, while a posterior that will not mix
+costs at most ~35 s on a quiet 2-core machine (≈ 1.6 ms a step there) and 92 MB of chain
+(64 walkers × 9 parameters); `impedax.fitting.bayes.chain.auto_step_cap` lowers it for many
+walkers or parameters to stay within `MAX_CHAIN_VALUES` and its own limit of numbers."""
 
 
 def noise_fraction(value, name):

@@ -112,14 +112,12 @@ def test_inspect_reads_real_files_without_jax(tmp_path):
     assert cycles["code"] == 0 and not cycles["jax"] and "next: impedax kk" in cycles["out"]
 
 
-HELP_WITH_JAX = ("sample",)  # (its help text quotes the sampler's noise models and prior kinds, defined beside JAX code)
-
-
-@pytest.mark.parametrize("command", [c for c in COMMAND_HELP if c not in HELP_WITH_JAX])
+@pytest.mark.parametrize("command", list(COMMAND_HELP))
 def test_a_commands_help_does_not_import_jax(command, tmp_path):
     """``impedax COMMAND --help`` prints the command's options without importing JAX; until
     2026-12-06 `force --help` imported it (with impedax.models and impedax.fitting) for a 1 %
-    plateau threshold its peak line quotes."""
+    plateau threshold its peak line quotes, and `sample --help` for the sampler's noise models,
+    prior kinds and chain lengths, which now live in impedax.arguments."""
     result = run_command([command, "--help"], tmp_path)
     assert result["code"] == 0 and f"usage: impedax {command}" in result["out"] and not result["jax"]
 
@@ -162,3 +160,19 @@ print(json.dumps({"with_fit": with_fit, "later": loaded(), "compare_is_registere
         assert unused == "derived" or f"impedax.fitting.{unused}" in result["later"]
     assert "impedax.fitting.least_squares" in result["with_fit"]
     assert result["compare_is_registered"] and result["kk_count"] == 10 and result["drt_is_the_function"]
+
+
+def test_sample_help_quotes_the_samplers_vocabulary_without_jax(tmp_path):
+    """`impedax sample --help` names the four prior kinds, the two noise models and the chain
+    lengths docs/bayesian.md gives (50 autocorrelation times, at most 20000 steps), with JAX
+    unloaded; the sampler reads the same objects (one definition, in impedax.arguments)."""
+    result = run_command(["sample", "--help"], tmp_path)
+    assert result["code"] == 0 and not result["jax"]
+    text = " ".join(result["out"].split())
+    for words in ("uniform:LO,HI", "loguniform:LO,HI", "normal:MU,SD", "lognormal:MEDIAN,S", "proportional:", "sigma:", "50 autocorrelation times", "at most 20000"):
+        assert words in text, words
+    import impedax.arguments as arguments
+    from impedax.fitting.bayes import chain, diagnostics, logprob, priors
+
+    assert logprob.NOISE_MODELS is arguments.NOISE_MODELS and priors.PRIOR_KINDS is arguments.PRIOR_KINDS
+    assert chain.AUTO_MAX_STEPS == arguments.AUTO_MAX_STEPS == 20_000 and diagnostics.CHAIN_TAU_MULTIPLE == 50

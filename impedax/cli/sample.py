@@ -6,9 +6,7 @@ import sys
 
 
 def register(sub) -> None:
-    from ..fitting import NOISE_MODELS, PRIOR_KINDS
-    from ..fitting.bayes.diagnostics import CHAIN_TAU_MULTIPLE
-    from ..fitting.bayes.sampler import AUTO_MAX_STEPS
+    from ..arguments import AUTO_MAX_STEPS, CHAIN_TAU_MULTIPLE, NOISE_MODELS, PRIOR_KINDS  # (the sampler's vocabulary, below JAX: --help imports no JAX)
     from .common import add_model_argument, add_output_options, add_plot_option, add_quiet_option, add_select_option, number_option, result_out_help
     from .fit import add_bound_option, add_shared_options
 

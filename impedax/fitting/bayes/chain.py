@@ -12,7 +12,7 @@ from typing import Callable, Mapping, NamedTuple, Sequence
 
 import numpy as np
 
-from ...arguments import MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, count, shown
+from ...arguments import AUTO_MAX_STEPS as AUTO_MAX_STEPS, MAX_CHAIN_VALUES, MAX_SAMPLER_STEPS, count, shown
 from ...errors import FitError, ParameterError
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, Stragglers, find_stragglers, integrated_autocorr
 from .priors import UNDETERMINED_STDERRS, Prior, undetermined
@@ -24,14 +24,6 @@ __all__ = [
 ]
 
 AUTO_STEPS = "auto"
-
-AUTO_MAX_STEPS = 20_000
-"""The most steps ``steps="auto"`` runs before it stops with the chain-length warning. The
-8-parameter battery circuit of the examples (9 sampled parameters, τ ≈ 140–150 steps) needed
-9 750–13 000 steps, so the cap leaves it room by 1.5–2×, while a posterior that will not mix
-costs at most ~35 s on a quiet 2-core machine (≈ 1.6 ms a step there) and 92 MB of chain
-(64 walkers × 9 parameters); `auto_step_cap` lowers it for many walkers or parameters to stay
-within `MAX_CHAIN_VALUES` and `AUTO_MAX_CHAIN_NUMBERS`."""
 
 AUTO_CHECK_STEPS = 250
 """Steps between two estimates of τ in a ``steps="auto"`` run (emcee's recipe checks every 100;

@@ -13,6 +13,7 @@ from typing import Mapping, NamedTuple, Sequence
 import numpy as np
 import xarray as xr
 
+from ...arguments import CHAIN_TAU_MULTIPLE as CHAIN_TAU_MULTIPLE
 from ...circuits import Circuit, Registry
 from ...data import format_bound, format_factor, format_quantity, value_span
 from ..derived import QUANTILES, mean_and_sd
@@ -24,7 +25,6 @@ __all__ = [
     "acceptance_warnings", "interval_warnings", "tied_to_bound", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
-CHAIN_TAU_MULTIPLE = 50
 ACCEPTANCE_STUCK = 0.15  # below: the walkers rarely move
 GAUSSIAN_ACCEPTANCE = (0.807, 0.716, 0.647, 0.594, 0.551, 0.516, 0.486, 0.460, 0.438, 0.418, 0.399, 0.384, 0.368, 0.356, 0.344)
 """Mean acceptance of emcee's stretch move (a = 2, 64 walkers) on a d-dimensional Gaussian,

@@ -19,7 +19,6 @@ numbers) is a `LogProbArgs` pytree, so one compilation serves them all.
 
 from __future__ import annotations
 
-import enum
 import functools
 from dataclasses import dataclass
 from typing import Callable, NamedTuple
@@ -27,6 +26,7 @@ from typing import Callable, NamedTuple
 import jax
 import jax.numpy as jnp
 
+from ...arguments import NOISE_MODELS as NOISE_MODELS, NoiseModel as NoiseModel
 from ...circuits import Circuit, Registry, compile_circuit
 from .priors import prior_log_density
 from .reparam import Reparametrization
@@ -34,23 +34,11 @@ from .reparam import Reparametrization
 __all__ = ["NoiseModel", "NOISE_MODELS", "LogProbStructure", "LogProbArgs", "LogProbFunctions", "log_prob_functions", "natural", "start_weighting"]
 
 
-class NoiseModel(enum.StrEnum):
-    """How the noise scale σ_k of each point is known; the values are what users write."""
-
-    PROPORTIONAL = "proportional"
-    SIGMA = "sigma"
-
-
 def start_weighting(noise: str) -> str:
     """The weighting of the least-squares fit a sampling starts from: ``modulus`` for
     proportional noise, the data's ``sigma`` for known noise."""
     return "modulus" if NoiseModel(noise) is NoiseModel.PROPORTIONAL else "sigma"
 
-
-NOISE_MODELS = {
-    NoiseModel.PROPORTIONAL: "Re and Im of each point carry Gaussian noise σ_k = sigma_rel·|Z_data,k|; sigma_rel is sampled",
-    NoiseModel.SIGMA: "Re and Im of each point carry Gaussian noise with the known σ_k of the data's 'sigma' variable (e.g. SEM of repeated trials)",
-}
 
 NOISE_TITLES = {NoiseModel.PROPORTIONAL: "noise σ ∝ |Z|", NoiseModel.SIGMA: "noise σ: the data's sigma"}
 """`NOISE_MODELS` in a few words, for a posterior's figure titles (`Posterior.plot`, `corner`)."""

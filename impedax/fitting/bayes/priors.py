@@ -14,7 +14,6 @@ and the checks of user priors against the parameter bounds live here too.
 
 from __future__ import annotations
 
-import enum
 import math
 from dataclasses import dataclass
 from typing import Mapping
@@ -22,7 +21,7 @@ from typing import Mapping
 import jax.numpy as jnp
 import numpy as np
 
-from ...arguments import number_text, shown
+from ...arguments import PRIOR_KINDS as PRIOR_KINDS, PriorKind as PriorKind, number_text, shown
 from ...errors import ParameterError
 from ..parameters import data_scales
 
@@ -44,21 +43,6 @@ __all__ = [
 ]
 
 
-class PriorKind(enum.StrEnum):
-    """The prior families; the values are the names users write (``--prior R1=loguniform:…``)."""
-
-    UNIFORM = "uniform"
-    LOGUNIFORM = "loguniform"
-    NORMAL = "normal"
-    LOGNORMAL = "lognormal"
-
-
-PRIOR_KINDS = {
-    PriorKind.UNIFORM: "uniform:LO,HI — flat on [LO, HI]",
-    PriorKind.LOGUNIFORM: "loguniform:LO,HI — flat in log x on [LO, HI], 0 < LO (the default)",
-    PriorKind.NORMAL: "normal:MU,SD — Gaussian (truncated to the parameter's bounds)",
-    PriorKind.LOGNORMAL: "lognormal:MEDIAN,S — ln x Gaussian with standard deviation S (truncated to the bounds)",
-}
 _CODES = {PriorKind.UNIFORM: 0, PriorKind.LOGUNIFORM: 1, PriorKind.NORMAL: 2, PriorKind.LOGNORMAL: 3}  # the switch of `prior_log_density`
 
 
