@@ -23,7 +23,9 @@ Cov(a_i) = A_i⁻¹ + A_i⁻¹B_i S⁻¹B_iᵀA_i⁻¹ (A_i = J_iᵀJ_i, B_i = J
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+import itertools
 import math
 import time
 from dataclasses import dataclass
@@ -36,13 +38,15 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
 from ...arguments import closest_name
-from ...data import column_width, concise_repr, report_text, coordinate_labels, format_relative_error, unit_text
-from ...errors import DataError, ParameterError
+from ...data import column_width, concise_repr, counted, report_text, coordinate_labels, format_relative_error, unit_text
+from ...errors import DataError, FitError, ParameterError
+from ...progress import say, silenced
 from ...warning_groups import scope_key
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, add_null_group, information_criteria
 from .batch import BatchFitResult, data_notes, fit_batch
+from .order import exchangeable_blocks
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, unidentified_stderr, vanishing_candidates, vanishing_parameters
 from .result import value_shown_at_bound, near_bound_notes, BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
@@ -52,6 +56,12 @@ __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "Jo
 # sharing is reported as contradicted by the data when the F-test of shared against
 # independent fits rejects it at this level
 SHARING_P_LIMIT = 0.01
+
+POOR_SPECTRUM_CHI2_RATIO = 2.0
+"""A spectrum whose χ² in the global fit is above this multiple of its independent fit's is
+refitted alone under the shared values and the global fit solved again from there (kept when
+the joint χ² falls): on the REAL battery cycles 40–59 (R0 + R1 ∥ CPE1 + R2 ∥ CPE2, both α
+shared) the global fit from the independent fits left cycle 49 at 46 % rms_rel."""
 
 
 @dataclass(frozen=True)
@@ -608,7 +618,11 @@ def fit_shared(
     x_ind = independent.dataset["value"].transpose(*order).values.reshape(n_groups, m, -1)[:, :, free]
     chi2_ind = independent.dataset["chi2"].transpose(*layout.keep, *layout.over).values.reshape(n_groups, m)
     solver = joint_solver(circuit, registry, *table.free_structure, layout.shared_slots)
-    fits = [_solve_group(solver, table, layout, freq, z[gi], inv_re[gi], inv_im[gi], x_ind[gi], chi2_ind[gi], weighting=weighting, max_steps=int(max_steps)) for gi in range(n_groups)]
+    exchangeable = exchangeable_free_columns(circuit, registry, table, layout)
+    refits = [functools.partial(_own_refits, circuit, registry, table, layout, freq, z[gi], None if sigma is None else sigma[gi], weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, source=source)
+              for gi in range(n_groups)]
+    fits = [_solve_group(solver, table, layout, freq, z[gi], inv_re[gi], inv_im[gi], x_ind[gi], chi2_ind[gi], weighting=weighting, max_steps=int(max_steps), exchangeable=exchangeable, refit=refits[gi])
+            for gi in range(n_groups)]
     values, x_free, chi2, z_model, cov_shared, cov_full = (np.stack([getattr(f, name) for f in fits]) for name in ("values", "x_free", "chi2", "z_model", "cov_shared", "cov_full"))
     joint = {"chi2": np.array([f.chi2.sum() for f in fits]), "converged": np.array([f.converged for f in fits]), "steps": np.array([f.steps for f in fits])}
 
@@ -752,9 +766,13 @@ class _GroupFit(NamedTuple):
     null: JointNullSets
 
 
-def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, inv_re, inv_im, x_independent, chi2_independent, *, weighting: str, max_steps: int) -> _GroupFit:
+def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, inv_re, inv_im, x_independent, chi2_independent, *, weighting: str, max_steps: int, exchangeable=(), refit=None) -> _GroupFit:
     """The global fit of spectra z (M, N) from their independent fits ``x_independent`` (M, K):
-    own parameters start there, shared ones at the median over the spectra."""
+    own parameters start there, shared ones at the median over the spectra; ``exchangeable``:
+    `exchangeable_free_columns`; ``refit(rows, shared free values) -> x (rows, K) | None``: the
+    free values of those spectra fitted alone with the shared parameters held (`_own_refits`),
+    for the spectra whose χ² the global fit leaves above `POOR_SPECTRUM_CHI2_RATIO` × their
+    independent fit's."""
     solve, finish, _ = solver
     free = table.free_index
     lower, upper, kind = table.lower[free], table.upper[free], table.kind[free]
@@ -766,15 +784,109 @@ def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, i
     finite = np.all(np.isfinite(u_start), axis=1) & np.isfinite(chi2_independent)
     fallback = np.median(u_start[finite], axis=0) if finite.any() else to_internal(np.ones(free.size), lower, upper, kind)
     u_start = np.where(finite[:, None], u_start, fallback[None, :])
-    u_shared = np.median(u_start[:, shared], axis=0)  # (the median commutes with the monotone transforms)
-    sol = jax.device_get(solve(u_start[:, own], u_shared, args, max_steps))
-    x_free, values, jac, r = (np.asarray(a) for a in jax.device_get(finish(sol.u_own, sol.u_shared, args)))
+    # the independent fits list exchangeable blocks by peak frequency (`order`): where two arcs'
+    # peaks cross between spectra, a shared CPE1.alpha starts from one arc in some spectra and the
+    # other arc in the rest; the start with each spectrum's blocks aligned to the shared median is
+    # solved too, and the lower χ² kept (`blocks_aligned_to_shared`)
+    starts = [u_start]
+    aligned = blocks_aligned_to_shared(u_start, exchangeable, shared)
+    if not np.array_equal(aligned, u_start):
+        starts.append(aligned)
+    best = None
+    for start in starts:
+        u_shared = np.median(start[:, shared], axis=0)  # (the median commutes with the monotone transforms)
+        sol = jax.device_get(solve(start[:, own], u_shared, args, max_steps))
+        out = tuple(np.asarray(a) for a in jax.device_get(finish(sol.u_own, sol.u_shared, args)))
+        total = float(np.sum(out[3] ** 2))
+        if best is None or total < best[0]:
+            best = (total, sol, out)
+    if refit is not None:  # spectra the global fit leaves far above their own fits: each refitted alone under the shared values, then solved again
+        chi2_rows = np.sum(best[2][3] ** 2, axis=1) / scale**2
+        poor = np.flatnonzero(np.isfinite(chi2_independent) & (chi2_rows > POOR_SPECTRUM_CHI2_RATIO * chi2_independent))
+        if poor.size:
+            say(f"{counted(poor.size, 'spectrum', 'spectra')} of the global fit above {POOR_SPECTRUM_CHI2_RATIO:g}× the χ² of {'its own fit' if poor.size == 1 else 'their own fits'}: "
+                f"{'it' if poor.size == 1 else 'each'} refitted alone under the shared values, then the global fit solved again")
+            with silenced():  # (the refits' own stages: one line above says them)
+                x_refit = refit(poor, best[2][0][0, shared])
+            if x_refit is not None:
+                u_own = np.array(best[1].u_own, float)
+                u_own[poor] = to_internal(x_refit, lower, upper, kind)[:, own]
+                sol = jax.device_get(solve(u_own, np.asarray(best[1].u_shared, float), args, max_steps))
+                out = tuple(np.asarray(a) for a in jax.device_get(finish(sol.u_own, sol.u_shared, args)))
+                total = float(np.sum(out[3] ** 2))
+                if total < best[0]:
+                    best = (total, sol, out)
+    _, sol, (x_free, values, jac, r) = best
     jac, r = jac / scale, r / scale
     n = z.shape[1]
     cov_shared, cov_full = joint_covariance(jac, own, shared)
     z_model = z + r[:, :n] / inv_re + 1j * r[:, n:] / inv_im
     null = joint_null_sets(jac, own, shared, table.free_names)
     return _GroupFit(values, x_free, np.sum(r**2, axis=1), z_model, cov_shared, cov_full, bool(sol.done), int(sol.steps), args, scale, null)
+
+
+def _own_refits(circuit: Circuit, registry: Registry, table: ParameterTable, layout: SharedLayout, freq, z, sigma, rows, shared_free, *, weighting: str, n_starts: int, max_steps: int, seed: int, source: str):
+    """The free values (len(rows), K) of spectra ``z[rows]`` each fitted alone (`fit_batch`, its
+    ladder of starts) with the shared parameters held at ``shared_free``, or None when a fit fails."""
+    free = table.free_index
+    columns = free[np.asarray(layout.shared_slots, int)]
+    held = np.zeros(len(table.names), bool)
+    held[columns] = True
+    values = np.array(table.values, float)
+    values[columns] = shared_free
+    held_table = dataclasses.replace(table, fixed=table.fixed | held, values=values)
+    variables = {"Z": (("spectrum", "frequency"), z[rows])}
+    if sigma is not None:
+        variables["sigma"] = (("spectrum", "frequency"), sigma[rows])
+    data = xr.Dataset(variables, coords={"spectrum": np.arange(len(rows)), "frequency": freq})
+    try:
+        alone = fit_batch(circuit, data, held_table, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source)
+    except (FitError, DataError, ParameterError):  # (the first solution stands)
+        return None
+    x = alone.dataset["value"].transpose("spectrum", "param").values[:, free]
+    return x if np.all(np.isfinite(x)) else None
+
+
+def exchangeable_free_columns(circuit: Circuit, registry: Registry, table: ParameterTable, layout: SharedLayout) -> list[np.ndarray]:
+    """Per group of exchangeable blocks (`order.exchangeable_blocks`) holding a shared
+    parameter: its columns in the free order, (members, parameters per block)."""
+    groups = exchangeable_blocks(circuit, table.names, np.asarray(table.fixed, bool), table.lower, table.upper, registry)
+    position = {int(c): j for j, c in enumerate(table.free_index)}
+    out = []
+    for blocks in groups:
+        columns = np.array([[position[c] for c in idx] for _, idx in blocks])
+        if np.isin(columns, layout.shared_slots).any():
+            out.append(columns)
+    return out
+
+
+def blocks_aligned_to_shared(u: np.ndarray, groups: list[np.ndarray], shared) -> np.ndarray:
+    """Start values ``u`` (M, K, internal coordinates) with each spectrum's exchangeable blocks
+    reordered so that its shared parameters lie closest (squared distance) to their median over
+    the spectra, the median recomputed after each pass (three at most): the spectra then start
+    from one assignment of the arcs, whatever their peaks' order."""
+    if not groups or u.shape[0] < 2:
+        return u
+    shared = np.asarray(shared, int)
+    u = np.array(u, float)
+    for _ in range(3):
+        moved = False
+        for columns in groups:
+            orders = [list(p) for p in itertools.permutations(range(columns.shape[0]))]
+            for i in range(u.shape[0]):
+                target = np.median(u[:, shared], axis=0)
+                costs = []
+                for order in orders:
+                    trial = u[i].copy()
+                    trial[columns.ravel()] = u[i][columns[order].ravel()]
+                    costs.append(float(np.sum((trial[shared] - target) ** 2)))
+                best = int(np.argmin(costs))
+                if costs[best] < costs[0] - 1e-12:
+                    u[i, columns.ravel()] = u[i][columns[orders[best]].ravel()].copy()
+                    moved = True
+        if not moved:
+            break
+    return u
 
 
 def _confirm_sides(sides, x_free, table: ParameterTable, shared_slots, chi2_x, args, chi2_red: float, n_residuals: int) -> np.ndarray:
