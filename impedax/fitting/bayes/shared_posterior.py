@@ -701,6 +701,32 @@ def spectrum_labels(ds: xr.Dataset, over: Sequence[str]) -> list[str]:
     return [", ".join(label[i] for label, i in zip(labels, index)) for index in np.ndindex(*(ds.sizes[d] for d in over))]
 
 
+def _too_many_parameters(spectra: int, shared: int, own: int, noise: NoiseModel) -> str:
+    """The refusal of a joint posterior beyond `MAX_JOINT_PARAMETERS`."""
+    sigma = noise is NoiseModel.PROPORTIONAL
+    total = shared + spectra * own + int(sigma)
+    return (f"the joint posterior of {spectra} spectra has {total} sampled parameters ({shared} shared + {spectra} × {own} own"
+            f"{' + sigma_rel' if sigma else ''}); emcee mixes up to {MAX_JOINT_PARAMETERS}: sample fewer spectra or share more parameters")
+
+
+def _check_joint_size(circuit: Circuit, ds, *, shared, over, fixed, noise: NoiseModel, registry: Registry) -> None:
+    """`_too_many_parameters` before the global fit, where the names and dimensions are plain
+    (the rest is left to the fit's own checks and the count after it): on the REAL battery cycles
+    120–129 with two of 8 parameters shared the refusal came after a 12 s global fit."""
+    names = [n.strip() for n in shared.split(",")] if isinstance(shared, str) else list(shared) if isinstance(shared, (list, tuple)) else None
+    dims = [over] if isinstance(over, str) else list(over) if isinstance(over, (list, tuple)) else None if over is None else []
+    extra = [d for d in ds["Z"].dims if d != "frequency"]
+    if dims is None:
+        dims = extra if len(extra) == 1 else []
+    free = [n for n in circuit.parameter_names(registry) if n not in (fixed or {})]
+    if names is None or not dims or set(extra) != set(dims) or not all(isinstance(n, str) and n in free for n in names):
+        return
+    spectra = math.prod(int(ds.sizes[d]) for d in dims)
+    k_shared = len(set(names))
+    if k_shared + spectra * (len(free) - k_shared) + int(noise is NoiseModel.PROPORTIONAL) > MAX_JOINT_PARAMETERS:
+        raise ParameterError(_too_many_parameters(spectra, k_shared, len(free) - k_shared, noise))
+
+
 def sample_shared(
     circuit: Circuit, data, *, shared, over, priors: Mapping | None, noise: NoiseModel, walkers: int | None, steps: int | str, burn: int | None, thin: int, seed: int,
     fixed: Mapping[str, float] | None, fmin, fmax, progress, registry: Registry,
@@ -711,6 +737,7 @@ def sample_shared(
     weighting = start_weighting(noise)
     if noise is NoiseModel.SIGMA and "sigma" not in ds:
         raise DataError(f"noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials): {SIGMA_SOURCES}; use noise='proportional' otherwise", path=source)
+    _check_joint_size(circuit, ds, shared=shared, over=over, fixed=fixed, noise=noise, registry=registry)  # (before the global fit: the refusal came after it)
     start = fit(circuit, ds, fixed=fixed or None, shared=shared, over=over, weighting=weighting, registry=registry)
     if start.keep:
         raise ParameterError(f"sample with shared parameters takes one global fit; these data also vary along {', '.join(start.keep)}: select one index of it")
@@ -721,10 +748,7 @@ def sample_shared(
     m = len(labels)
     names = [*start.shared, *(f"{n}[{label}]" for label in labels for n in own)] + (["sigma_rel"] if noise is NoiseModel.PROPORTIONAL else [])
     if len(names) > MAX_JOINT_PARAMETERS:
-        raise ParameterError(
-            f"the joint posterior of {m} spectra has {len(names)} sampled parameters ({len(start.shared)} shared + {m} × {len(own)} own"
-            f"{' + sigma_rel' if noise is NoiseModel.PROPORTIONAL else ''}); emcee mixes up to {MAX_JOINT_PARAMETERS}: sample fewer spectra or share more parameters"
-        )
+        raise ParameterError(_too_many_parameters(m, len(start.shared), len(own), noise))
     circuit_of = {n: n for n in start.shared} | {f"{n}[{label}]": n for label in labels for n in own}
     z = ds["Z"].transpose(*start.over, "frequency").values.reshape(m, -1)
     fitted = _start_of(start.dataset, start.over, labels, names)
