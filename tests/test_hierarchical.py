@@ -217,7 +217,7 @@ def test_warnings_cover_the_shared_parameters_and_delta(clean_post):
     walk = walk / np.exp(np.log(walk).mean(axis=1, keepdims=True)) * 10.0  # (the chains agree in mean: ESS alone)
     assert any(w.startswith("effective sample size below 100 for") and "R0" in w for w in with_r0(walk).warnings)
     delta = np.array(clean_post.delta) * np.array([1.0, 100.0])[:, None]  # (ln 100 = 4.6, beyond the spread of ln δ)
-    assert any(w.startswith("R-hat above 1.05 for") and "delta" in w for w in dataclasses.replace(clean_post, delta=delta).warnings)
+    assert any(w.startswith("R-hat above 1.05 for") and "discrepancy δ" in w for w in dataclasses.replace(clean_post, delta=delta).warnings)
 
 
 def test_divergence_warning_names_the_remedy(clean_post):

@@ -670,6 +670,17 @@ def _rhat(x: np.ndarray) -> np.ndarray:
     return np.sqrt(((k - 1) / k * w + b / k) / np.where(w > 0, w, np.inf))
 
 
+def mixing_name(key: str) -> str:
+    """A key of `HierarchicalPosterior.rhat`/``ess`` as its report and prior-edge warnings word
+    it: ``mu[R1]`` → ``R1 (population median)``, ``spread[R1]`` → ``R1 (spread)``, ``delta`` →
+    ``discrepancy δ``; a shared parameter's name is its own (the warnings named the keys, which
+    the report never shows, until 2026-12-06)."""
+    for prefix, words in (("mu[", "population median"), ("spread[", "spread")):
+        if key.startswith(prefix) and key.endswith("]"):
+            return f"{key[len(prefix):-1]} ({words})"
+    return "discrepancy δ" if key == "delta" else key
+
+
 @dataclass(frozen=True, eq=False)
 class HierarchicalPosterior(PiledUp, FrozenResult):
     """Draws of the hierarchical model (module docstring). Natural units (SI) throughout.
@@ -833,12 +844,15 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             notes.append(f"{self.divergences} divergent NUTS transitions of {self.n_draws} draws: the intervals may be biased; sample with a higher "
                          f"target_accept (smaller steps: 0.95 or 0.99, the default {TARGET_ACCEPT}) or a longer warmup")
         other_rhat, other_ess = self._other_mixing()
-        bad = [k for k, r in {**self.rhat(), **other_rhat}.items() if not r < 1.05]
+        chains, per_chain = self.mu.shape[:2]
+        more = f"run more draws per chain ({per_chain} now; impedax gap: --steps) or more chains ({chains} now)"
+        bad = {k: r for k, r in {**self.rhat(), **other_rhat}.items() if not r < 1.05}
         if bad:
-            notes.append(f"R-hat above 1.05 for {', '.join(bad)}: chains disagree, run more draws")
-        low = [k for k, e in {**self.ess(), **other_ess}.items() if e < 100]
+            notes.append(f"R-hat above 1.05 for {', '.join(f'{mixing_name(k)} ({r:.3g})' for k, r in bad.items())}: the chains disagree, so the intervals are not yet the posterior's; {more}")
+        low = {k: e for k, e in {**self.ess(), **other_ess}.items() if e < 100}
         if low:
-            notes.append(f"effective sample size below 100 for {', '.join(low)}")
+            notes.append(f"effective sample size below 100 for {', '.join(f'{mixing_name(k)} ({e:.0f})' for k, e in low.items())} of {self.n_draws} draws: "
+                         f"their medians are uncertain and their 90 % intervals' ends more so; {more}")
         notes.extend(self._prior_edges.warnings)
         return tuple(notes)
 
