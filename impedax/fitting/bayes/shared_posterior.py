@@ -738,11 +738,17 @@ def sample_shared(
     if noise is NoiseModel.SIGMA and "sigma" not in ds:
         raise DataError(f"noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials): {SIGMA_SOURCES}; use noise='proportional' otherwise", path=source)
     _check_joint_size(circuit, ds, shared=shared, over=over, fixed=fixed, noise=noise, registry=registry)  # (before the global fit: the refusal came after it)
+    specs = circuit.parameter_specs(registry)
+    user = coerce_priors(priors)
+    for n in user:  # (before the global fit too: a misspelt --prior name cost the fit, 2026-12-06)
+        if n not in specs and n != "sigma_rel":
+            raise ParameterError(f"prior for unknown parameter {n!r} (parameters: {', '.join(specs)})")
+        if n in (fixed or {}):
+            raise ParameterError(f"prior for {n}: the parameter is fixed")
     start = fit(circuit, ds, fixed=fixed or None, shared=shared, over=over, weighting=weighting, registry=registry)
     if start.keep:
         raise ParameterError(f"sample with shared parameters takes one global fit; these data also vary along {', '.join(start.keep)}: select one index of it")
     table = ParameterTable.build(circuit, registry=registry, fixed=fixed)
-    specs = circuit.parameter_specs(registry)
     own = [n for n in table.free_names if n not in start.shared]
     labels = spectrum_labels(ds, start.over)
     m = len(labels)
@@ -764,12 +770,6 @@ def sample_shared(
         at_bound.append(fitted[n].at_bound)
     lower = [0.0 if n == "sigma_rel" else float(table.lower[table.names.index(circuit_of[n])]) for n in names]
     upper = [math.inf if n == "sigma_rel" else float(table.upper[table.names.index(circuit_of[n])]) for n in names]
-    user = coerce_priors(priors)
-    for n in user:
-        if n not in specs and n != "sigma_rel":
-            raise ParameterError(f"prior for unknown parameter {n!r} (parameters: {', '.join(specs)})")
-        if n in (fixed or {}):
-            raise ParameterError(f"prior for {n}: the parameter is fixed")
     chosen, wide = {}, []
     freq_all, z_abs_all = np.tile(np.asarray(ds["frequency"].values, float), m), np.abs(z).ravel()
     for n, lo, hi, v, e, edge in zip(names, lower, upper, x0, se, at_bound):
