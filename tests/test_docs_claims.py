@@ -8,6 +8,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import impedax as ix
 from cli_run import run
@@ -59,3 +60,37 @@ def test_the_json_summaries_of_the_writing_commands_have_the_keys_the_docs_list(
         assert code == 0, err
         printed = set(json.loads(out))
         assert printed == documented[command], (command, "undocumented:", printed - documented[command], "missing:", documented[command] - printed)
+
+
+def _gap_table_keys() -> set[str]:
+    """The top-level keys of docs/models.md's "Keys and units of the gap JSON" table: its first
+    column, but the nested keys (in parentheses, after `parent:`, or `parent.key`)."""
+    text = (DOCS / "models.md").read_text(encoding="utf-8")
+    start = text.index("| key | unit |", text.index("**Keys and units of the gap JSON**"))
+    keys = set()
+    for row in text[start : text.index("\n\n", start)].splitlines()[2:]:
+        cell = re.sub(r"\([^()]*\)", "", row.split("|")[1]).split(":")[0]
+        keys |= {key for key in re.findall(r"`([a-z_0-9.]+)`", cell) if "." not in key}
+    return keys
+
+
+@pytest.mark.slow  # (an emcee run of the gap analysis: ~10–20 s on the 2-core machine)
+def test_the_gap_json_keys_are_in_the_docs_table_of_keys_and_units(tmp_path, capsys):
+    """Every top-level key of `impedax gap --json` (the SYNTHETIC shipped example, `--pooled`,
+    a short chain) has its row in docs/models.md's table of keys and units, and every top-level
+    key of the table is in the JSON (`provenance`, every command's, is docs/io.md's). Until
+    2026-12-06 `edl_chi2_red`, `interval_covers`, `v0_from` and `v0_carried` were described in
+    the prose only."""
+    from impedax.models import example_spectra
+
+    paths = []
+    for name, spectrum in example_spectra().items():
+        if name in ("total_sliding", "skin", "touchscreen"):
+            paths.append(tmp_path / f"{name}.nc")
+            ix.save(spectrum, paths[-1])
+    code, out, err = run(["gap", *paths, "--area", "130e-6", "--pooled", "--steps", "200", "--json", "-q"], capsys)
+    assert code == 0, err
+    printed = set(json.loads(out)) - {"provenance"}
+    documented = _gap_table_keys()
+    assert printed - documented == set(), printed - documented
+    assert documented - printed == set(), documented - printed
