@@ -94,3 +94,52 @@ def test_the_gap_json_keys_are_in_the_docs_table_of_keys_and_units(tmp_path, cap
     documented = _gap_table_keys()
     assert printed - documented == set(), printed - documented
     assert documented - printed == set(), documented - printed
+
+
+README = DOCS.parent / "README.md"
+
+
+def _number(text: str) -> tuple[float, float]:
+    """A number as the README prints it and half a unit of its last digit (what rounding allows)."""
+    decimals = len(text.split(".")[1]) if "." in text else 0
+    return float(text.replace("−", "-")), 0.5 * 10.0**-decimals
+
+
+def test_the_readme_quick_start_python_runs_and_prints_what_its_comments_say(tmp_path, monkeypatch):
+    """README.md's quick-start block (SYNTHETIC: a spectrum computed from the circuit it parses,
+    saved and read back) runs as written in an empty folder, and its comment on
+    `parameter_names()` is what it prints."""
+    text = README.read_text(encoding="utf-8")
+    block = re.search(r"```python\n(import numpy as np\nimport impedax as ix\n\nix\.use_compilation_cache.*?)```", text, re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    cache_calls: list = []  # (the real call would point JAX's cache for the whole test process at tmp_path)
+    monkeypatch.setattr(ix, "use_compilation_cache", lambda path=None: cache_calls.append(path))
+    printed: list = []
+    scope = {"print": printed.append}
+    exec(block, scope)
+    commented = re.search(r"print\(circuit\.parameter_names\(\)\)\s+# (\(.*?\))", block).group(1)
+    assert printed == [eval(commented)]
+    assert (tmp_path / "spectrum.csv").is_file() and scope["data"].sizes["frequency"] == 61 and cache_calls == [None]
+
+
+@pytest.mark.slow  # (a fit, a KK test and a diagnosis of 12 candidates: ~10 s)
+def test_the_readme_quick_start_numbers_on_the_real_zplot_file():
+    """The numbers README.md's quick start gives for the REAL ZPlot file, read from the README and
+    checked to the digits it prints: the fit's rms_rel, the KK test's, the residuals over the
+    noise, the lead inductance the diagnosis adds, the rms_rel it reaches and its ΔAIC."""
+    text = " ".join(README.read_text(encoding="utf-8").split())
+    sentence = text[text.index("On the REAL Scribner ZPlot file") :]
+    pattern = (r"ends at rms_rel ([\d.]+) % while `kk` reaches ([\d.]+) %.*?the residuals are ([\d.]+)× the noise.*?"
+               r"\(L_lead = ([\d.]+) µH\) lowers rms_rel to ([\d.]+) % \(ΔAIC ([−\d.]+)\)")
+    fit_rms, kk_rms, ratio, inductance_uh, best_rms, delta_aic = map(_number, re.search(pattern, sentence).groups())
+    data = ix.load(DOCS.parent / "tests" / "fixtures" / "real" / "exampleDataZPlot.z")
+    fit = ix.fit("R0 + R1 || CPE1", data, progress=False)
+    assert abs(100 * fit.rms_rel - fit_rms[0]) <= fit_rms[1]
+    assert abs(100 * ix.kk_test(data).rms_rel - kk_rms[0]) <= kk_rms[1]
+    d = ix.diagnose(data, "R0 + R1 || CPE1", progress=False)
+    best = d.suggestions[0]
+    assert best.effect == "series_inductance" and d.verdict == "missing_effect"
+    assert abs(d.noise_ratio - ratio[0]) <= ratio[1]
+    assert abs(1e6 * best.fit.values["L_lead"] - inductance_uh[0]) <= inductance_uh[1]
+    assert abs(100 * best.fit.rms_rel - best_rms[0]) <= best_rms[1]
+    assert abs(best.delta_aic - delta_aic[0]) <= delta_aic[1]
