@@ -123,10 +123,21 @@ def _grid_text(freq: np.ndarray) -> str:
     return f"{freq.size} points, {freq[0]:.6g}–{freq[-1]:.6g} Hz" if freq.size else "no points"
 
 
+def _outward(value: float, up: bool) -> str:
+    """``value`` to 6 significant digits, rounded away from the band it bounds (up for its top),
+    so that a band written with it keeps its end points."""
+    text = f"{value:.6g}"
+    if (float(text) < value) if up else (float(text) > value):
+        unit = 10.0 ** (math.floor(math.log10(abs(value))) - 5)
+        text = f"{float(text) + (unit if up else -unit):.6g}"
+    return text
+
+
 def _shared_band_note(grids: dict[str, np.ndarray]) -> str:
     """Where the grids agree point for point on the band all of them cover (a file measured over a
     narrower band than the others): the options that keep that band (`impedax gap`/`impedax
-    remaining` --fmin/--fmax, Python ``data.sel(frequency=slice(…))``), else ""."""
+    remaining` --fmin/--fmax, Python ``data.where(…, drop=True)``, which holds in either order of
+    the points: ``sel(frequency=slice(…))`` keeps nothing of a descending grid), else ""."""
     low = max(float(g.min()) for g in grids.values())
     high = min(float(g.max()) for g in grids.values())
     if not high >= low:
@@ -137,7 +148,8 @@ def _shared_band_note(grids: dict[str, np.ndarray]) -> str:
     options = " ".join(f"{o} {v:g}" for o, v, cut in (("--fmin", low, any(g.min() < low * (1 - SWEEP_RTOL) for g in grids.values())),
                                                       ("--fmax", high, any(g.max() > high * (1 + SWEEP_RTOL) for g in grids.values()))) if cut)
     return (f"; the grids agree on the {inside[0].size} frequencies {low:.6g}–{high:.6g} Hz that all of them cover: "
-            f"impedax gap and impedax remaining keep that band with {options} (Python: each data.sel(frequency=slice({low:.6g}, {high:.6g})))")
+            f"impedax gap and impedax remaining keep that band with {options} (Python: each "
+            f"data.where((data.frequency >= {_outward(low, up=False)}) & (data.frequency <= {_outward(high, up=True)}), drop=True))")
 
 
 def _check_grids(named: dict[str, xr.Dataset]) -> None:

@@ -218,7 +218,7 @@ class DRTResult(FrozenResult):
         if self.r_inf_ohm < -0.01 * z_top:
             out.append(
                 f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω')} is negative, which no passive cell has: the data stop before the high-frequency "
-                "limit or carry an instrument's phase error there; leave the top points out (`data.sel(frequency=slice(None, f))`, or impedax drt --fmax) or check the sign convention"
+                "limit or carry an instrument's phase error there; leave the top points out (`data.where(data.frequency <= f, drop=True)`, in either order of the points, or impedax drt --fmax) or check the sign convention"
             )
         if self.l_h < 0 and 2 * math.pi * float(self.frequency[top]) * -self.l_h > 0.05 * z_top:
             top_share = -float(self.impedance[top].imag) / z_top
