@@ -143,3 +143,20 @@ def test_the_readme_quick_start_numbers_on_the_real_zplot_file():
     assert abs(1e6 * best.fit.values["L_lead"] - inductance_uh[0]) <= inductance_uh[1]
     assert abs(100 * best.fit.rms_rel - best_rms[0]) <= best_rms[1]
     assert abs(best.delta_aic - delta_aic[0]) <= delta_aic[1]
+
+
+def test_the_readme_element_table_is_the_registry():
+    """README.md's table of elements names every symbol of the default registry (an alias in its
+    row: `CPE (alias Q)`) and, per element X, the parameters `X`, `X.Q`, ... the registry declares,
+    in its order."""
+    text = README.read_text(encoding="utf-8")
+    start = text.index("| symbol | element | impedance |")
+    rows = text[start : text.index("\n\n", start)].splitlines()[2:]
+    symbols = set()
+    for row in rows:
+        cells = [cell.strip() for cell in row.strip("|").split("|")]
+        row_symbols = re.findall(r"\b([A-Z][A-Za-z]*)\b", cells[0])
+        symbols |= set(row_symbols)
+        spec = ix.DEFAULT_REGISTRY[row_symbols[0]]
+        assert tuple(re.findall(r"`([^`]+)`", cells[3])) == spec.parameter_names("X"), row
+    assert symbols == set(ix.DEFAULT_REGISTRY.symbols())
