@@ -29,7 +29,7 @@ def add_fit_options(p) -> None:
 
 def add_exclude_option(p) -> None:
     """``--exclude F,F``, as `impedax.cli.common.exclude_points` reads it (fit, compare,
-    diagnose, refine, kk, drt: the points refine and diagnose masked can be left out of each);
+    diagnose, refine, kk, drt, sample: the points refine and diagnose masked can be left out of each);
     repeated, the lists join (until 2026-12-03 the last one alone was kept, without a word)."""
     import argparse
 

@@ -8,7 +8,7 @@ import sys
 def register(sub) -> None:
     from ..arguments import AUTO_MAX_STEPS, CHAIN_TAU_MULTIPLE, NOISE_MODELS, PRIOR_KINDS  # (the sampler's vocabulary, below JAX: --help imports no JAX)
     from .common import add_model_argument, add_output_options, add_plot_option, add_quiet_option, add_select_option, number_option, result_out_help
-    from .fit import add_bound_option, add_shared_options
+    from .fit import add_bound_option, add_exclude_option, add_shared_options
 
     p = sub.add_parser(
         "sample",
@@ -30,6 +30,7 @@ def register(sub) -> None:
     add_shared_options(p)
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")
+    add_exclude_option(p)
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed, in the start fit and the sampling; several after one --fix (--fix R1=1M R0=20) or --fix repeated")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value of the least-squares start fit; several after one --init (--init R1=43k C2=5u) or --init repeated; others are guessed from the data")
     add_bound_option(p, " in the start fit and the sampling (the support of its prior; not with --shared)")
@@ -172,7 +173,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_bounds, check_parameter_names, checked_bound_options, comma_names, command_provenance, data_source, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
+    from .common import check_bounds, check_parameter_names, checked_bound_options, comma_names, command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model, args.registry)  # syntax errors before anything else
@@ -212,6 +213,7 @@ def run(args) -> int:
         check_corner_names(corner_names, circuit.parameter_names(args.registry), fixed, sharing.get("shared"), args.noise)
     data = load_selected(args.data, args.select, single=None if sharing else "sample", readers=args.readers,
                          or_else="or sample them jointly with --shared NAMES (parameters one value for all, the others one per spectrum)")
+    data = exclude_points(data, args.exclude)
     if corner_names is not None and sharing:
         check_corner_labels(corner_names, data, sharing.get("over"))
     note_unused_sigma(data, "sample", str(args.noise) == "sigma", "--noise sigma")
