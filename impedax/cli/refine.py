@@ -15,7 +15,8 @@ def register(sub) -> None:
         "refine",
         help="diagnose, add the best missing effect, refit; repeat until adequate",
         description="Repeat diagnose -> apply the best significant effect -> refit until the verdict is adequate or --max-effects effects were added; "
-        "prints the table of steps (the error falls step by step). The final model is refitted from scratch, as impedax fit does. See docs/diagnosis.md.",
+        "prints the table of steps (the error falls step by step). The final model is refitted from scratch, as impedax fit does, or, where that ends "
+        "worse than the loop's fit, from the loop's values, and the report then ends with the impedax fit --init command that reproduces it. See docs/diagnosis.md.",
         plot_help="save the data with the first and the last model (Nyquist), rms_rel per step and the residuals of every step",
         out_help="the refinement (.csv: the final fit's parameters)",
         run=run,
