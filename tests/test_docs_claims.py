@@ -176,3 +176,20 @@ def test_refine_help_says_how_the_final_fit_is_made_as_the_real_zplot_run_makes_
     refinement = ix.refine(data, progress=False)
     scratch = ix.fit(refinement.final.circuit, data, progress=False)
     assert refinement.final_from_values and refinement.final.rms_rel < 0.99 * scratch.rms_rel
+
+
+def test_the_fit_signature_docs_fitting_md_gives_is_ix_fit_s():
+    """docs/fitting.md opens with `impedax.fit(...)`'s signature: its keywords, in order, with the
+    defaults it writes (registry's by name), are those of `ix.fit` (until 2026-12-06 it left out
+    `progress=None`)."""
+    import inspect
+
+    text = " ".join((DOCS / "fitting.md").read_text(encoding="utf-8").split())
+    written = re.search(r"`impedax\.fit\((circuit, data, \*, .*?)\)`", text).group(1)
+    documented = [part.strip() for part in written.split(",")]
+    assert [d.split("=")[0] for d in documented if d != "*"] == list(inspect.signature(ix.fit).parameters)
+    for entry in documented:
+        if "=" in entry:
+            name, default = entry.split("=", 1)
+            expected = inspect.signature(ix.fit).parameters[name].default
+            assert default == ("DEFAULT_REGISTRY" if expected is ix.DEFAULT_REGISTRY else repr(expected).replace("'", '"')), entry
