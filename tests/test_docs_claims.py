@@ -193,3 +193,33 @@ def test_the_fit_signature_docs_fitting_md_gives_is_ix_fit_s():
             name, default = entry.split("=", 1)
             expected = inspect.signature(ix.fit).parameters[name].default
             assert default == ("DEFAULT_REGISTRY" if expected is ix.DEFAULT_REGISTRY else repr(expected).replace("'", '"')), entry
+
+
+def _heading_anchors(path: Path) -> set[str]:
+    """The anchors GitHub gives the headings of a Markdown file: lower case, punctuation but `-`
+    and `_` dropped, spaces as `-`, a repeated heading suffixed `-1`, `-2`, ..."""
+    anchors, seen = set(), {}
+    text = re.sub(r"```.*?```", "", path.read_text(encoding="utf-8"), flags=re.S)
+    for heading in re.findall(r"^#+\s+(.*)$", text, flags=re.M):
+        slug = re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+        anchors.add(slug if slug not in seen else f"{slug}-{seen[slug]}")
+        seen[slug] = seen.get(slug, 0) + 1
+    return anchors
+
+
+def test_every_link_of_the_docs_leads_somewhere():
+    """Each relative link of README.md, docs/*.md and benchmarks/README.md names a file of the
+    repository and, into a Markdown file, a heading it has (a renamed section leaves no link
+    that lands at the top of the page)."""
+    root = DOCS.parent
+    broken = []
+    for page in [root / "README.md", root / "benchmarks" / "README.md", *sorted(DOCS.glob("*.md"))]:
+        text = re.sub(r"```.*?```", "", page.read_text(encoding="utf-8"), flags=re.S)
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            if re.match(r"[a-z]+:", target):
+                continue
+            path, _, anchor = target.partition("#")
+            linked = (page.parent / path).resolve() if path else page
+            if not linked.exists() or (anchor and linked.suffix == ".md" and anchor not in _heading_anchors(linked)):
+                broken.append(f"{page.relative_to(root)}: {target}")
+    assert not broken, broken
