@@ -223,3 +223,17 @@ def test_every_link_of_the_docs_leads_somewhere():
             if not linked.exists() or (anchor and linked.suffix == ".md" and anchor not in _heading_anchors(linked)):
                 broken.append(f"{page.relative_to(root)}: {target}")
     assert not broken, broken
+
+
+@pytest.mark.slow  # (two batch fits of the 130 REAL cycles: ~20 s)
+def test_the_readme_medians_over_all_130_battery_cycles():
+    """README.md's benchmark paragraph quotes impedance.py's and impedax's medians over the cycles
+    both tools fitted (a spread of the 130, benchmarks/README.md) and, since 2026-12-06, the
+    medians a user's batch fit of all 130 REAL cycles gives; the latter are checked here to the
+    digits printed (numpy's median of the batch's rms_rel)."""
+    text = " ".join(README.read_text(encoding="utf-8").split())
+    with_w, with_wo = map(_number, re.search(r"The medians over all 130 cycles, .*? are ([\d.]+) % with `W1` and ([\d.]+) % with `Wo1`", text).groups())
+    cycles = ix.load(DOCS.parent / "benchmarks" / "data" / "autoeis_battery_130.nc")
+    for tail, (quoted, tolerance) in (("W1", with_w), ("Wo1", with_wo)):
+        batch = ix.fit(f"R0 + R1 || CPE1 + R2 || CPE2 + {tail}", cycles, progress=False)
+        assert abs(100 * float(np.median(batch.to_xarray()["rms_rel"].values)) - quoted) <= tolerance, tail
