@@ -237,3 +237,28 @@ def test_the_readme_medians_over_all_130_battery_cycles():
     for tail, (quoted, tolerance) in (("W1", with_w), ("Wo1", with_wo)):
         batch = ix.fit(f"R0 + R1 || CPE1 + R2 || CPE2 + {tail}", cycles, progress=False)
         assert abs(100 * float(np.median(batch.to_xarray()["rms_rel"].values)) - quoted) <= tolerance, tail
+
+
+@pytest.mark.slow  # (a short emcee run among the commands: ~10 s)
+def test_the_commands_robustness_md_says_have_warnings_have_the_key(tmp_path, capsys):
+    """docs/robustness.md ("JSON for programs") names the commands whose `--json` has a top-level
+    `warnings` list; each has it (SYNTHETIC R0 + R1 ‖ C1 spectrum), and `compare`, which it says
+    keeps them per model, has `models[].warnings` and no top-level key (until 2026-12-06 the page
+    listed compare with the others: a program's `warnings == []` check raised KeyError there)."""
+    text = " ".join((DOCS / "robustness.md").read_text(encoding="utf-8").split())
+    sentence = re.search(r"Since 2026-12-01, (.*?) have it:", text).group(1)
+    commands = [word for word in re.findall(r"`(\w+)`", sentence) if word not in ("warnings", "notes")]
+    assert {"fit", "kk", "drt"} <= set(commands)
+    freq = np.logspace(5, -1, 25)
+    path = tmp_path / "rc.csv"
+    ix.save(ix.make_spectrum(freq, 10 + 100 / (1 + 2j * np.pi * freq * 1e-3)), path)
+    model = ["--model", "R0 + R1 || C1"]
+    argv = {"fit": model, "sample": [*model, "--steps", "100"], "drt": [], "kk": [], "diagnose": model, "refine": ["--max-effects", "1"],
+            "compare": [*model, "--model", "R0 + R1 || CPE1"]}
+    for command in commands:
+        code, out, err = run([command, path, *argv[command], "--json", "-q"], capsys)
+        assert code == 0, (command, err)
+        assert isinstance(json.loads(out).get("warnings"), list), command
+    code, out, err = run(["compare", path, *argv["compare"], "--json", "-q"], capsys)
+    printed = json.loads(out)
+    assert code == 0 and "warnings" not in printed and all(isinstance(m["warnings"], list) for m in printed["models"])
