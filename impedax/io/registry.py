@@ -25,7 +25,22 @@ from typing import Callable
 
 import xarray as xr
 
-__all__ = ["Reader"]
+from ..arguments import shown
+from ..errors import ParameterError
+
+__all__ = ["Reader", "ReaderDefinitionError", "given_value"]
+
+
+class ReaderDefinitionError(ParameterError, TypeError):
+    """A `Reader` or `register_reader` given a missing or wrong argument, named with what was
+    given; a `ParameterError` (and, as it was before 2026-12-06, a TypeError)."""
+
+
+def given_value(value) -> str:
+    """``value`` as a message names it: a function by its name, anything else shortened."""
+    if callable(value) and hasattr(value, "__name__"):
+        return f"the function {value.__name__!r}"
+    return f"{shown(value)} ({type(value).__name__})"
 
 
 @dataclass(frozen=True)
@@ -45,30 +60,39 @@ class Reader:
     """
 
     name: str
-    extensions: tuple[str, ...]
-    sniff: Callable[[Path, bytes], str | bool | None]
-    read: Callable[[Path], xr.Dataset]
+    extensions: tuple[str, ...] = None  # (None: not given, named by __post_init__; all four are needed)
+    sniff: Callable[[Path, bytes], str | bool | None] = None
+    read: Callable[[Path], xr.Dataset] = None
     conventions: str = ""
     origin: str = ""
 
     def __post_init__(self):
+        # Every fault is one ReaderDefinitionError naming the argument (until 2026-12-06 the
+        # extensions forgotten, Reader("lab", sniff, read), said "missing 'read'", a TypeError)
+        usage = "Reader(name, extensions, sniff, read), e.g. Reader('My format', ('.my',), sniff_mine, read_mine)"
         if not isinstance(self.name, str) or not self.name.strip():
-            raise TypeError(f"Reader: name must be non-empty text, got {self.name!r}")
+            raise ReaderDefinitionError(f"Reader: name must be non-empty text, got {given_value(self.name)}; {usage}")
+        if callable(self.extensions) and not isinstance(self.extensions, (str, tuple, list)):
+            raise ReaderDefinitionError(f"Reader {self.name!r}: extensions, the second argument, is {given_value(self.extensions)}: "
+                                        f"were the suffixes left out? {usage}")
+        missing = [field_name for field_name in ("extensions", "sniff", "read") if getattr(self, field_name) is None]
+        if missing:
+            raise ReaderDefinitionError(f"Reader {self.name!r}: {', '.join(missing)} not given; {usage}")
         extensions = (self.extensions,) if isinstance(self.extensions, str) else self.extensions
         try:
             extensions = tuple(extensions)
         except TypeError:
-            raise TypeError(f"Reader {self.name!r}: extensions must be a tuple of suffixes such as ('.lab',), got {self.extensions!r}") from None
+            raise ReaderDefinitionError(f"Reader {self.name!r}: extensions must be a tuple of suffixes such as ('.lab',), got {given_value(self.extensions)}") from None
         for ext in extensions:
             if not isinstance(ext, str):
-                raise TypeError(f"Reader {self.name!r}: each extension is a suffix such as '.lab', got {ext!r}")
+                raise ReaderDefinitionError(f"Reader {self.name!r}: each extension is a suffix such as '.lab', got {given_value(ext)}")
             if not (ext.startswith(".") and len(ext) > 1):
-                raise ValueError(f"Reader {self.name!r}: each extension is a suffix that starts with '.', such as '.lab', got {ext!r}")
+                raise ParameterError(f"Reader {self.name!r}: each extension is a suffix that starts with '.', such as '.lab', got {ext!r}")
         object.__setattr__(self, "extensions", extensions)
         for field_name in ("sniff", "read"):
             if not callable(getattr(self, field_name)):
-                raise TypeError(f"Reader {self.name!r}: {field_name} must be a function, got {type(getattr(self, field_name)).__name__}")
+                raise ReaderDefinitionError(f"Reader {self.name!r}: {field_name} must be a function, got {type(getattr(self, field_name)).__name__}")
         if not isinstance(self.conventions, str):
-            raise TypeError(f"Reader {self.name!r}: conventions must be text, got {type(self.conventions).__name__}")
+            raise ReaderDefinitionError(f"Reader {self.name!r}: conventions must be text, got {type(self.conventions).__name__}")
         if not isinstance(self.origin, str):
-            raise TypeError(f"Reader {self.name!r}: origin must be text, got {type(self.origin).__name__}")
+            raise ReaderDefinitionError(f"Reader {self.name!r}: origin must be text, got {type(self.origin).__name__}")
