@@ -1,0 +1,66 @@
+"""docs/io.md, "What the instrument's file says": the metadata keys documented for each reader
+are the ones the REAL fixture files give (tests/fixtures/real, impedance.py and AutoEIS example
+data), and a key documented as written "only when" the file holds it is one the reader's code
+writes (its module's text names it)."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+import impedax as ix
+import impedax.io.formats as formats
+
+ROOT = Path(__file__).resolve().parents[1]
+REAL = ROOT / "tests" / "fixtures" / "real"
+DOC = (ROOT / "docs" / "io.md").read_text(encoding="utf-8")
+KEY = re.compile(r"`([a-z][a-z0-9_]*)`")
+
+
+def _section(heading: str) -> str:
+    start = DOC.index(heading)
+    return DOC[start : DOC.index("\n#", start + len(heading))]
+
+
+def _table_rows(text: str) -> list[list[str]]:
+    """The cells of each row of the markdown table(s) in ``text`` (header and rule left out)."""
+    rows = [[c.strip() for c in line.strip().strip("|").split("|")] for line in text.splitlines() if line.startswith("| ")]
+    return [r for r in rows if not set("".join(r)) <= set("-")][1:]
+
+
+# the keys that say how the file was read (the table above), and where from: not instrument metadata
+HOW_READ = {KEY.match(row[0]).group(1) for row in _table_rows(_section("## What is reported in `attrs`"))} | {"path", "source"}
+METADATA = [row for row in _table_rows(_section("### What the instrument's file says")) if row[0] != "format (`attrs[\"format\"]`)"]
+
+
+def _documented(cell: str) -> tuple[set[str], set[str]]:
+    """(keys always written, keys written only when the file holds them) of a table cell."""
+    optional = {m.group(1) for m in re.finditer(r"`([a-z][a-z0-9_]*)` \(only when", cell)}
+    return {k for k in KEY.findall(cell) if k not in optional} - {"none"}, optional
+
+
+def test_every_reader_format_has_a_row():
+    documented = {row[0] for row in METADATA}
+    formats_written = set(re.findall(r'"format": "([^"]+)"', "".join(Path(m.__file__).read_text() for m in vars(formats).values()
+                                                                          if getattr(m, "__name__", "").startswith("impedax.io.formats."))))
+    assert len(formats_written) >= 17 and formats_written - {"impedax netCDF"} <= documented, formats_written - documented
+
+
+@pytest.mark.parametrize("row", [r for r in METADATA if r[2]], ids=lambda r: r[0])
+def test_documented_keys_are_what_the_real_file_gives(row):
+    fmt, cell, file_name = row
+    ds = ix.load(REAL / file_name)
+    assert ds.attrs["format"] == fmt
+    always, optional = _documented(cell)
+    given = set(ds.attrs) - HOW_READ
+    assert given - optional == always, f"{file_name}: gives {sorted(given)}, documented {sorted(always)}"
+
+
+@pytest.mark.parametrize("row", [r for r in METADATA if _documented(r[1])[1]], ids=lambda r: r[0])
+def test_optional_keys_are_written_by_the_reader(row):
+    fmt, cell, _ = row
+    sources = [Path(m.__file__).read_text() for m in vars(formats).values()
+               if getattr(m, "__name__", "").startswith("impedax.io.formats.") and f'"{fmt}"' in Path(m.__file__).read_text()]
+    assert sources, fmt
+    for key in _documented(cell)[1]:
+        assert any(f'attrs["{key}"]' in text for text in sources), (fmt, key)
