@@ -866,7 +866,7 @@ def _extra_dims(data) -> list[str]:
 
 #: Notes of a reader (``attrs``) that a command prints as warnings: what was read may not be
 #: what the file meant.
-LOAD_WARNINGS = ("phase_unit_note",)
+LOAD_WARNINGS = ("phase_unit_note", "stdin_note")  # (stdin_note: standard input your --plugin readers did not claim)
 
 
 def _load_noting(path: str, warn: bool = True, select: Sequence[str] | None = None, readers=None):

@@ -335,6 +335,7 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
     with staging_directory(tempfile.gettempdir(), prefix=".impedax-stdin-") as folder:
         path = folder / "stdin"
         path.write_bytes(raw)
+        note = _stdin_declined(path, readers)
         try:
             ds = load(path, readers, sweep=sweep)
         except DataError as exc:
@@ -348,7 +349,30 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
                 spectra = {label: _named_stdin(_sweep_of(exc, label, path), str(path)) for label in exc.labels}
                 raise SweepGridsDiffer(text, path=STDIN_NAME, line=exc.line, dim=exc.dim, spectra=spectra, found=exc.found.replace(str(path), STDIN_NAME)) from None
             raise DataError(text, path=STDIN_NAME, line=exc.line) from None
+        if note:
+            ds.attrs["stdin_note"] = f"standard input read as {ds.attrs.get('format', 'delimited text')}: {note}"
     return _named_stdin(ds, str(path))
+
+
+def _stdin_declined(path: Path, readers: Sequence[Reader] | None) -> str:
+    """Why standard input (kept as ``path``, a file with no suffix) may be read by the wrong
+    reader: the user's readers (not built in, a ``--plugin``'s) that did not claim it, with their
+    reasons, when none of them did; "" otherwise. A reader that goes by the file's extension never
+    claims standard input, which was then read as delimited text without a word (a kHz/kΩ
+    table 1000× off; until 2026-12-06). Stored as ``attrs["stdin_note"]``."""
+    from .formats import READERS as built_in
+
+    own = [r for r in (readers or ()) if not any(r is b for b in built_in)]
+    if not own:
+        return ""
+    claimed, tried, _ = _identify(path, readers)
+    if claimed is not None and any(claimed is r for r in own):
+        return ""
+    reasons = [entry for r in own for entry in tried if entry.startswith(f"{r.name}: ")]
+    named = ", ".join(_named(r) for r in own)
+    return (f"it has no file name, and your {'readers' if len(own) > 1 else 'reader'} ({named}) did not claim it "
+            f"({'; '.join(reasons) or 'no reason given'}); a reader that goes by the file's extension never claims standard input: "
+            "give the file's path in place of '-' to have it read so")
 
 
 def _named_stdin(ds: xr.Dataset, copy: str) -> xr.Dataset:

@@ -1,0 +1,72 @@
+"""Standard input and the user's readers (docs/io.md, "How a file is recognised"): a reader that
+goes by the file's extension never claims ``-``; when none of the user's readers claims it, the
+data's attrs and every command's stderr say which reader read it and why the user's did not."""
+
+import io
+import json
+import sys
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.io import Reader, register_reader
+
+from cli_run import run
+
+# SYNTHETIC: R0 + R1 || C1 in kHz and kΩ (the lab format's units), R0 = 0.1 kΩ, R1 = 2 kΩ, C1 = 1 µF
+F_KHZ = np.logspace(-1, -5, 15)
+W = 2 * np.pi * F_KHZ * 1e3
+Z_KOHM = (100 + 1 / (1 / 2000 + 1j * W * 1e-6)) / 1e3
+TEXT = "frequency,zreal,zimag\n" + "".join(f"{float(f)!r},{float(z.real)!r},{float(z.imag)!r}\n" for f, z in zip(F_KHZ, Z_KOHM))
+
+
+def read_lab(path):
+    table = np.loadtxt(path, delimiter=",", skiprows=1)
+    return ix.make_spectrum(table[:, 0] * 1e3, (table[:, 1] + 1j * table[:, 2]) * 1e3, attrs={"format": "LAB"})
+
+
+BY_EXTENSION = Reader("LAB", (".lab",), lambda path, head: None if str(path).endswith(".lab") else "not a .lab file", read_lab)
+BY_CONTENT = Reader("LAB", (".lab",), lambda path, head: None if head.startswith(b"frequency,zreal") else "no LAB header", read_lab)
+
+
+def _stdin(monkeypatch):
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(TEXT.encode())))
+
+
+def test_stdin_not_claimed_by_the_users_reader_says_so(monkeypatch):
+    _stdin(monkeypatch)
+    ds = ix.load("-", readers=register_reader(BY_EXTENSION))
+    # read as delimited text, the file's own numbers (kHz taken as Hz): what the note warns of
+    assert ds.attrs["format"] == "delimited text"
+    np.testing.assert_allclose(ds.frequency.values, F_KHZ, rtol=1e-15)
+    note = ds.attrs["stdin_note"]
+    assert note.startswith("standard input read as delimited text: it has no file name, and your reader (reader 'LAB') did not claim it")
+    assert "(LAB: not a .lab file)" in note and "give the file's path in place of '-'" in note
+
+
+@pytest.mark.parametrize("readers", [None, "claimed"])
+def test_no_note_without_users_readers_or_when_one_claims_it(monkeypatch, readers):
+    _stdin(monkeypatch)
+    ds = ix.load("-", readers=register_reader(BY_CONTENT) if readers else None)
+    assert "stdin_note" not in ds.attrs
+    if readers:
+        np.testing.assert_allclose(ds.frequency.values, F_KHZ * 1e3, rtol=1e-12)
+        np.testing.assert_allclose(ds.Z.values, Z_KOHM * 1e3, rtol=1e-12)
+
+
+@pytest.mark.parametrize("command", [["inspect"], ["inspect", "--json"], ["kk"]])
+def test_commands_show_the_note(monkeypatch, capsys, tmp_path, command):
+    plugin = tmp_path / "lab.py"
+    plugin.write_text("from impedax.io import Reader\n"
+                      "READER = Reader('LAB', ('.lab',), lambda p, h: None if str(p).endswith('.lab') else 'not a .lab file', lambda p: None)\n")
+    _stdin(monkeypatch)
+    code, out, err = run([command[0], "-", "--plugin", plugin, *command[1:]], capsys)
+    assert code == 0, err
+    said = "standard input read as delimited text: it has no file name, and your reader (reader 'LAB' of --plugin"
+    if command == ["kk"]:  # (every command but inspect prints it on stderr, as a phase unit's note)
+        assert f"impedax: warning: <stdin>: {said}" in err and "(LAB: not a .lab file)" in err
+    elif "--json" in command:
+        assert json.loads(out)["attrs"]["stdin_note"].startswith(said)
+    else:
+        assert f"  stdin_note: {said}" in out
