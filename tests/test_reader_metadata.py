@@ -64,3 +64,15 @@ def test_optional_keys_are_written_by_the_reader(row):
     assert sources, fmt
     for key in _documented(cell)[1]:
         assert any(f'attrs["{key}"]' in text for text in sources), (fmt, key)
+
+
+@pytest.mark.parametrize("written, area_cm2", [(b"0.001 cm\xb2", 0.001), (b"1,5 cm\xb2", 1.5), (b"2.5 cm2", 2.5), (b"0.5 mm\xb2", None)])
+def test_biologic_area_as_a_number_in_cm2(tmp_path, written, area_cm2):
+    # the REAL file says "Electrode surface area : 0.001 cm²" (Latin-1); SYNTHETIC variants of that line
+    raw = (REAL / "exampleDataBioLogic.mpt").read_bytes()
+    assert b"Electrode surface area : 0.001 cm\xb2" in raw
+    path = tmp_path / "area.mpt"
+    path.write_bytes(raw.replace(b"Electrode surface area : 0.001 cm\xb2", b"Electrode surface area : " + written))
+    attrs = ix.load(path).attrs
+    assert attrs["electrode_surface_area"] == written.decode("latin-1")
+    assert attrs.get("area_cm2") == area_cm2

@@ -26,6 +26,8 @@ __all__ = ["read_biologic", "read_biologic_text", "READER", "TEXT_READER"]
 
 CONVENTIONS = "freq/Hz; Re(Z)/Ohm; file stores -Im(Z)/Ohm = -Z'', negated"
 _MAGIC = ("EC-Lab ASCII FILE", "BT-Lab ASCII FILE")
+# EC-Lab's "Electrode surface area : 0.001 cm²" (a decimal comma in a locale's export; cm2 where ² was lost)
+_AREA_CM2 = re.compile(r"([0-9]+(?:[.,][0-9]*)?(?:[eE][-+]?[0-9]+)?)\s*cm(?:²|2|\^2)")
 
 
 def sniff(path: Path, head: bytes) -> str | None:
@@ -70,6 +72,9 @@ def read_biologic(path: str | Path) -> xr.Dataset:
             attrs["comments"] = value.strip()
         elif key == "Electrode surface area":
             attrs["electrode_surface_area"] = value.strip()
+            area = _AREA_CM2.fullmatch(value.strip())
+            if area:  # (as a number, under Gamry's key: "0.001 cm²" → 0.001; added 2026-12-06)
+                attrs["area_cm2"] = float(area.group(1).replace(",", "."))
         elif key == "Run on channel":
             attrs["channel"] = value.strip()
     _check_header_count(path, lines, n_header)
