@@ -70,3 +70,11 @@ def test_commands_show_the_note(monkeypatch, capsys, tmp_path, command):
         assert json.loads(out)["attrs"]["stdin_note"].startswith(said)
     else:
         assert f"  stdin_note: {said}" in out
+
+
+def test_identify_of_standard_input_says_what_to_do(monkeypatch):
+    # (it said "-: file not found", as if a file named '-' were missing)
+    _stdin(monkeypatch)
+    with pytest.raises(ix.DataError, match=r"^<stdin>: identify looks at a file, and '-' is standard input, which only impedax\.load reads"):
+        ix.io.identify("-")
+    assert sys.stdin.read() == TEXT  # (left unread)

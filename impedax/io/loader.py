@@ -77,8 +77,13 @@ def _named(reader: Reader) -> str:
 
 def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> tuple[Reader | None, list[str]]:
     """The reader that claims ``path`` (``None`` for plain text) and the reasons of those that did
-    not; a path that is no str or os.PathLike is one `DataError`, as `load`'s (a TypeError until 2026-12-06)."""
+    not; a path that is no str or os.PathLike is one `DataError`, as `load`'s (a TypeError until 2026-12-06).
+    ``-``, `load`'s standard input, is one `DataError` saying so (until 2026-12-06 "-: file not found")."""
     _check_path(path)
+    if str(path) == STDIN:
+        raise DataError("identify looks at a file, and '-' is standard input, which only impedax.load reads (once): its attrs['format'] "
+                        "names the reader that read it (attrs['stdin_note'] when none of your own readers claimed it); "
+                        "to identify piped data, save them to a file first", path=STDIN_NAME)
     reader, tried, _faults = _identify(path, readers)
     return reader, tried
 
