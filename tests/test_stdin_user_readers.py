@@ -78,3 +78,10 @@ def test_identify_of_standard_input_says_what_to_do(monkeypatch):
     with pytest.raises(ix.DataError, match=r"^<stdin>: identify looks at a file, and '-' is standard input, which only impedax\.load reads"):
         ix.io.identify("-")
     assert sys.stdin.read() == TEXT  # (left unread)
+
+
+def test_inspect_help_names_standard_input(capsys):
+    # (FILE was "spectrum file": nothing said that '-' reads standard input)
+    code, out, _ = run(["inspect", "--help"], capsys)
+    assert code == 0
+    assert "'-' reads standard input" in " ".join(out.split())

@@ -24,7 +24,7 @@ def register(sub) -> None:
         description="Read FILE (any format impedax knows: see docs/io.md) and say what was read and how: format, sign "
         "convention, units, skipped rows. --out converts it to canonical CSV or netCDF; --plot writes a Nyquist/Bode preview.",
     )
-    p.add_argument("file", metavar="FILE", help="spectrum file")
+    p.add_argument("file", metavar="FILE", help="spectrum file; '-' reads standard input, recognised by content as a file is (a reader of your own that goes by the extension does not claim it)")
     add_select_option(p)
     add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form; '-' the CSV to standard output", out_metavar="FILE.csv|.nc")
     add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
