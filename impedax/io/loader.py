@@ -202,7 +202,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
         if head.strip(b" \t\r\n"):
-            raise DataError(_unrecognised(None, tried, faults), path=path)
+            raise DataError(_unrecognised(None, tried, faults, _by_extension(path, readers, tried)), path=path)
         raise DataError("file is empty", path=path)
     try:
         ds = read_csv(path)
@@ -213,7 +213,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
         if not faults and _looks_like_json(head_text(head)):
             # (a JSON file was told "as delimited text, no frequency column in header ['{"frequency": [1', '10', ...]")
             raise DataError(_unrecognised_json(len(tried)), path=path) from None
-        raise DataError(_unrecognised(exc.reason, tried, faults), path=exc.path, line=exc.line) from None
+        raise DataError(_unrecognised(exc.reason, tried, faults, _by_extension(path, readers, tried)), path=exc.path, line=exc.line) from None
     return _checked(ds, path)
 
 
@@ -282,15 +282,34 @@ def _checked(ds: xr.Dataset, path: Path) -> xr.Dataset:
     return ds
 
 
-def _unrecognised(as_text: str | None, tried: Sequence[str], faults: Sequence[str] = ()) -> str:
+def _by_extension(path: Path, readers: Sequence[Reader] | None, tried: Sequence[str]) -> str:
+    """The reason of the one reader whose `Reader.extensions` alone hold ``path``'s suffix (any
+    case: ``.DTA``), when it did not claim the file: the format the file's name promises (a
+    ``.mpt`` without its first line was told only why it is no delimited text, 2026-12-06); ""
+    for a suffix several readers list (``.txt``, ``.csv``) or none, and for a sniff that gave no
+    reason (False) or broke its contract (named apart, `_unrecognised`'s ``faults``)."""
+    suffix = path.suffix.lower()
+    owners = [r for r in _checked_readers(readers) if suffix and suffix in (e.lower() for e in r.extensions)]
+    if len(owners) != 1:
+        return ""
+    reason = next((entry.removeprefix(f"{owners[0].name}: ") for entry in tried if entry.startswith(f"{owners[0].name}: ")), None)
+    if reason is None or reason.startswith(("sniff failed", "sniff returned")):  # (a fault is named apart; a False gives no reason)
+        return ""
+    return f"named {path.suffix}, the extension of {_named(owners[0])}, which does not recognise it: {reason}"
+
+
+def _unrecognised(as_text: str | None, tried: Sequence[str], faults: Sequence[str] = (), expected: str = "") -> str:
     """The message for a file no reader claims: why it is not delimited text first (the reason
     a user of a text table needs; ``None``: the file is binary), then how many other formats
     were tried, not each one's reason (twenty reasons buried the one sentence that matters:
     ~2,000 characters); `identify` gives them, docs/io.md lists the formats. A sniff that broke
-    its contract (``faults``) comes before all that: most likely a user's reader meant the file."""
+    its contract (``faults``) comes before all that: most likely a user's reader meant the file;
+    then the reason of the format the file's extension names (``expected``, `_by_extension`)."""
     if faults:
         contract = "a sniff returns None (or True) for a file in its format, else the reason it is not"
-        return f"not a recognised spectrum file: {'; '.join(faults)} ({contract}); " + _unrecognised(as_text, tried).removeprefix("not a recognised spectrum file: ")
+        return f"not a recognised spectrum file: {'; '.join(faults)} ({contract}); " + _unrecognised(as_text, tried, (), expected).removeprefix("not a recognised spectrum file: ")
+    if expected:
+        return f"not a recognised spectrum file: {expected}; " + _unrecognised(as_text, tried).removeprefix("not a recognised spectrum file: ")
     other = "" if as_text is None else " other"  # (a binary file was not tried as text)
     count = f"{len(tried)}{other} format{'s' if len(tried) != 1 else ''}"
     listed = f"; {count} tried (each one's reason: impedax.io.identify; the formats: docs/io.md)" if tried else f"; no{other} format is registered"

@@ -52,7 +52,8 @@ class Reader:
     ``True`` and ``False`` are read as "mine" and "not mine". A sniff that raises or returns
     anything else is named with what it did when no reader claims the file (`impedax.load`).
     ``read(path)`` returns the spectrum Dataset or raises `impedax.DataError` naming the line.
-    ``extensions``: the suffixes it is known by (``(".lab",)``; one text alone is one suffix).
+    ``extensions``: the suffixes it is known by (``(".lab",)``; one text alone is one suffix); content
+    decides, but a file no reader claims is told first why the one reader that alone lists its suffix refused it.
     ``conventions`` says in one line how the file stores Z and its units (README, ``inspect``).
     ``origin``: where the reader was declared, as a message names it before the file and line of
     its code that raised (`impedax.load`): ``--plugin lab.py`` or ``$IMPEDAX_PLUGINS lab.py`` for a
