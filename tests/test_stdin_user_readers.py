@@ -85,3 +85,22 @@ def test_inspect_help_names_standard_input(capsys):
     code, out, _ = run(["inspect", "--help"], capsys)
     assert code == 0
     assert "'-' reads standard input" in " ".join(out.split())
+
+
+@pytest.mark.parametrize("conventions, says", [
+    ("f [kHz], Z' and Z'' [kOhm] as stored", "f [kHz], Z' and Z'' [kOhm] as stored (as reader 'LAB' declares its conventions)"),
+    ("", "reader 'LAB' recorded no {what} (Reader.conventions is empty)"),
+])
+def test_a_users_reader_that_records_no_conventions(tmp_path, conventions, says):
+    # SYNTHETIC kHz/kΩ file read by a reader that returns make_spectrum alone: impedax inspect said
+    # "impedax data model: Z = Z' + jZ''" and "Hz, ohm", as if the file held Hz and ohm
+    path = tmp_path / "run.lab"
+    path.write_text(TEXT)
+    ds = ix.load(path, readers=register_reader(Reader("LAB", (".lab",), lambda p, h: None, read_lab, conventions)))
+    np.testing.assert_allclose(ds.frequency.values, F_KHZ * 1e3, rtol=1e-12)
+    assert ds.attrs["sign_convention"] == says.format(what="sign convention")
+    assert ds.attrs["units"] == says.format(what="units")
+    # a reader that records its own keeps them
+    own = ix.load(path, readers=register_reader(Reader("LAB", (".lab",), lambda p, h: None,
+                                                       lambda p: read_lab(p).assign_attrs(sign_convention="zimag as stored", units="kHz, kOhm"), conventions)))
+    assert (own.attrs["sign_convention"], own.attrs["units"]) == ("zimag as stored", "kHz, kOhm")

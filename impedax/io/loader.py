@@ -194,6 +194,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
 
         if any(reader is r for r in built_in):
             return _checked(ds, path)
+        _recorded_conventions(ds, reader)
         try:  # a user's reader: its Dataset's fault is named as the reader's (2026-12-06: "dataset has no variable 'Z'" alone)
             return _checked(ds, path)
         except DataError as exc:
@@ -215,6 +216,17 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
             raise DataError(_unrecognised_json(len(tried)), path=path) from None
         raise DataError(_unrecognised(exc.reason, tried, faults, _by_extension(path, readers, tried)), path=exc.path, line=exc.line) from None
     return _checked(ds, path)
+
+
+def _recorded_conventions(ds: xr.Dataset, reader: Reader) -> None:
+    """A user's reader that recorded no ``sign_convention`` or ``units`` (`make_spectrum` alone)
+    gets its `Reader.conventions` there, or a word that it recorded none: until 2026-12-06
+    ``impedax inspect`` then said "impedax data model: Z = Z' + jZ''" and "Hz, ohm", as if the
+    file held them (a SYNTHETIC kHz/kΩ lab file)."""
+    said = f"{reader.conventions} (as {_named(reader)} declares its conventions)" if reader.conventions.strip() else ""
+    for key, what in (("sign_convention", "sign convention"), ("units", "units")):
+        if key not in ds.attrs:
+            ds.attrs[key] = said or f"{_named(reader)} recorded no {what} (Reader.conventions is empty)"
 
 
 def _read_with(reader: Reader, path: Path) -> xr.Dataset:

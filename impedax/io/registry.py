@@ -54,7 +54,8 @@ class Reader:
     ``read(path)`` returns the spectrum Dataset or raises `impedax.DataError` naming the line.
     ``extensions``: the suffixes it is known by (``(".lab",)``; one text alone is one suffix); content
     decides, but a file no reader claims is told first why the one reader that alone lists its suffix refused it.
-    ``conventions`` says in one line how the file stores Z and its units (README, ``inspect``).
+    ``conventions`` says in one line how the file stores Z and its units: a user's reader whose
+    Dataset records no ``sign_convention`` or ``units`` gets it there (``impedax inspect`` shows them).
     ``origin``: where the reader was declared, as a message names it before the file and line of
     its code that raised (`impedax.load`): ``--plugin lab.py`` or ``$IMPEDAX_PLUGINS lab.py`` for a
     plugin's reader on the command line (which sets it); "" for one made in Python (added 2026-12-06).
