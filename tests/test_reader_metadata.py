@@ -76,3 +76,19 @@ def test_biologic_area_as_a_number_in_cm2(tmp_path, written, area_cm2):
     attrs = ix.load(path).attrs
     assert attrs["electrode_surface_area"] == written.decode("latin-1")
     assert attrs.get("area_cm2") == area_cm2
+
+
+def test_gamry_header_numbers_with_decimal_commas(tmp_path):
+    # SYNTHETIC: the REAL exampleDataGamry.DTA's header numbers as a decimal-comma locale writes them;
+    # area_cm2 stayed the text '1,00000E+000' where the docs promise numbers
+    real = ix.load(REAL / "exampleDataGamry.DTA").attrs
+    keys = ("area_cm2", "dc_voltage_v", "ac_voltage_mv_rms", "initial_frequency_hz", "final_frequency_hz")
+    lines = (REAL / "exampleDataGamry.DTA").read_bytes().split(b"\n")
+    header = {b"AREA", b"VDC", b"VAC", b"FREQINIT", b"FREQFINAL"}
+    swapped = [line.replace(b".", b",") if line.split(b"\t")[0] in header else line for line in lines]
+    assert sum(a != b for a, b in zip(lines, swapped)) == len(header)
+    path = tmp_path / "comma.DTA"
+    path.write_bytes(b"\n".join(swapped))
+    attrs = ix.load(path).attrs
+    assert {k: attrs[k] for k in keys} == {k: real[k] for k in keys} == {
+        "area_cm2": 1.0, "dc_voltage_v": -0.05, "ac_voltage_mv_rms": 10.0, "initial_frequency_hz": 200000.0, "final_frequency_hz": 0.02}

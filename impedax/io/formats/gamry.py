@@ -66,8 +66,9 @@ def read_gamry(path: str | Path) -> xr.Dataset:
         elif len(cells) >= 3 and key in _ATTR_KEYS:
             value = cells[2].strip()
             if len(cells) > 1 and cells[1].strip() in ("QUANT", "IQUANT", "POTEN"):  # (a number, a potential: "-5.00000E-002" read as -0.05)
+                number = value.replace(",", ".") if value.count(",") == 1 and "." not in value else value  # (a decimal comma's locale: "1,00000E+000"; 2026-12-06)
                 try:
-                    value = float(value)
+                    value = float(number)
                 except ValueError:
                     pass
             attrs[_ATTR_KEYS[key]] = value
