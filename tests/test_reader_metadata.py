@@ -6,6 +6,7 @@ writes (its module's text names it)."""
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import impedax as ix
@@ -92,3 +93,21 @@ def test_gamry_header_numbers_with_decimal_commas(tmp_path):
     attrs = ix.load(path).attrs
     assert {k: attrs[k] for k in keys} == {k: real[k] for k in keys} == {
         "area_cm2": 1.0, "dc_voltage_v": -0.05, "ac_voltage_mv_rms": 10.0, "initial_frequency_hz": 200000.0, "final_frequency_hz": 0.02}
+
+
+@pytest.mark.parametrize("name, header_lines", [("exampleDataBioLogic.mpt", 61), ("exampleDataGamry.DTA", None)])
+def test_decimal_commas_of_an_instrument_table_are_reported(tmp_path, name, header_lines):
+    # SYNTHETIC: the REAL file's table with decimal commas (tab-separated: unambiguous). The numbers were
+    # read right, but attrs["decimal_mark"], documented for any file that used decimal commas, was absent
+    raw = (REAL / name).read_bytes()
+    lines = raw.split(b"\n")
+    if header_lines:  # (EC-Lab: the rows below its header lines)
+        swapped = lines[:header_lines] + [line.replace(b".", b",") for line in lines[header_lines:]]
+    else:  # (Gamry: the ZCURVE table's rows start with a tab)
+        swapped = [line.replace(b".", b",") if line.startswith(b"\t") else line for line in lines]
+    path = tmp_path / name
+    path.write_bytes(b"\n".join(swapped))
+    real, comma = ix.load(REAL / name), ix.load(path)
+    np.testing.assert_array_equal(comma["Z"].values, real["Z"].values)
+    np.testing.assert_array_equal(comma["frequency"].values, real["frequency"].values)
+    assert comma.attrs["decimal_mark"] == "comma" and "decimal_mark" not in real.attrs

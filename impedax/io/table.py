@@ -620,6 +620,8 @@ def spectrum_from_rows(
     n_fields = len(header)
     if comma is None:
         comma = decimal_comma([c for _, cells in rows[:20] for c in cells], delimiter)
+    if comma:  # (as delimited text says it: an instrument's table read here said nothing until 2026-12-06)
+        attrs["decimal_mark"] = "comma"
     polar = ("modulus", "phase", "neg_phase")
     wanted = {role: col for role, col in layout.columns.items() if not (layout.cartesian and role in polar)}
     values: dict[str, list[float]] = {role: [] for role in wanted}

@@ -131,6 +131,8 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
             break  # end of the table: the next KEY line (EXPERIMENTABORTED, another table ...)
         rows.append((k + 1, line.split("\t")))
     comma = decimal_comma([c for _, cells in rows for c in cells], "\t")
+    if comma:  # (attrs["decimal_mark"], as every table reader says it; 2026-12-06)
+        attrs["decimal_mark"] = "comma"
     wanted = {"Freq": index["Freq"], "Zreal": index["Zreal"], "Zimag": index["Zimag"]}
     if "Time" in index:
         wanted["Time"] = index["Time"]
