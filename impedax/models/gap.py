@@ -1240,13 +1240,39 @@ def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> lis
     ]
 
 
+# with one spectrum per input the paper method has no bounds, and the Bayesian u is set against
+# its u itself: they are said to disagree beyond this ratio (either way). The paper's u, from
+# mean |Y_R|/ω above the cutoff, counts the EP branch's admittance as C_gap's and so lies below
+# the truth: 0.82× on the SYNTHETIC pad of tests/test_gap_single_contact.py (EP admittance equal
+# to ωC_gap at 30 Hz, α = 0.6), while on the REAL Gamry file (exampleDataGamry.DTA, A = 1 cm²,
+# no air gap) the two were 360× apart, unwarned until 2026-12-06
+GAP_METHODS_RATIO_MAX = 10.0
+
+
 def _estimate_bound_notes(what: str, u: float, paper: PaperGapEstimate, remaining: xr.Dataset, detail: str = "") -> list[str]:
     """A warning when a Bayesian u [m] lies far outside the paper method's bounds, by the rule of
     `_far_outside`: those bounds come from two extreme trials and need not contain even the
-    paper's own u, so a small miss says nothing."""
-    if not _several_spectra(remaining) or not _far_outside(u, paper.gap_lower, paper.gap_upper):
+    paper's own u, so a small miss says nothing. With one spectrum per input (no bounds): when
+    u and the paper's u differ by more than `GAP_METHODS_RATIO_MAX`×."""
+    if not _several_spectra(remaining):
+        return _estimate_ratio_notes(what, u, paper, detail, single=_single(remaining))
+    if not _far_outside(u, paper.gap_lower, paper.gap_upper):
         return []
     return [f"the {what} {_gap_length(u, 3)} lies far outside the paper method's bounds ({_gap_range(paper.gap_lower, paper.gap_upper, 3)}{detail}): the two methods disagree (the figure's air-gap thickness panel shows both)"]
+
+
+def _estimate_ratio_notes(what: str, u: float, paper: PaperGapEstimate, detail: str = "", *, single: bool = True) -> list[str]:
+    """A warning when a Bayesian u [m] and the paper method's u differ by more than
+    `GAP_METHODS_RATIO_MAX`× (one spectrum per input: the paper has no bounds to hold u against)."""
+    low, high = sorted((u, paper.gap))
+    if not (np.isfinite(high) and low > 0) or high <= GAP_METHODS_RATIO_MAX * low:
+        return []
+    return [
+        f"the {what} {_gap_length(u, 3)} and the paper method's u = {_gap_length(paper.gap, 3)} differ {high / low:.3g}× "
+        f"(over {GAP_METHODS_RATIO_MAX:g}×; one spectrum{'' if single else ' per file'}, so the paper method has no bounds{detail}): the two methods disagree — the paper's u reads C_gap as "
+        f"mean |Y_R|/ω above {format_frequency(paper.cutoff_hz)}, which holds only where C_gap carries the current, and the Bayesian u is the EDL model's "
+        f"C_gap over the whole band: check that {'the spectrum is' if single else 'the spectra are'} of an air-gap contact and that the model fits it (the figure's air-gap thickness panel shows both)"
+    ]
 
 
 def _naive_runaway_notes(naive) -> list[str]:
