@@ -58,6 +58,19 @@ def files_in_band(datasets: list, paths: list[str], fmin: float | None, fmax: fl
     return out
 
 
+def _ep_branch(value: str) -> str:
+    """--ep as its element symbol (``Q``, the circuit language's alias of CPE → ``CPE``; any case),
+    `models.gap.ep_branch_name`; the rest refused with the aliases named."""
+    import argparse
+
+    from ..models.gap import EP_BRANCHES, ep_branch_aliases, ep_branch_name
+
+    name = ep_branch_name(value)
+    if name not in EP_BRANCHES:
+        raise argparse.ArgumentTypeError(f"invalid choice: {value!r} (choose from {', '.join(map(repr, EP_BRANCHES))}; or {ep_branch_aliases()}, its alias in the circuit language)")
+    return name
+
+
 def register(sub) -> None:
     from .common import SELECT_SYNTAX_HELP, accept_negative_numbers, add_output_options, add_quiet_option, number_option
     from ..arguments import GAP_MIN_STEPS
@@ -82,7 +95,7 @@ def register(sub) -> None:
     p.add_argument("--no-area-check", action="store_true", help="analyse any positive --area, e.g. a contact other than a fingertip: one outside 1e-6–1e-2 m² gives a warning instead of an error")
     p.add_argument("--v0", type=number_option, help="drive amplitude V0 [V], peak; default: the one voltage the total spectra carry (a --select voltage=500 "
                    "or a scalar coordinate or attribute named voltage, V0, drive_voltage, ... in V), else 75 (Sirin et al.)")
-    p.add_argument("--ep", type=str.upper, choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
+    p.add_argument("--ep", type=_ep_branch, metavar="{CPE,C}", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default; Q, the circuit language's alias of CPE, names it too) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
     p.add_argument("--method", choices=("hierarchical", "pooled"), help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
     p.add_argument("--pooled", action="store_true", help="same as --method pooled")
     p.add_argument(

@@ -39,9 +39,9 @@ import numpy as np
 import xarray as xr
 
 from ..progress import quiet_beneath
-from ..circuits import parse
+from ..circuits import DEFAULT_REGISTRY, parse
 from ..data import point_text, report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
-from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed
+from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed, shown
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
@@ -923,9 +923,38 @@ def _gap_steps(value, name):
     return value
 
 
+EP_BRANCHES = ("C", "CPE")
+"""The electrode-polarization branches of `gap_analysis` (``ep``): R_EP || C_EP or R_EP || CPE_EP."""
+
+
+def ep_branch_name(value):
+    """``value`` as an EP branch's element symbol of `EP_BRANCHES` when it is one of them or an
+    alias the circuit language gives it, any case (``"Q"``, the CPE's alias → ``"CPE"``); else
+    ``value`` as it is (for the refusal to name)."""
+    if not isinstance(value, str):
+        return value
+    for spec in DEFAULT_REGISTRY.specs:
+        if spec.symbol in EP_BRANCHES and value.casefold() in (s.casefold() for s in (spec.symbol, *spec.aliases)):
+            return spec.symbol
+    return value
+
+
+def ep_branch_aliases() -> str:
+    """The aliases the circuit language gives `EP_BRANCHES`, for a refusal: "Q for CPE"."""
+    return ", ".join(f"{a} for {spec.symbol}" for symbol in EP_BRANCHES for spec in DEFAULT_REGISTRY.specs if spec.symbol == symbol for a in spec.aliases)
+
+
+def _ep_rule(value, name):
+    """`ep_branch_name`, then one of `EP_BRANCHES`, else refused with their aliases named."""
+    branch = ep_branch_name(value)
+    if branch not in EP_BRANCHES:
+        raise ParameterError(f"unknown {name} {shown(value)} (choose one of {', '.join(EP_BRANCHES)}; or {ep_branch_aliases()}, its alias in the circuit language)")
+    return branch
+
+
 @quiet_beneath
 @checked_arguments(
-    area=real(positive=True), v0=real(positive=True, optional=True), ep=choice(("C", "CPE"), fold_case=True), eps_gap=relative_permittivity_number, cutoff_hz=real(positive=True),
+    area=real(positive=True), v0=real(positive=True, optional=True), ep=_ep_rule, eps_gap=relative_permittivity_number, cutoff_hz=real(positive=True),
     steps=_gap_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
