@@ -7,6 +7,7 @@ from __future__ import annotations
 import collections
 import itertools
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -962,16 +963,23 @@ def trial_means_of_sigma(attrs) -> str | None:
     """What a spectrum's σ is the standard error of, by its attrs, when it is one of means over
     trials (``sigma_method`` naming the SEM, as `sirin.remaining_impedance` writes it, with its
     ``n_trials_total`` of two trials or more, and ``n_trials_skin``, ``n_trials_touchscreen``):
-    "30 total, 30 skin, 30 touchscreen spectra"; None otherwise (a sigma column, whose origin
-    impedax does not know)."""
+    "30 total, 30 skin, 30 touchscreen spectra"; an input of one spectrum that gave its stated
+    sigma is named by that provenance, in `diagnosis.noise.sigma_origin`'s words: "30 total spectra,
+    and the stated sigma of skin and touchscreen (one spectrum each), added in quadrature" (it
+    was counted as "1 skin, 1 touchscreen" spectra of trial means until 2026-12-06); None
+    otherwise (a sigma column, whose origin impedax does not know)."""
     attrs = attrs or {}
-    if "sem" not in str(attrs.get("sigma_method", "")).lower():
+    method = str(attrs.get("sigma_method", ""))
+    if "sem" not in method.lower():
         return None
     counts = {name: attrs.get(f"n_trials_{name}") for name in ("total", "skin", "touchscreen")}
     counts = {name: int(n) for name, n in counts.items() if n is not None}
     if counts.get("total", 0) < 2:
         return None
-    return ", ".join(f"{n} {name}" for name, n in counts.items()) + " spectra"
+    stated = re.search(r"the stated sigma of (.+?) \((one spectrum[^)]*)\)", method)
+    stated_names = re.findall(r"\b(total|skin|touchscreen)\b", stated.group(1)) if stated else []
+    means = ", ".join(f"{n} {name}" for name, n in counts.items() if name not in stated_names) + " spectra"
+    return f"{means}, and the stated sigma of {stated.group(1)} ({stated.group(2)}), added in quadrature" if stated else means
 
 
 # a fit whose residuals are, in rms, at most this fraction of |Z| matches its data to rounding

@@ -1,0 +1,48 @@
+"""The words by which a fit by σ names a remainder's σ, the standard error of trial means: with 30
+total trials and skin and screen of one spectrum each, which gave their stated σ, the note read
+"σ is the standard error of trial means (30 total, 1 skin, 1 touchscreen spectra)", as if skin and
+screen were means of one trial each; it now names them by provenance, as
+`diagnosis.noise.sigma_origin` does. SYNTHETIC spectra from numpy formulas written here."""
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.fitting.least_squares.result import trial_means_of_sigma
+from impedax.models.sirin import remaining_impedance
+
+F = np.geomspace(1.0, 1e5, 40)
+W = 2 * np.pi * F
+Z_SKIN = 1e4 / (1 + 1j * W * 1e4 * 1e-8)  # R ∥ C, 10 kΩ and 10 nF
+Z_TS = np.full(F.size, 2e3 + 0j)  # the screen's 2 kΩ
+
+
+def _gap(scale):
+    """R_EP ∥ C_gap, 10 MΩ and 400 pF × ``scale`` (the contact from touch to touch)."""
+    return 1 / (1 / 1e7 + 1j * W * 4e-10 * scale)
+
+
+def _trials(z_of_trial, n, rng):
+    z = np.stack([z_of_trial(rng) for _ in range(n)])
+    return ix.make_spectrum(F, z * (1 + 0.002 * (rng.standard_normal(z.shape) + 1j * rng.standard_normal(z.shape))), dims=("trial",))
+
+
+def _remainder(skin_trials, screen_trials, seed=3):
+    rng = np.random.default_rng(seed)
+    total = _trials(lambda r: _gap(np.exp(0.05 * r.standard_normal())) + Z_SKIN + Z_TS, 30, rng)
+    parts = []
+    for z, n in ((Z_SKIN, skin_trials), (Z_TS, screen_trials)):
+        parts.append(ix.make_spectrum(F, z, sigma=0.01 * np.abs(z)) if n == 1 else _trials(lambda r, z=z: z, n, rng))
+    return remaining_impedance(total, *parts)
+
+
+def test_stated_sigma_of_single_spectra_is_named_as_such_not_counted_as_trial_means():
+    rem = _remainder(1, 1)
+    assert trial_means_of_sigma(rem.attrs) == "30 total spectra, and the stated sigma of skin and touchscreen (one spectrum each), added in quadrature"
+    assert trial_means_of_sigma(_remainder(1, 30).attrs) == "30 total, 30 touchscreen spectra, and the stated sigma of skin (one spectrum), added in quadrature"
+    assert trial_means_of_sigma(_remainder(30, 30).attrs) == "30 total, 30 skin, 30 touchscreen spectra"  # (every σ a SEM: as before)
+    # the fit's note: residuals far below σ (the trials' 5 % spread of C_gap in the SEM, taken up by the fit of the mean)
+    fitted = ix.fit("R_EP || C_gap", rem, weighting="sigma")
+    (note,) = [w for w in fitted.warnings if "σ is the standard error of trial means" in w and "× the data's sigma in rms" in w]
+    assert "(30 total spectra, and the stated sigma of skin and touchscreen (one spectrum each), added in quadrature; the data's sigma_method)" in note
+    assert "1 skin" not in note and "1 touchscreen" not in note
