@@ -85,3 +85,16 @@ def test_synthetic_single_spectrum_where_the_methods_agree_has_no_warning():
     assert result.gap["q05"] <= U_TRUE <= result.gap["q95"], result.gap
     assert 0.5 < result.paper.gap / U_TRUE < 1.0  # (0.82: the EP branch counted as C_gap's)
     assert not [w for w in result.warnings if "the two methods disagree" in w]
+
+
+def test_a_paper_u_below_a_tenth_of_a_micrometre_keeps_three_significant_digits():
+    """The Gamry run's report read "paper method    u = 0.006 µm" (one digit) beside C_gap 149.1 nF
+    and the warning's 0.00594 µm: 5.943 nm is 0.00594 µm to 3 significant digits; 3 decimals
+    stay from 0.1 µm up."""
+    from impedax.models.gap import _gap_length, _gap_range
+
+    assert _gap_length(5.943115904e-9) == "0.00594 µm"
+    assert _gap_length(4.33e-8) == "0.0433 µm"
+    assert _gap_length(2.1875731685e-6) == "2.188 µm" and _gap_length(0.126e-6) == "0.126 µm"
+    assert _gap_range(5.943e-9, 6.61e-9) == "0.00594–0.00661 µm"
+    assert _gap_range(2.797e-6, 2.814e-6) == "2.797–2.814 µm"

@@ -799,8 +799,17 @@ def _gap_length(u: float, digits: int | None = None) -> str:
     "1150016.575 µm" and "0.000 µm"; 2026-12-03; a resistive remainder's notes, 2026-12-05)."""
     low, high = PLAUSIBLE_GAP_M
     if low <= u <= high:
-        return f"{u * 1e6:.3f} µm" if digits is None else f"{u * 1e6:.{digits}g} µm"
+        return f"{_micrometres(u, digits)} µm"
     return format_quantity(u, "m") if digits is None else format_quantity(u, "m", digits)
+
+
+def _micrometres(u: float, digits: int | None = None) -> str:
+    """u [m] in µm without the unit: to 3 decimals (``2.805``), or to 3 significant digits below
+    0.1 µm, where 3 decimals keep fewer (``0.00594``; the REAL Gamry file's paper u printed as
+    "0.006 µm" beside its 4-digit C_gap, 2026-12-06); to ``digits`` significant digits if given."""
+    if digits is not None:
+        return f"{u * 1e6:.{digits}g}"
+    return f"{u * 1e6:.3f}" if u >= 1e-7 else f"{u * 1e6:.3g}"
 
 
 def _gap_range(low: float, high: float, digits: int | None = None) -> str:
@@ -808,8 +817,7 @@ def _gap_range(low: float, high: float, digits: int | None = None) -> str:
     is no air gap (`_gap_length`)."""
     a, b = PLAUSIBLE_GAP_M
     if a <= low <= b and a <= high <= b:
-        form = ".3f" if digits is None else f".{digits}g"
-        return f"{low * 1e6:{form}}–{high * 1e6:{form}} µm"
+        return f"{_micrometres(low, digits)}–{_micrometres(high, digits)} µm"
     return f"{_gap_length(low, digits)}–{_gap_length(high, digits)}"
 
 
