@@ -239,6 +239,8 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("diagnose-noise-negative", ["diagnose", "{good}", "--model", "R1", "--noise", "-1"], "noise must be positive"),
     ("diagnose-noise-percent-above-100", ["diagnose", "{good}", "--model", "R1", "--noise", "150%"], "a noise level is below 100 % of |Z|"),
     ("diagnose-effects-empty", ["diagnose", "{good}", "--model", "R1", "--effects", ""], "--effects '' names no effect"),
+    ("diagnose-effects-empty-item", ["diagnose", "{good}", "--model", "R1", "--effects", "diffusion,,constant_phase"], "--effects 'diffusion,,constant_phase': item 2 of 3 is empty"),
+    ("refine-effects-trailing-comma", ["refine", "{good}", "--effects", "diffusion,"], "--effects 'diffusion,': item 2 of 2 is empty"),
     ("fit-plot-pgf", ["fit", "{good}", "--model", "R1", "--plot", "{tmp}/fit.pgf"], "'.pgf' needs a LaTeX install"),
     ("diagnose-max-steps-negative", ["diagnose", "{good}", "--model", "R1", "--max-steps", "-1"], "--max-steps must be at least 1"),
     ("diagnose-fmin-above-fmax", ["diagnose", "{good}", "--model", "R1", "--fmin", "5", "--fmax", "2"], "--fmax (2 Hz) is below --fmin (5 Hz)"),

@@ -49,9 +49,14 @@ def effects_option(text):
 
     if text is None:
         return DEFAULT_EFFECTS
-    ids = [t.strip() for t in text.split(",") if t.strip()]
+    known = ', '.join(e.id for e in DEFAULT_EFFECTS.effects)
+    items = [t.strip() for t in text.split(",")]
+    ids = [t for t in items if t]
     if not ids:
-        raise ParameterError(f"--effects {text!r} names no effect: leave it out for all of them, or give ids from {', '.join(e.id for e in DEFAULT_EFFECTS.effects)}")
+        raise ParameterError(f"--effects {text!r} names no effect: leave it out for all of them, or give ids from {known}")
+    if len(ids) < len(items):  # ("diffusion,,constant_phase": a dropped id, as --select refuses its empty item; taken silently until 2026-12-06)
+        empty = items.index("")
+        raise ParameterError(f"--effects {text!r}: item {empty + 1} of {len(items)} is empty; give effect ids separated by single commas, from {known}")
     return DEFAULT_EFFECTS.select(ids)
 
 
