@@ -243,8 +243,8 @@ def test_the_readme_medians_over_all_130_battery_cycles():
 def test_the_commands_robustness_md_says_have_warnings_have_the_key(tmp_path, capsys):
     """docs/robustness.md ("JSON for programs") names the commands whose `--json` has a top-level
     `warnings` list; each has it (SYNTHETIC R0 + R1 ‖ C1 spectrum), and `compare`, which it says
-    keeps them per model, has `models[].warnings` and no top-level key (until 2026-12-06 the page
-    listed compare with the others: a program's `warnings == []` check raised KeyError there)."""
+    has one too (each model's `models[].warnings` with its label; until 2026-12-06 it had none:
+    a program's `warnings == []` check raised KeyError there)."""
     text = " ".join((DOCS / "robustness.md").read_text(encoding="utf-8").split())
     sentence = re.search(r"Since 2026-12-01, (.*?) have it:", text).group(1)
     commands = [word for word in re.findall(r"`(\w+)`", sentence) if word not in ("warnings", "notes")]
@@ -261,4 +261,5 @@ def test_the_commands_robustness_md_says_have_warnings_have_the_key(tmp_path, ca
         assert isinstance(json.loads(out).get("warnings"), list), command
     code, out, err = run(["compare", path, *argv["compare"], "--json", "-q"], capsys)
     printed = json.loads(out)
-    assert code == 0 and "warnings" not in printed and all(isinstance(m["warnings"], list) for m in printed["models"])
+    assert code == 0 and printed["warnings"] == [f"{m['label']}: {w}" for m in printed["models"] for w in m["warnings"]]
+    assert "has a top-level `warnings` too" in text

@@ -14,7 +14,7 @@ import xarray as xr
 
 from ..data import column_width, concise_repr, report_text
 from ..errors import FitError
-from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, nested_as_held, register_batch_compare, significant, unique_labels
+from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, labelled_warnings, nested_as_held, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key, labels_shown, spectra_named
 from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, data_difference, misfit_hint_spectra
@@ -424,7 +424,9 @@ class BatchComparison(FrozenResult):
         ("aic_sum"), ``aic_form`` (`criteria`), ``weighting``, ``sizes`` (dimension → number of
         spectra), ``n_spectra``, ``weak_spectra`` (spectra whose winner leads by less than
         `WEAK_DELTA_AIC`), ``note`` (`SUM_NOTE`) and ``not_at_optimum`` (`not_at_optimum`: models
-        that fit some spectra worse than a model they contain; added 2026-12-02)."""
+        that fit some spectra worse than a model they contain; added 2026-12-02) and ``warnings``
+        (each model's distinct warnings over the spectra, "LABEL: warning", `labelled_warnings`;
+        which spectra: ``spectra[].models[].warnings``; added 2026-12-06)."""
         spectra = self.spectra()
         return {
             "models": self.models(), "spectra": spectra, "best": self.best, "best_label": self.labels[self.best_index], "ranked_by": "aic_sum",
@@ -433,6 +435,8 @@ class BatchComparison(FrozenResult):
             "weak_spectra": sum(r["weak_evidence"] for r in spectra), "weak_threshold": WEAK_DELTA_AIC, "note": SUM_NOTE,
             "not_at_optimum": self.not_at_optimum(),
             "best_misfit_hints": self.best_misfit_hints(),  # (added 2026-12-03: None unless a winner still misses structure, small as its misfit looks)
+            # (added 2026-12-06: each model's distinct warnings over the spectra, as a batch fit's JSON, with its label)
+            "warnings": labelled_warnings((label, sorted({w for ws in batch.warnings.values() for w in ws})) for batch, label in zip(self.batches, self.labels)),
         }
 
     def best_misfit_hints(self) -> dict | None:

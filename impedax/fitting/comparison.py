@@ -241,11 +241,13 @@ class Comparison(FrozenResult):
     def summary(self) -> dict:
         """The JSON of ``impedax compare --json`` (and ``--out FILE.json``): each model's fit
         summary (parameters, warnings) with its row (the row's ``aic`` and ``bic`` are the
-        comparison's, `criteria`), the best models, the F-tests and which AIC ranks."""
+        comparison's, `criteria`), the best models, the F-tests, which AIC ranks and ``warnings``
+        (every model's, `labelled_warnings`)."""
         i = self.best_aicc_index
         j = self.best_determined_index
+        models = [{**f.summary(), **r, "aic_form": self.aic_form} for f, r in zip(self.fits, self.rows)]
         return {
-            "models": [{**f.summary(), **r, "aic_form": self.aic_form} for f, r in zip(self.fits, self.rows)], "best": self.best, "best_determined": self.best_determined,
+            "models": models, "best": self.best, "best_determined": self.best_determined,
             "f_tests": [dict(t) for t in self.f_tests], "ranked_by": "aic", "aic_form": self.aic_form, "best_aicc": None if i is None else self.rows[i]["model"],
             # (the models' labels: the model text with the fixed values, `fit_label`)
             "best_label": self.rows[self.best_index]["label"], "best_determined_label": None if j is None else self.rows[j]["label"],
@@ -255,6 +257,7 @@ class Comparison(FrozenResult):
             "tied_with_best": [self.rows[i]["label"] for i in self.tied_with_best_indices()],  # (added 2026-12-01: [] when no AIC ties the best's)
             "best_misfit_hint": self.best_misfit_hint(),  # (added 2026-12-03: None unless the best still misses structure, small as its misfit looks)
             "undetermined_best": self.undetermined_best(),  # (added 2026-12-04: None unless the best leaves a parameter undetermined)
+            "warnings": labelled_warnings((m["label"], m["warnings"]) for m in models),  # (added 2026-12-06, as every command's JSON has it)
         }
 
     def undetermined_best(self) -> dict | None:
@@ -907,6 +910,13 @@ DECISIVE_DELTA_AIC = 10.0
 least this: Burnham & Anderson (2002, Model Selection and Multimodel Inference, §2.6) give a model
 ΔAIC > 10 behind the best essentially no support, the standard evidence between non-nested models
 (R_EP ∥ C_gap against CPE_EP ∥ C_gap: rms_rel only 1.29× apart, ΔAIC 61)."""
+
+
+def labelled_warnings(models) -> list[str]:
+    """The top-level ``warnings`` of a comparison's JSON: each model's warnings, in the order of
+    ``models`` (pairs of a label and its warnings), as "LABEL: warning"; [] when no model has any,
+    so that a program's ``warnings == []`` check means what it means in every command."""
+    return [f"{label}: {w}" for label, warnings in models for w in warnings]
 
 
 def _warning_texts(fit) -> list[str]:
