@@ -210,6 +210,8 @@ class Refinement(FrozenResult):
             # (added 2026-12-05) the last diagnosis' reason for the verdict (the report's verdict line), the data's sign hint
             # (`Diagnosis.sign_hint`: with it the verdict is data_invalid) and the catalog's effects effects= left out
             "reason": last.reason if last is not None else None, "sign_hint": self.sign_hint,
+            # (added 2026-12-06) which AIC the reason's ΔAIC is, against the steps' "aic" (`verdict_aic_note`), or null
+            "verdict_aic_note": self.verdict_aic_note,
             "effects_left_out": list(last.effects_left_out) if last is not None else [],
             # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the final fit's points, their number and how many every fit left out
             "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(final.frequency.size), "n_points_left_out": len(self.masked_points),
@@ -246,6 +248,22 @@ class Refinement(FrozenResult):
         rows = [{"step": i, "change": s.change, "model": s.model, "rms_rel [%]": f"{s.fit.rms_rel * 100:.3g}", "AIC": s.fit.aic, "×noise": "–" if s.noise_ratio is None else f"{s.noise_ratio:.3g}"} for i, s in enumerate(self.steps)]
         return result_html(f"refinement: {self.final_model}", rows, lines=[f"verdict: {self.verdict}{self.verdict_scope}"])
 
+    @property
+    def verdict_aic_note(self) -> str | None:
+        """Which AIC the verdict's "lowers AIC by …" is, beside the table's: the ranking's ΔAIC
+        over the residuals divided by the noise model's σ_k (docs/diagnosis.md, section 5), on which
+        every step is decided, and the same candidate's ΔAIC between the fits' own AICs under the
+        run's weighting, the table's (AIC = n ln(χ²/n) + 2k); None unless the last diagnosis
+        names an effect. Under proportional weighting on REAL Autolab the verdict said 36.6 where
+        the table's AICs of the same step differ by about 10, read as a contradiction."""
+        last = self.steps[-1].diagnosis
+        if last is None or self.verdict != last.verdict or last.verdict != Verdict.MISSING_EFFECT or last.best is None:
+            return None
+        best, base = last.best, last.baseline
+        own = best.fit.aic - base.aic
+        return (f"(that ΔAIC, {best.delta_aic:.1f}, is the ranking's, over the residuals divided by the noise, on which refine decides every step; "
+                f"between the fits' own AICs under {base.weighting} weighting, as in the table, adding {best.effect} is ΔAIC {own:.1f}: {base.aic:.1f} → {best.fit.aic:.1f})")
+
     def table(self) -> str:
         """One row per step: rms_rel, AIC, the residuals against the noise its verdict was judged
         on (``×noise``, `RefinementStep.noise_ratio`: whether a step's gain is beyond the noise;
@@ -272,6 +290,9 @@ class Refinement(FrozenResult):
             lines.append(data_line)
         heading = last_d.verdict_heading if last_d is not None and last_d.verdict == self.verdict else self.verdict.upper()
         lines.append(f"verdict: {heading}{self.verdict_scope}" + (f" — {last_d.reason}" if last_d is not None else ""))
+        aic_line = self.verdict_aic_note
+        if aic_line:
+            lines.append(aic_line)
         lines += self._final_lines()
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
