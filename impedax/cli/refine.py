@@ -18,7 +18,7 @@ def register(sub) -> None:
         "prints the table of steps (the error falls step by step). The final model is refitted from scratch, as impedax fit does, or, where that ends "
         "worse than the loop's fit, from the loop's values, and the report then ends with the impedax fit --init command that reproduces it. See docs/diagnosis.md.",
         plot_help="save the data with the first and the last model (Nyquist), rms_rel per step and the residuals of every step",
-        out_help="the refinement (.csv: the final fit's parameters)",
+        out_help="the refinement (.csv: the final fit's parameters, each row with final_model and verdict)",
         run=run,
         model_default=MODEL_DEFAULT,
     )

@@ -239,8 +239,11 @@ class Refinement(FrozenResult):
         return ([self.sign_hint] if self.sign_hint else []) + [n for n in self.notes if UNCHANGED_WORDS not in n] + beyond
 
     def to_table(self) -> list[dict[str, object]]:
-        """The tidy table of the final model's parameters (`FitResult.to_table`)."""
-        return self.final.to_table()
+        """The tidy table of the final model's parameters (`FitResult.to_table`), then on every
+        row ``final_model`` and ``verdict``, the JSON's (added 2026-12-06: ``refine --out
+        FILE.csv`` named no model but the starting one, ``setting_model``, beside the final
+        model's parameters)."""
+        return [{**row, "final_model": self.final_model, "verdict": str(self.verdict)} for row in self.final.to_table()]
 
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
