@@ -2,6 +2,7 @@
 model's warnings prefixed by its label (until 2026-12-06 only `models[].warnings`, so a
 pipeline's `warnings == []` check raised KeyError on compare alone)."""
 
+import csv
 import json
 
 import numpy as np
@@ -24,11 +25,16 @@ def test_single_compare_lists_every_models_warnings_with_its_label(tmp_path, cap
     f = np.geomspace(1.0, 1e5, 30)
     path = tmp_path / "rc.csv"
     ix.save(ix.make_spectrum(f, 10 + 100 / (1 + 2j * np.pi * f * 100 * 1e-6)), path)
-    printed = _compare_json(["compare", str(path), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1"], capsys)
+    table = tmp_path / "compared.csv"
+    printed = _compare_json(["compare", str(path), "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "--out", str(table)], capsys)
     by_label = {m["label"]: m["warnings"] for m in printed["models"]}
     assert by_label["R0 + R1 || C1"] == []
     assert any("CPE1.alpha" in w for w in by_label["R0 + R1 || CPE1"])
     assert printed["warnings"] == [f"R0 + R1 || CPE1: {w}" for w in by_label["R0 + R1 || CPE1"]]
+    # (--out FILE.csv: each model's warnings joined by "; ", as fit's and a batch comparison's CSV; no column until 2026-12-06)
+    with open(table, newline="", encoding="utf-8") as handle:
+        rows = {row["label"]: row for row in csv.DictReader(line for line in handle if not line.startswith("#"))}
+    assert {label: row["warnings"] for label, row in rows.items()} == {label: "; ".join(warnings) for label, warnings in by_label.items()}
 
 
 @pytest.mark.slow  # (~8 s: two models over two spectra)

@@ -307,8 +307,10 @@ class Comparison(FrozenResult):
         """One row per model, as ``compare --out FILE.csv`` writes them: the columns of the table
         with chi2, the AICc deltas and weights, the undetermined parameters and the user's bounds
         (``bounds``, `bounds_text`; both ``;``-joined), and the ``weighting`` (what chi2 and AIC
-        are against; added 2026-12-06)."""
-        return [{**r, "undetermined": ";".join(undetermined_names(f)), "bounds": ";".join(bounds_text(f)), "weighting": f.weighting} for r, f in zip(self.rows, self.fits)]
+        are against; added 2026-12-06), then ``warnings`` (the fit's, joined by "; ", "" if none,
+        as a single fit's and a batch comparison's tables have them; added 2026-12-06)."""
+        return [{**r, "undetermined": ";".join(undetermined_names(f)), "bounds": ";".join(bounds_text(f)), "weighting": f.weighting, "warnings": "; ".join(f.warnings)}
+                for r, f in zip(self.rows, self.fits)]
 
     def weak_evidence(self) -> dict | None:
         """How weakly the data prefer the best model by AIC, or None when its lead is clear: a
