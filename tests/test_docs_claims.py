@@ -263,3 +263,20 @@ def test_the_commands_robustness_md_says_have_warnings_have_the_key(tmp_path, ca
     printed = json.loads(out)
     assert code == 0 and printed["warnings"] == [f"{m['label']}: {w}" for m in printed["models"] for w in m["warnings"]]
     assert "has a top-level `warnings` too" in text
+
+
+def test_robustness_md_says_which_refine_notes_are_warnings():
+    """docs/robustness.md ("JSON for programs") said refine's `warnings` is its `notes`; a further
+    path's note that it changed nothing is information, not a warning, and `Refinement.warnings`
+    leaves it out (docs/diagnosis.md says so): the page now says it too. Stand-in step (no fit)."""
+    from types import SimpleNamespace
+
+    from impedax.fitting.diagnosis.refinement import Refinement, RefinementStep
+
+    text = " ".join((DOCS / "robustness.md").read_text(encoding="utf-8").split())
+    assert "`warnings` is `notes` (refine)" not in text
+    assert "refine: the sign hint, its notes but a further path's saying it changed nothing" in text
+    diagnosis = SimpleNamespace(sign_hint=None, beyond_catalog=False, verdict="adequate", noise_ratio=1.0, effects_left_out=())
+    unchanged, heeded = "the second path changes nothing: the first path's end is kept.", "the final model still misses an effect"
+    refinement = Refinement((RefinementStep(SimpleNamespace(model="R0"), None, None, diagnosis),), "adequate", (unchanged, heeded))
+    assert refinement.warnings == [heeded] and list(refinement.notes) == [unchanged, heeded]
