@@ -582,14 +582,14 @@ def test_a_resistance_that_fell_to_zero_on_a_path_buys_no_parsimony(vanished, en
 
     cpe = suggestion("in place of C_sc", "CPE_sc", -72.1, 5, "constant_phase")
     wd = suggestion("in series, and R_f left out (it fell to 0 Ω)", "W_d", -68.4, 4, "diffusion", ("R_f",), vanished)
-    first = NS(best=cpe, suggestions=(cpe, wd), candidates=(cpe, wd), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=4))
+    first = NS(best=cpe, suggestions=(cpe, wd), candidates=(cpe, wd), solver_shape=None, noise=_STAND_IN_NOISE, drt_circuit=None, baseline=NS(frequency=_STAND_IN_FREQUENCY, n_params=4), noise_ratio=3.0)
     greedy = [
         RefinementStep(_fit_stand_in(model="start", aic=-686.0, n_params=4), None, None, first),
-        RefinementStep(_fit_stand_in(model="CPE_sc", aic=-754.2, n_params=5), "CPE_sc", "constant_phase", NS(solver_shape=None, verdict="adequate")),
+        RefinementStep(_fit_stand_in(model="CPE_sc", aic=-754.2, n_params=5), "CPE_sc", "constant_phase", NS(solver_shape=None, verdict="adequate", noise_ratio=1.0)),
     ]
 
     def diagnosed(fit, shape):  # the W_d path: its end is the model W_d gives, adequate
-        return NS(baseline=_fit_stand_in(model=fit.model, aic=end_aic if fit.model == "W_d" else fit.aic, n_params=fit.n_params, rms_rel=0.0121, bic=0.0, chi2_red=1.0), best=None, verdict="adequate", solver_shape=None)
+        return NS(baseline=_fit_stand_in(model=fit.model, aic=end_aic if fit.model == "W_d" else fit.aic, n_params=fit.n_params, rms_rel=0.0121, bic=0.0, chi2_red=1.0), best=None, verdict="adequate", solver_shape=None, noise_ratio=1.0)
 
     notes = []
     path = _second_path(greedy, cpe, 4, diagnosed, lambda text: None, notes, lambda path, label, progress_label=None: path)
