@@ -929,9 +929,9 @@ def test_an_effect_step_that_leaves_an_element_out_says_why():
     best = NS(added="R1 || C1", effect="constant_phase", removed=("R0",), where=where, fit=end_fit)
 
     def diagnosed(fit, shape):
-        return NS(baseline=fit, best=None, verdict="adequate", verdict_heading="ADEQUATE", reason="(a stand-in)", solver_shape=None, suggestions=(), drt_circuit=None)
+        return NS(baseline=fit, best=None, verdict="adequate", verdict_heading="ADEQUATE", reason="(a stand-in)", solver_shape=None, suggestions=(), drt_circuit=None, noise_ratio=1.0)
 
-    start = RefinementStep(start_fit, None, None, NS(solver_shape=None, verdict="missing_effect", verdict_heading="MISSING EFFECT", reason="(a stand-in)"))
+    start = RefinementStep(start_fit, None, None, NS(solver_shape=None, verdict="missing_effect", verdict_heading="MISSING EFFECT", reason="(a stand-in)", noise_ratio=3.0))
     steps = _greedy([start], best, 4, diagnosed, lambda text: None, "")
     assert steps[1].where == where and steps[1].removal_reasons == {"R0": reason}
     report = Refinement(tuple(steps), "adequate").report()
