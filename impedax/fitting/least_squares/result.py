@@ -967,17 +967,20 @@ def trial_means_of_sigma(attrs) -> str | None:
     sigma is named by that provenance, in `diagnosis.noise.sigma_origin`'s words: "30 total spectra,
     and the stated sigma of skin and touchscreen (one spectrum each), added in quadrature" (it
     was counted as "1 skin, 1 touchscreen" spectra of trial means until 2026-12-06); None
-    otherwise (a sigma column, whose origin impedax does not know)."""
+    otherwise (a sigma column, whose origin impedax does not know). A total of one spectrum with
+    its stated sigma, less skin and screen means over trials, is "30 skin, 30 touchscreen spectra,
+    and the stated sigma of total (one spectrum), added in quadrature" (None until 2026-12-06:
+    only a total of trials counted)."""
     attrs = attrs or {}
     method = str(attrs.get("sigma_method", ""))
     if "sem" not in method.lower():
         return None
     counts = {name: attrs.get(f"n_trials_{name}") for name in ("total", "skin", "touchscreen")}
     counts = {name: int(n) for name, n in counts.items() if n is not None}
-    if counts.get("total", 0) < 2:
-        return None
     stated = re.search(r"the stated sigma of (.+?) \((one spectrum[^)]*)\)", method)
     stated_names = re.findall(r"\b(total|skin|touchscreen)\b", stated.group(1)) if stated else []
+    if not any(n >= 2 for name, n in counts.items() if name not in stated_names):
+        return None
     means = ", ".join(f"{n} {name}" for name, n in counts.items() if name not in stated_names) + " spectra"
     return f"{means}, and the stated sigma of {stated.group(1)} ({stated.group(2)}), added in quadrature" if stated else means
 
