@@ -49,7 +49,7 @@ def run(args) -> int:
 
     from ..errors import ParameterError
     from ..io import write_csv
-    from ..fitting.least_squares.result import trial_means_of_sigma
+    from ..fitting.least_squares.result import sigma_sources, trial_means_of_sigma
     from ..models.gap import gap_remainder
     from .gap import files_in_band
     from .common import check_band_options, check_distinct_paths, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
@@ -80,6 +80,7 @@ def run(args) -> int:
         emit_json({"command": "remaining", "written": list(written), "kind": "trials" if args.trials else "mean",
                    "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}, "single_contact": len(paths) == 1, **spectrum_summary(remaining),
                    "sigma_method": str(remaining.attrs.get("sigma_method", "")),  # (added 2026-12-06: what sigma is made of, or why there is none)
+                   "sigma_sources": sigma_sources(remaining.attrs) or {},  # (added 2026-12-06: the same as data, input → "trial scatter" or "own sigma"; {} without a sigma)
                    "warnings": [str(n) for n in notes], "source": paths, "provenance": record})
         return 0
     n_trials = {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}

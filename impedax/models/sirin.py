@@ -31,6 +31,7 @@ from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import label_value, make_spectrum, validate_spectrum
 from ..arguments import checked_arguments, drive_amplitude, numeric_array, relative_permittivity, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
+from ..fitting.least_squares.result import SIGMA_FROM_NONE, SIGMA_FROM_OWN, SIGMA_FROM_TRIALS, SIGMA_SOURCES_ATTR
 from ..io.table import SWEEP_RTOL
 from ..constants import EPSILON_0, EPSILON_AIR
 
@@ -104,14 +105,14 @@ def trial_mean(ds: xr.Dataset, *, over: Sequence[str] | None = None) -> xr.Datas
     if n >= 2:
         sem_re = z.real.std(dims, ddof=1) / np.sqrt(n)
         sem_im = z.imag.std(dims, ddof=1) / np.sqrt(n)
-        sigma_from = "trial scatter"
+        sigma_from = SIGMA_FROM_TRIALS
     elif "sigma" in ds:  # (one spectrum: its own σ, one sd for Re and Im, is its error)
         own = ds["sigma"].broadcast_like(z.real)
         sem_re = sem_im = own.mean(dims) if dims else own
-        sigma_from = "own sigma"
+        sigma_from = SIGMA_FROM_OWN
     else:
         sem_re = sem_im = xr.zeros_like(mean.real)
-        sigma_from = "none"
+        sigma_from = SIGMA_FROM_NONE
     out = xr.Dataset({"Z": mean, "sigma_real": sem_re, "sigma_imag": sem_im})
     out.attrs = {"n_trials": n, "averaged_over": list(dims), "source": ds.attrs.get("source", "spectrum"), "sigma_from": sigma_from}
     return out
@@ -207,6 +208,8 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
         "sigma_method": method,
         **{f"n_trials_{name}": n for name, n in counts.items()},
     }
+    if have_sigma:  # (what sigma is made of, as data: sigma_method's words for a reader; added 2026-12-06)
+        attrs[SIGMA_SOURCES_ATTR] = {name: str(m.attrs["sigma_from"]) for name, m in means.items()}
     if single:
         attrs["single_contact"] = 1
     if kept:

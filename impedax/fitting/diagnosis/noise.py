@@ -27,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..kk import KKResult, kk_test, rejudged
+from ..least_squares.result import SIGMA_FROM_OWN, SIGMA_FROM_TRIALS, names_in_words, sigma_sources
 
 __all__ = ["NoiseModel", "noise_model", "sigma_origin", "kk_indices", "kk_outliers", "kk_judged_locally", "OUTLIER_MAX_FRACTION", "OUTLIER_MAX_RUN", "OUTLIER_MIN_RATIO", "NOISE_FLOOR", "DISCREPANCY_FACTOR", "LOCAL_WINDOW", "GLOBAL_SHARE", "LOCAL_SOURCE"]
 
@@ -133,8 +134,13 @@ def sigma_origin(attrs) -> str:
     their own stated sigma; a `sirin.trial_mean` (``n_trials``, ``sigma_from``) likewise; else
     ``"sigma column"`` (a column of the file or ``make_spectrum(sigma=...)``, whose origin impedax
     does not know). A walkthrough's sigma column was called "trial scatter" until 2026-12-01, and
-    every remainder's sigma, a single input's own sigma among them, until 2026-12-06."""
+    every remainder's sigma, a single input's own sigma among them, until 2026-12-06. A
+    remainder's provenance is read from its ``sigma_sources`` (`result.sigma_sources`); one saved
+    before 2026-12-06 has none, and the words of its ``sigma_method`` are read instead."""
     attrs = attrs or {}
+    sources = sigma_sources(attrs)
+    if sources:
+        return _origin_of_sources(sources, attrs)
     method = str(attrs.get("sigma_method", ""))
     if method.startswith("not available"):  # (the remainder has none: this sigma came from elsewhere)
         return "sigma column"
@@ -149,6 +155,19 @@ def sigma_origin(attrs) -> str:
         counts = [f"{int(attrs[f'n_trials_{name}'])} {name}" for name in ("total", "skin", "touchscreen") if f"n_trials_{name}" in attrs]
         return "the standard error of trial means" + (f" of {', '.join(counts)} spectra" if counts else "")
     return "sigma column"
+
+
+def _origin_of_sources(sources: dict[str, str], attrs) -> str:
+    """`sigma_origin`'s words from a remainder's ``sigma_sources`` (input → what its error is)
+    and its counts ``n_trials_<input>``."""
+    means = [name for name, source in sources.items() if source == SIGMA_FROM_TRIALS]
+    stated = [name for name, source in sources.items() if source == SIGMA_FROM_OWN]
+    if not means:
+        return "the stated sigma of the one spectrum" if len(stated) == 1 and len(sources) == 1 else f"the stated sigma of {names_in_words(stated)}, added in quadrature"
+    if stated:
+        return f"the standard error of the trial means of {names_in_words(means)} and the stated sigma of {names_in_words(stated)}, added in quadrature"
+    counts = [f"{int(attrs[f'n_trials_{name}'])} {name}" for name in means if f"n_trials_{name}" in attrs]
+    return "the standard error of trial means" + (f" of {', '.join(counts)} spectra" if counts else "")
 
 
 def noise_model(frequency: np.ndarray, z_data: np.ndarray, *, noise: float | None, sigma: np.ndarray | None, kk: KKResult | None, fallback_rms: float, floor_kk: KKResult | None = None, sigma_kind: str = "sigma column") -> NoiseModel:

@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -959,6 +959,40 @@ SIGMA_OF_TRIAL_MEANS_WORDS = "σ is the standard error of trial means"
 trial means (`trial_means_of_sigma`), in place of `SIGMA_OVERSTATES_WORDS`."""
 
 
+SIGMA_SOURCES_ATTR = "sigma_sources"
+"""The attr of a remainder (`sirin.remaining_impedance`) that says what its ``sigma`` is made of,
+as data: input name ("total", "skin", "touchscreen") → `SIGMA_FROM_TRIALS` (the standard error
+of its trials' mean) or `SIGMA_FROM_OWN` (its own stated sigma: one spectrum), written only
+when the remainder has a sigma (added 2026-12-06; until then its provenance was read back from
+the words of ``sigma_method``, which a remainder saved before still carries alone)."""
+SIGMA_FROM_TRIALS = "trial scatter"
+SIGMA_FROM_OWN = "own sigma"
+SIGMA_FROM_NONE = "none"
+"""`sirin.trial_mean`'s ``sigma_from``, and the values of `SIGMA_SOURCES_ATTR`: the error of a
+mean over trials, of one spectrum's own sigma, or of one spectrum without (unknown)."""
+
+
+def sigma_sources(attrs) -> dict[str, str] | None:
+    """A remainder's `SIGMA_SOURCES_ATTR` (input → `SIGMA_FROM_TRIALS` or `SIGMA_FROM_OWN`), also
+    as ``xr.open_dataset`` leaves it (impedax's "json:" text of a dict attr); None without one (a
+    spectrum not from `sirin.remaining_impedance`, or a remainder saved before 2026-12-06)."""
+    value = (attrs or {}).get(SIGMA_SOURCES_ATTR)
+    if isinstance(value, str) and value.startswith("json:"):
+        import json
+
+        try:
+            value = json.loads(value[len("json:"):])
+        except ValueError:
+            return None
+    return {str(k): str(v) for k, v in value.items()} if isinstance(value, dict) else None
+
+
+def names_in_words(names) -> str:
+    """``names`` as a sentence lists them: "total, skin and touchscreen"."""
+    names = list(names)
+    return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
+
+
 def trial_means_of_sigma(attrs) -> str | None:
     """What a spectrum's σ is the standard error of, by its attrs, when it is one of means over
     trials (``sigma_method`` naming the SEM, as `sirin.remaining_impedance` writes it, with its
@@ -967,16 +1001,25 @@ def trial_means_of_sigma(attrs) -> str | None:
     sigma is named by that provenance, in `diagnosis.noise.sigma_origin`'s words: "30 total spectra,
     and the stated sigma of skin and touchscreen (one spectrum each), added in quadrature" (it
     was counted as "1 skin, 1 touchscreen" spectra of trial means until 2026-12-06); None
-    otherwise (a sigma column, whose origin impedax does not know). A total of one spectrum with
-    its stated sigma, less skin and screen means over trials, is "30 skin, 30 touchscreen spectra,
-    and the stated sigma of total (one spectrum), added in quadrature" (None until 2026-12-06:
-    only a total of trials counted)."""
+    otherwise (a sigma column, whose origin impedax does not know). Read from the remainder's
+    `SIGMA_SOURCES_ATTR`; a remainder saved before 2026-12-06 has none, and its ``sigma_method``
+    words are read instead. A total of one spectrum with its stated sigma, less skin and screen
+    means over trials, is "30 skin, 30 touchscreen spectra, and the stated sigma of total (one
+    spectrum), added in quadrature" (None until 2026-12-06: only a total of trials counted)."""
     attrs = attrs or {}
-    method = str(attrs.get("sigma_method", ""))
-    if "sem" not in method.lower():
-        return None
     counts = {name: attrs.get(f"n_trials_{name}") for name in ("total", "skin", "touchscreen")}
     counts = {name: int(n) for name, n in counts.items() if n is not None}
+    sources = sigma_sources(attrs)
+    if sources is not None:
+        means = [name for name, source in sources.items() if source == SIGMA_FROM_TRIALS]
+        stated = [name for name, source in sources.items() if source == SIGMA_FROM_OWN]
+        if not means:
+            return None
+        words = ", ".join(f"{counts[name]} {name}" if name in counts else name for name in means) + " spectra"
+        return f"{words}, and the stated sigma of {names_in_words(stated)} (one spectrum{'' if len(stated) == 1 else ' each'}), added in quadrature" if stated else words
+    method = str(attrs.get("sigma_method", ""))  # (a remainder saved before 2026-12-06: its words)
+    if "sem" not in method.lower():
+        return None
     stated = re.search(r"the stated sigma of (.+?) \((one spectrum[^)]*)\)", method)
     stated_names = re.findall(r"\b(total|skin|touchscreen)\b", stated.group(1)) if stated else []
     if not any(n >= 2 for name, n in counts.items() if name not in stated_names):
