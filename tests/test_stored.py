@@ -250,3 +250,84 @@ def test_an_interrupted_write_leaves_no_temporary_file(tmp_path, monkeypatch):
     monkeypatch.setattr(pickle, "dump", lambda obj, fh: (_ for _ in ()).throw(OSError(28, "No space left on device")))
     stored._write(tmp_path / "key.bin", ("blob", "tree"))  # a failure is not an error
     assert list(tmp_path.iterdir()) == []
+
+
+def _rc_log_prob():
+    """SYNTHETIC R0 + R1 || C1 (10 Ω, 1 kΩ, 1 µF) at 12 frequencies with a known σ of 1 % of |Z|,
+    every parameter sampled as ln x under a flat prior: the structure, the arrays, and the
+    closed-form log-posterior in y = ln x (Gaussian log-likelihood + the Jacobian Σ y)."""
+    from impedax.circuits import DEFAULT_REGISTRY, parse
+    from impedax.fitting.bayes.logprob import LogProbArgs, LogProbStructure
+
+    freq = np.geomspace(1.0, 1e5, 12)
+    w = 2 * np.pi * freq
+
+    def z_of(x):
+        r0, r1, c1 = x
+        return r0 + r1 / (1 + 1j * w * r1 * c1)
+
+    truth = np.array([10.0, 1e3, 1e-6])
+    sigma = 0.01 * np.abs(z_of(truth))
+    rng = np.random.default_rng(11)
+    data = z_of(truth) + sigma * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size))
+    st = LogProbStructure(circuit=parse("R0 + R1 || C1"), registry=DEFAULT_REGISTRY, circuit_names=("R0", "R1", "C1"), direct_index=(0, 1, 2),
+                          reparametrization=None, reparam_index=(), sigma_index=-1, log_scale=(True, True, True))
+    lo, hi = np.array([1e-3, 1e-1, 1e-10]), np.array([1e4, 1e6, 1e-2])
+    args = LogProbArgs(freq=jnp.asarray(freq), z=jnp.asarray(data), scale=jnp.asarray(sigma), fixed=jnp.ones(3), code=jnp.zeros(3, jnp.int32),
+                       a=jnp.asarray(lo), b=jnp.asarray(hi), lo=jnp.asarray(lo), hi=jnp.asarray(hi), log_norm=jnp.zeros(3))
+
+    def oracle(y):
+        r = z_of(np.exp(y)) - data
+        return -0.5 * np.sum((r.real**2 + r.imag**2) / sigma**2) - np.sum(2 * np.log(sigma) + np.log(2 * np.pi)) - np.sum(np.log(hi - lo)) + np.sum(y)
+
+    return st, args, oracle, np.log(truth)
+
+
+def _hessian_by_differences(f, y, h=1e-4):
+    """Central second differences of ``f`` at ``y`` (NumPy), step ``h`` in ln x."""
+    n = y.size
+    out = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            e_i, e_j = np.eye(n)[i] * h, np.eye(n)[j] * h
+            out[i, j] = (f(y + e_i + e_j) - f(y + e_i - e_j) - f(y - e_i + e_j) + f(y - e_i - e_j)) / (4 * h * h)
+    return out
+
+
+def test_the_bayesian_programs_are_stored_and_read_back_without_tracing(cache_dir, monkeypatch):
+    """`impedax sample` traced the Laplace evidence's Hessian (and the other log-probability
+    programs) in every fresh process, ~2 s (2026-12-06): they are stored programs now. A second
+    set of functions, as in a fresh process, reads all five from their files; tracing would call
+    `_pointwise_loglik`, which here refuses. Oracle: the closed-form log-posterior in NumPy."""
+    from impedax.fitting.bayes import logprob
+
+    st, args, oracle, y = _rc_log_prob()
+    walkers = y + 0.01 * np.random.default_rng(2).standard_normal((8, 3))
+
+    def every(functions):
+        log_prob = logprob.walkers_log_prob(functions, args)
+        return (np.asarray(functions.single(jnp.asarray(y), args)), np.asarray(functions.value_and_grad(jnp.asarray(y), args)[0]),
+                np.asarray(functions.hessian(jnp.asarray(y), args)), log_prob(walkers), np.asarray(functions.batched(jnp.asarray(walkers), args)),
+                np.asarray(functions.pointwise(jnp.asarray(walkers), args)))
+
+    logprob.log_prob_functions.cache_clear()
+    first = every(logprob.log_prob_functions(st))
+    for name in ("single", "value-and-grad", "hessian", "batched", "pointwise"):
+        assert len(list(cache_dir.glob(f"bayes-{name}-*.bin"))) == 1, name
+    logprob.log_prob_functions.cache_clear()
+    jax.clear_caches()  # (JAX's in-memory traces, as in a fresh process)
+
+    def refuse(*a, **k):
+        raise AssertionError("traced again")
+
+    monkeypatch.setattr(logprob, "_pointwise_loglik", refuse)
+    again = every(logprob.log_prob_functions(st))
+    logprob.log_prob_functions.cache_clear()  # (functions of the refusing trace are never kept)
+    single, value, hessian, walkers_lp, batched, pointwise = again
+    assert single == pytest.approx(oracle(y), rel=1e-12) and value == pytest.approx(oracle(y), rel=1e-12)
+    np.testing.assert_allclose(walkers_lp, [oracle(w) for w in walkers], rtol=1e-12)
+    np.testing.assert_allclose(batched, walkers_lp, rtol=1e-15)
+    np.testing.assert_allclose(pointwise.sum(axis=1), walkers_lp - (np.sum(walkers, axis=1) - float(np.sum(np.log(np.asarray(args.hi) - np.asarray(args.lo))))), rtol=1e-12)
+    np.testing.assert_allclose(hessian, _hessian_by_differences(oracle, y), rtol=1e-4, atol=1e-6 * np.abs(hessian).max())
+    for a, b in zip(first, again):
+        np.testing.assert_allclose(a, b, rtol=1e-15)

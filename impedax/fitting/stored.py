@@ -88,14 +88,33 @@ class StoredProgram:
         leaves, in_tree = jax.tree_util.tree_flatten(args)
         if any(isinstance(a, jax.core.Tracer) for a in leaves):  # called inside a trace
             return self._traced(*args)
+        call, out_tree = self._lookup(directory, args, leaves, in_tree)
+        if call is None:
+            return self.jitted(*args)
+        return jax.tree_util.tree_unflatten(out_tree, call(*leaves))
+
+    def for_arguments(self, *args) -> Callable:
+        """``self`` for many calls with arguments of the tree, shapes and dtypes of ``args``
+        (emcee's thousands of calls of a log-posterior): the program is found once here, where
+        `__call__` checks every call's arguments (tens of µs a call). Arguments of another
+        shape are refused by the program (JAX's shape error), never silently miscomputed."""
+        directory = _directory()
+        if directory is None:
+            return self.jitted
+        leaves, in_tree = jax.tree_util.tree_flatten(args)
+        call, out_tree = self._lookup(directory, args, leaves, in_tree)
+        if call is None:
+            return self.jitted
+        return lambda *a: jax.tree_util.tree_unflatten(out_tree, call(*jax.tree_util.tree_leaves(a)))
+
+    def _lookup(self, directory: Path, args, leaves, in_tree):
+        """(the call of the stored program, its output tree) for these arguments, kept per
+        signature; (None, None) when it cannot be stored (`_program`)."""
         avals = tuple((np.shape(a), _dtype(a).str) for a in leaves)
         signature = (in_tree, avals)
         if signature not in self._calls:
             self._calls[signature] = self._program(directory, args, leaves, in_tree, avals)
-        call, out_tree = self._calls[signature]
-        if call is None:
-            return self.jitted(*args)
-        return jax.tree_util.tree_unflatten(out_tree, call(*leaves))
+        return self._calls[signature]
 
     def _leaf_shardings(self, args) -> list | None:
         if self.shardings is None:

@@ -25,13 +25,15 @@ from typing import Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ...arguments import NOISE_MODELS as NOISE_MODELS, NoiseModel as NoiseModel
 from ...circuits import Circuit, Registry, compile_circuit
+from ..stored import StoredProgram
 from .priors import prior_log_density
 from .reparam import Reparametrization
 
-__all__ = ["NoiseModel", "NOISE_MODELS", "LogProbStructure", "LogProbArgs", "LogProbFunctions", "log_prob_functions", "natural", "start_weighting"]
+__all__ = ["NoiseModel", "NOISE_MODELS", "LogProbStructure", "LogProbArgs", "LogProbFunctions", "log_prob_functions", "walkers_log_prob", "natural", "start_weighting"]
 
 
 def start_weighting(noise: str) -> str:
@@ -124,10 +126,36 @@ def _log_prob(y, args: LogProbArgs, st: LogProbStructure):
 
 @functools.lru_cache(maxsize=64)
 def log_prob_functions(st: LogProbStructure) -> LogProbFunctions:
-    """The jitted log-probability functions of ``st`` (cached: one compilation per structure)."""
+    """The jitted log-probability functions of ``st`` (cached: one compilation per structure),
+    each kept across processes (`stored.StoredProgram`, named ``bayes-…``, keyed by ``st``): a
+    fresh `impedax sample` of a circuit sampled before traces none of them, the Laplace
+    evidence's Hessian included (benchmarks/README.md, "Stored Bayesian programs")."""
     single = functools.partial(_log_prob, st=st)
-    batched = jax.jit(jax.vmap(single, in_axes=(0, None)))
-    value_and_grad = jax.jit(jax.value_and_grad(single))
-    hessian = jax.jit(jax.hessian(single))
-    pointwise = jax.jit(jax.vmap(lambda y, args: _pointwise_loglik(natural(y, st), args, st), in_axes=(0, None)))
-    return LogProbFunctions(batched=batched, single=jax.jit(single), value_and_grad=value_and_grad, hessian=hessian, pointwise=pointwise)
+
+    def stored(name: str, fn: Callable) -> StoredProgram:
+        return StoredProgram(f"bayes-{name}", st, jax.jit(fn))
+
+    return LogProbFunctions(
+        batched=stored("batched", jax.vmap(single, in_axes=(0, None))),
+        single=stored("single", single),
+        value_and_grad=stored("value-and-grad", jax.value_and_grad(single)),
+        hessian=stored("hessian", jax.hessian(single)),
+        pointwise=stored("pointwise", jax.vmap(lambda y, args: _pointwise_loglik(natural(y, st), args, st), in_axes=(0, None))),
+    )
+
+
+def walkers_log_prob(functions: LogProbFunctions, args: LogProbArgs) -> Callable[[np.ndarray], np.ndarray]:
+    """``coords`` (W, P) → their log-posteriors (W,) as numpy, what emcee calls thousands of
+    times: the stored program is found once per walker count (`StoredProgram.for_arguments`),
+    not on every call."""
+    by_shape: dict = {}
+
+    def log_prob(coords):
+        coords = jnp.asarray(coords)
+        run = by_shape.get(coords.shape)
+        if run is None:
+            batched = functions.batched
+            run = by_shape[coords.shape] = batched.for_arguments(coords, args) if isinstance(batched, StoredProgram) else batched
+        return np.asarray(run(coords, args))
+
+    return log_prob

@@ -31,7 +31,7 @@ from .chain import (
 )
 from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
 from .evidence import START_BEYOND_SIGMA, START_UNEVEN_NOISE, laplace_evidence, waic
-from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting
+from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting, walkers_log_prob
 from .posterior import Posterior
 from ...progress import quiet_beneath
 from .progress import announce
@@ -517,7 +517,7 @@ def sample(
         wide=chosen_priors.spread,
     )
 
-    chain = run_emcee(p0, lambda coords: np.asarray(functions.batched(jnp.asarray(coords), args)), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
+    chain = run_emcee(p0, walkers_log_prob(functions, args), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
     length = length_settings(chain, walkers)
 
     evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names)
