@@ -305,6 +305,7 @@ class Posterior(PiledUp, FrozenResult):
             "waic": self.waic,
             "p_waic": self.p_waic,
             "noise": self.noise.value,
+            "sigma_origin": self.settings.get("sigma_origin"),  # (added 2026-12-06: what the data's σ is under noise 'sigma', `diagnosis.noise.sigma_origin`'s words; null otherwise)
             "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as before 2026-12-01)
             "walkers_kept": self.n_walkers,  # (added 2026-12-01: the walkers whose draws the posterior holds, `straggler_walkers` left out)
             "draws": self.n_draws,
@@ -342,7 +343,7 @@ class Posterior(PiledUp, FrozenResult):
         unit_width = max([4, *map(len, units), *map(len, fixed_units)])
         lines = [
             f"model      {self.model}",
-            f"noise      {self.noise}: {NOISE_MODELS[self.noise]}",
+            f"noise      {self.noise}: {NOISE_MODELS[self.noise]}" + (f"; here {self.settings['sigma_origin']}" if self.settings.get("sigma_origin") else ""),
             f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             (f"evidence   Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "evidence   Laplace ln Z undefined (see the warnings)")
             + f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",

@@ -80,6 +80,14 @@ class SampledParameters:
 # --- step 1: settings and data ---------------------------------------------------------------
 
 
+def _sigma_origin(data: xr.Dataset) -> str:
+    """What the data's σ is, in `diagnosis.noise.sigma_origin`'s words (a remainder's standard
+    error of trial means, a stated sigma, or a sigma column), for a run with known noise."""
+    from ..diagnosis.noise import sigma_origin  # (here: the diagnosis package is not imported by every sample)
+
+    return sigma_origin(data.attrs)
+
+
 def _check_settings(noise, steps, burn, thin) -> tuple[NoiseModel, int | None]:
     """The noise model and burn (default steps // 4; None for ``steps="auto"`` without a
     burn: a quarter of the steps it runs) after checking the run's settings."""
@@ -546,7 +554,8 @@ def sample(
         p_waic=float(information.p_waic),
         map_values={n: float(v) for n, v in zip(space.names, map_x)},
         notes=tuple(notes),
-        settings={"walkers": int(walkers), "steps": int(chain.steps), "burn": int(chain.burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(chain.elapsed_s), **length},
+        settings={"walkers": int(walkers), "steps": int(chain.steps), "burn": int(chain.burn), "thin": int(thin), "seed": int(seed), "elapsed_s": float(chain.elapsed_s), **length,
+                  **({"sigma_origin": _sigma_origin(obs.data)} if noise is NoiseModel.SIGMA else {})},
         reparametrization=rp,
         registry=registry,
         user_bounds=dict(narrowed),
