@@ -56,3 +56,20 @@ def test_a_parameter_left_to_its_flat_prior_is_named():
     assert "unreliable" in out.note and "W1.tau" in out.note and "R0" not in out.note
     assert "left to its prior" in out.note
     assert out.note.startswith(EVIDENCE_NOTE_LEAD)  # (how `impedax.compare` finds it)
+
+
+def test_a_converged_chain_is_not_sent_to_a_chain_length_warning():
+    """The width note named "a chain too short: see its warning" as a cause even where the chain
+    had converged and no such warning was given (REAL exampleDataGamry.DTA, R0 at its prior's
+    edge after 13000 steps, 2026-12-06): with ``converged`` true it names the prior or a bound
+    only; with it false, or unknown (None), both as before."""
+
+    def log_density(y):
+        return -0.5 * (y[0] / 0.1) ** 2 - 0.5 * ((y[1] - 0.5) / 10.0) ** 2
+
+    rng = np.random.default_rng(1)
+    draws = np.column_stack([rng.normal(0.0, 0.1, 8000), rng.uniform(0.0, 1.0, 8000)])
+    chain_y, log_prob = _chain(draws, log_density)
+    notes = {c: laplace_evidence(chain_y, log_prob, None, _functions(log_density), [-np.inf, 0.0], [np.inf, 1.0], names=["R0", "W1.tau"], converged=c).note for c in (True, False, None)}
+    assert "left to its prior" in notes[True] and "a bound cuts off" in notes[True] and "chain too short" not in notes[True]
+    assert "chain too short: see its warning" in notes[False] and notes[None] == notes[False]

@@ -71,13 +71,15 @@ MODEL_COMPARISON_NOTE_LEADS = (EVIDENCE_NOTE_LEAD, WAIC_NOTE_LEAD)
 command that compares none (`impedax gap`) leaves them out of its warnings."""
 
 
-def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y, names: Sequence[str] | None = None) -> LaplaceEvidence:
+def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y, names: Sequence[str] | None = None, *, converged: bool | None = None) -> LaplaceEvidence:
     """ln Z ≈ ln p(y*) + ln π(y*) + (d/2) ln 2π − ½ ln det(−H) at the MAP y* (sampled space).
 
     The MAP starts from the best draw of ``chain_y`` (walker, draw, param) and is polished by
     L-BFGS-B within the prior support (``lo_y``, ``hi_y``); H is the Hessian by JAX there. The
     note names the parameters (``names``, in order) whose Gaussian width at the MAP and whose
-    draws' width differ by more than `LAPLACE_WIDTH_RATIO`: there the approximation fails.
+    draws' width differ by more than `LAPLACE_WIDTH_RATIO`: there the approximation fails;
+    ``converged`` (the chain's, `Posterior.chain_converged`; None: not known) leaves out of its
+    causes a chain too short when true.
     """
     from scipy.optimize import minimize
 
@@ -110,14 +112,17 @@ def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFun
     if eig.min() / eig.max() < 1e-12:
         note = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is nearly flat along some direction (unidentified parameters)"
     else:
-        note = _width_note(np.linalg.inv(-0.5 * (h + h.T)), chain_y, names)
+        note = _width_note(np.linalg.inv(-0.5 * (h + h.T)), chain_y, names, converged)
     return LaplaceEvidence(lp_map + 0.5 * d * math.log(2 * math.pi) - 0.5 * float(np.sum(np.log(eig))), y_map, note)
 
 
-def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str] | None) -> str:
+def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str] | None, converged: bool | None = None) -> str:
     """"" when every parameter's Laplace sd (from ``covariance``) is within
     `LAPLACE_WIDTH_RATIO` of its draws' sd in ``chain_y`` (walker, draw, param); else a note
-    naming them with both widths."""
+    naming them with both widths. A Gaussian far wider than the draws is blamed on a parameter
+    left to its prior or cut off by a prior's edge or a bound, and, unless the chain is known to
+    have ``converged``, on draws not yet spread out (a converged REAL Gamry chain was sent to "see
+    its warning" of a chain too short, which it did not have, 2026-12-06)."""
     laplace_sd = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     draws_sd = chain_y.reshape(-1, chain_y.shape[-1]).std(axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -128,7 +133,12 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
     label = (lambda k: names[k]) if names is not None and len(names) == ratio.size else (lambda k: f"parameter {k}")
     detail = ", ".join(f"{label(k)} (Gaussian sd {laplace_sd[k]:.3g} against the draws' {draws_sd[k]:.3g}, sampled space)" for k in off)
     wide = any(ratio[k] > LAPLACE_WIDTH_RATIO for k in off)
-    why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or draws that have not yet spread over the posterior (a chain too short: see its warning)" if wide else ""
+    if not wide:
+        why = ""
+    elif converged:
+        why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or one whose draws a prior's edge or a bound cuts off (see its pile-up warning, if any)"
+    else:
+        why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or draws that have not yet spread over the posterior (a chain too short: see its warning)"
     return (
         f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. "
         "Compare models by WAIC, or fix or bound that parameter"

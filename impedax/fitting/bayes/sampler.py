@@ -528,9 +528,10 @@ def sample(
     chain = run_emcee(p0, walkers_log_prob(functions, args), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
     length = length_settings(chain, walkers)
 
-    evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names)
+    converged = _converged(chain.chain_y)
+    evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names, converged=converged)
     start_y = np.where(np.asarray(space.log_scale), np.log(np.maximum(np.asarray(fitted, float), np.finfo(float).tiny)), np.asarray(fitted, float))
-    information = waic(chain.chain_y, args, functions, excluded, names=space.names, start_y=start_y, converged=_converged(chain.chain_y), model_misfit=_start_misfit(init, noise))
+    information = waic(chain.chain_y, args, functions, excluded, names=space.names, start_y=start_y, converged=converged, model_misfit=_start_misfit(init, noise))
     notes += [note for note in (evidence.note, information.note) if note]
     log_scale = np.asarray(space.log_scale)
     map_x = np.where(log_scale, np.exp(evidence.map_y), evidence.map_y)
