@@ -305,7 +305,7 @@ def test_the_bayesian_programs_are_stored_and_read_back_without_tracing(cache_di
     walkers = y + 0.01 * np.random.default_rng(2).standard_normal((8, 3))
 
     def every(functions):
-        log_prob = logprob.walkers_log_prob(functions, args)
+        log_prob = logprob.walkers_log_prob(functions.batched, args)
         return (np.asarray(functions.single(jnp.asarray(y), args)), np.asarray(functions.value_and_grad(jnp.asarray(y), args)[0]),
                 np.asarray(functions.hessian(jnp.asarray(y), args)), log_prob(walkers), np.asarray(functions.batched(jnp.asarray(walkers), args)),
                 np.asarray(functions.pointwise(jnp.asarray(walkers), args)))
@@ -331,3 +331,50 @@ def test_the_bayesian_programs_are_stored_and_read_back_without_tracing(cache_di
     np.testing.assert_allclose(hessian, _hessian_by_differences(oracle, y), rtol=1e-4, atol=1e-6 * np.abs(hessian).max())
     for a, b in zip(first, again):
         np.testing.assert_allclose(a, b, rtol=1e-15)
+
+
+def test_the_joint_posteriors_programs_are_stored_and_read_back_without_tracing(cache_dir, monkeypatch):
+    """`impedax sample --shared` traced its joint log-posterior (batched and single) in every fresh
+    process (2026-12-06): stored programs now, read back by a second set of functions without
+    tracing (a tracing would call the refusing `prior_log_density`). Oracle: the joint
+    log-posterior of two SYNTHETIC R0 + R1 || C1 spectra (R0 shared) written out in NumPy."""
+    from impedax.circuits import DEFAULT_REGISTRY, parse
+    from impedax.fitting.bayes import logprob, shared_posterior
+
+    freq = np.geomspace(1.0, 1e5, 10)
+    w = 2 * np.pi * freq
+    truth = [(10.0, 1e3, 1e-6), (10.0, 2e3, 5e-7)]
+    z_true = np.array([r0 + r1 / (1 + 1j * w * r1 * c1) for r0, r1, c1 in truth])
+    sigma = 0.01 * np.abs(z_true)
+    rng = np.random.default_rng(12)
+    data = z_true + sigma * (rng.standard_normal(z_true.shape) + 1j * rng.standard_normal(z_true.shape))
+    lo, hi = np.full(5, 1e-12), np.full(5, 1e12)
+    st = shared_posterior._Structure(parse("R0 + R1 || C1"), DEFAULT_REGISTRY, 2, (0,), (1, 2), False, (True,) * 5)
+    args = {"freq": jnp.asarray(freq), "z": jnp.asarray(data), "scale": jnp.asarray(sigma), "fixed": jnp.ones(3), "code": jnp.zeros(5, jnp.int32),
+            "a": jnp.asarray(lo), "b": jnp.asarray(hi), "lo": jnp.asarray(lo), "hi": jnp.asarray(hi), "log_norm": jnp.zeros(5)}
+
+    def oracle(y):  # y = ln(R0, R1_a, C1_a, R1_b, C1_b)
+        r0, r1a, c1a, r1b, c1b = np.exp(y)
+        model = np.array([r0 + r1 / (1 + 1j * w * r1 * c1) for r1, c1 in ((r1a, c1a), (r1b, c1b))])
+        r = model - data
+        return float(np.sum(-0.5 * (r.real**2 + r.imag**2) / sigma**2 - 2 * np.log(sigma) - np.log(2 * np.pi)) - np.sum(np.log(hi - lo)) + np.sum(y))
+
+    centre = np.log([10.0, 1e3, 1e-6, 2e3, 5e-7])
+    walkers = centre + 0.01 * np.random.default_rng(3).standard_normal((6, 5))
+    shared_posterior._log_prob_functions.cache_clear()
+    batched, single = shared_posterior._log_prob_functions(st)
+    first = (logprob.walkers_log_prob(batched, args)(walkers), float(single(jnp.asarray(centre), args)))
+    assert len(list(cache_dir.glob("bayes-shared-batched-*.bin"))) == len(list(cache_dir.glob("bayes-shared-single-*.bin"))) == 1
+    shared_posterior._log_prob_functions.cache_clear()
+    jax.clear_caches()
+
+    def refuse(*a, **k):
+        raise AssertionError("traced again")
+
+    monkeypatch.setattr(shared_posterior, "prior_log_density", refuse)
+    batched, single = shared_posterior._log_prob_functions(st)
+    again = (logprob.walkers_log_prob(batched, args)(walkers), float(single(jnp.asarray(centre), args)))
+    shared_posterior._log_prob_functions.cache_clear()
+    np.testing.assert_allclose(again[0], [oracle(y) for y in walkers], rtol=1e-12)
+    assert again[1] == pytest.approx(oracle(centre), rel=1e-12)
+    np.testing.assert_allclose(first[0], again[0], rtol=1e-15)

@@ -144,17 +144,17 @@ def log_prob_functions(st: LogProbStructure) -> LogProbFunctions:
     )
 
 
-def walkers_log_prob(functions: LogProbFunctions, args: LogProbArgs) -> Callable[[np.ndarray], np.ndarray]:
-    """``coords`` (W, P) → their log-posteriors (W,) as numpy, what emcee calls thousands of
-    times: the stored program is found once per walker count (`StoredProgram.for_arguments`),
-    not on every call."""
+def walkers_log_prob(batched: Callable, args) -> Callable[[np.ndarray], np.ndarray]:
+    """``coords`` (W, P) → their log-posteriors (W,) as numpy by ``batched(coords, args)`` (a
+    `LogProbFunctions.batched`, or a joint posterior's), what emcee calls thousands of times: a
+    stored program is found once per walker count (`StoredProgram.for_arguments`), not on every
+    call."""
     by_shape: dict = {}
 
     def log_prob(coords):
         coords = jnp.asarray(coords)
         run = by_shape.get(coords.shape)
         if run is None:
-            batched = functions.batched
             run = by_shape[coords.shape] = batched.for_arguments(coords, args) if isinstance(batched, StoredProgram) else batched
         return np.asarray(run(coords, args))
 

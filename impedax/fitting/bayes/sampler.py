@@ -525,7 +525,7 @@ def sample(
         wide=chosen_priors.spread,
     )
 
-    chain = run_emcee(p0, walkers_log_prob(functions, args), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
+    chain = run_emcee(p0, walkers_log_prob(functions.batched, args), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
     length = length_settings(chain, walkers)
 
     converged = _converged(chain.chain_y)

@@ -42,7 +42,8 @@ from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
 from ..frozen import FrozenResult, freeze_fields
 from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, tied_to_bound, walkers_text
-from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting
+from ..stored import StoredProgram
+from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting, walkers_log_prob
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
 from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, Posterior, fixed_rows, undetermined_rows, chain_figures, checked_copies, sigma_between, with_noise
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
@@ -82,7 +83,9 @@ class _Structure:
 
 @functools.lru_cache(maxsize=16)
 def _log_prob_functions(st: _Structure):
-    """(batched (W, P) → (W,), single) jitted log-posteriors of ``st``."""
+    """(batched (W, P) → (W,), single) jitted log-posteriors of ``st``, kept across processes
+    (`stored.StoredProgram`, ``bayes-shared-…``, keyed by ``st``; since 2026-12-06, as a single
+    spectrum's, `logprob.log_prob_functions`)."""
     compiled = compile_circuit(st.circuit, st.registry)
     names = compiled.parameter_names
     n_shared, n_own, m = len(st.shared_positions), len(st.own_positions), st.n_spectra
@@ -104,7 +107,7 @@ def _log_prob_functions(st: _Structure):
         ok = jnp.isfinite(prior) & jnp.isfinite(ll)
         return jnp.where(ok, prior + jnp.where(ok, ll, 0.0), -jnp.inf)
 
-    return jax.jit(jax.vmap(log_prob, in_axes=(0, None))), jax.jit(log_prob)
+    return StoredProgram("bayes-shared-batched", st, jax.jit(jax.vmap(log_prob, in_axes=(0, None)))), StoredProgram("bayes-shared-single", st, jax.jit(log_prob))
 
 
 @dataclass(frozen=True, eq=False)
@@ -814,7 +817,7 @@ def sample_shared(
         log_prob_one=lambda y: single(jnp.asarray(y), args), log_prob_all=lambda y: batched(jnp.asarray(y), args),
         where=f"the global least-squares fit of {circuit}", wide=wide, covariance=_start_covariance(start.dataset, start.over, labels, names),
     )
-    chain = run_emcee(p0, lambda coords: np.asarray(batched(jnp.asarray(coords), args)), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
+    chain = run_emcee(p0, walkers_log_prob(batched, args), steps=steps, burn=burn, thin=thin, seed=seed, progress=progress)
     draws = np.where(np.asarray(log_scale), np.exp(chain.chain_y), chain.chain_y)
     units = tuple("1" if n == "sigma_rel" else specs[circuit_of[n]].unit for n in names)
     return SharedPosterior(
