@@ -104,3 +104,41 @@ def test_a_users_reader_that_records_no_conventions(tmp_path, conventions, says)
     own = ix.load(path, readers=register_reader(Reader("LAB", (".lab",), lambda p, h: None,
                                                        lambda p: read_lab(p).assign_attrs(sign_convention="zimag as stored", units="kHz, kOhm"), conventions)))
     assert (own.attrs["sign_convention"], own.attrs["units"]) == ("zimag as stored", "kHz, kOhm")
+
+
+COUNTING_PLUGIN = """\
+from pathlib import Path
+from impedax.io import Reader
+import numpy as np, impedax as ix
+CALLS = Path({calls!r})
+
+def sniff(path, head):
+    with CALLS.open("a") as fh:
+        fh.write("sniff\\n")
+    return {answer}
+
+def read(path):
+    table = np.loadtxt(path, delimiter=",", skiprows=1)
+    return ix.make_spectrum(table[:, 0] * 1e3, (table[:, 1] + 1j * table[:, 2]) * 1e3, attrs={{"format": "LAB"}})
+
+READER = Reader("LAB", (".lab",), sniff, read)
+"""
+
+
+@pytest.mark.parametrize("answer, command", [
+    ("'not a .lab file'", ["inspect"]), ("'not a .lab file'", ["kk"]), ("None", ["inspect"]), ("None", ["kk"]),
+    ("'not a .lab file'", ["inspect", "--select", "sweep=0"]),  # (the reader reads no sweeps: not claimed, read as a table)
+])
+def test_a_users_sniff_runs_once_on_standard_input(monkeypatch, capsys, tmp_path, answer, command):
+    # a counting reader loaded with --plugin: its sniff ran twice on '-' (once for the stdin note,
+    # once more in load), where a file's path runs it once
+    calls = tmp_path / "calls.txt"
+    plugin = tmp_path / "lab.py"
+    plugin.write_text(COUNTING_PLUGIN.format(calls=str(calls), answer=answer))
+    if "--select" in command:  # (two sweeps of the same SYNTHETIC grid one below the other: a sweep dimension to pick from)
+        monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO((TEXT + TEXT.split("\n", 1)[1]).encode())))
+    else:
+        _stdin(monkeypatch)
+    code, _, err = run([command[0], "-", "--plugin", plugin, *command[1:]], capsys)
+    assert code == 0, err
+    assert calls.read_text().splitlines() == ["sniff"]

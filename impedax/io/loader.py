@@ -161,10 +161,16 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
     _checked_readers(readers)  # (before standard input is read)
     if str(path) == STDIN:
         return _load_stdin(readers, sweep)
-    path = Path(path)
+    return _load_file(Path(path), readers, sweep)
+
+
+def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
+               identified: tuple[Reader | None, list[str], list[str]] | None = None) -> xr.Dataset:
+    """`load` of a file; ``identified``: `_identify`'s answer when the caller has it already
+    (standard input, whose readers are asked once: until 2026-12-06 each sniff ran twice)."""
     if sweep is not None:
-        return _one_sweep(path, readers, str(sweep))
-    reader, tried, faults = _identify(path, readers)
+        return _one_sweep(path, readers, str(sweep), identified)
+    reader, tried, faults = identified if identified is not None else _identify(path, readers)
     if reader is not None:
         ds = _read_with(reader, path)
         if not isinstance(ds, xr.Dataset):
@@ -252,14 +258,15 @@ def _read_with(reader: Reader, path: Path) -> xr.Dataset:
         raise DataError(f"the reader {reader.name!r}{''.join(_raised_at(reader.read, exc, reader.origin))} raised {type(exc).__name__}{': ' + reason if reason else ''}", path=path) from exc
 
 
-def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str) -> xr.Dataset:
+def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str,
+               identified: tuple[Reader | None, list[str], list[str]] | None = None) -> xr.Dataset:
     """Sweep ``label`` of file ``path`` (`load`'s ``sweep``): alone when the file's sweeps are on
     different grids (`SweepGridsDiffer.spectrum`), else picked from its sweep or cycle dimension,
     or from the one dimension its spectra lie along (a workbook's sheets, Ivium's measurements on
     one grid: until 2026-12-06 "the file holds no sweeps to pick from", where the same label read
     the sheet alone when the sheets' grids differed)."""
     try:
-        ds = load(path, readers)
+        ds = _load_file(path, readers, None, identified)
     except SweepGridsDiffer as exc:
         return _sweep_of(exc, label, path)
     dims = [d for d in ("sweep", "cycle") if d in ds["Z"].dims]
@@ -371,9 +378,10 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
     with staging_directory(tempfile.gettempdir(), prefix=".impedax-stdin-") as folder:
         path = folder / "stdin"
         path.write_bytes(raw)
-        note = _stdin_declined(path, readers)
+        identified = _identify(path, readers)  # (each sniff runs once: until 2026-12-06 twice, here and in load)
+        note = _stdin_declined(readers, identified)
         try:
-            ds = load(path, readers, sweep=sweep)
+            ds = _load_file(path, readers, sweep, identified)
         except DataError as exc:
             text = str(exc)
             for prefix in (f"{path}, line {exc.line}: ", f"{path}: "):
@@ -390,9 +398,9 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
     return _named_stdin(ds, str(path))
 
 
-def _stdin_declined(path: Path, readers: Sequence[Reader] | None) -> str:
-    """Why standard input (kept as ``path``, a file with no suffix) may be read by the wrong
-    reader: the user's readers (not built in, a ``--plugin``'s) that did not claim it, with their
+def _stdin_declined(readers: Sequence[Reader] | None, identified: tuple[Reader | None, list[str], list[str]]) -> str:
+    """Why standard input (kept in a file with no suffix, whose `_identify` answer is
+    ``identified``) may be read by the wrong reader: the user's readers (not built in, a ``--plugin``'s) that did not claim it, with their
     reasons, when none of them did; "" otherwise. A reader that goes by the file's extension never
     claims standard input, which was then read as delimited text without a word (a kHz/kΩ
     table 1000× off; until 2026-12-06). Stored as ``attrs["stdin_note"]``."""
@@ -401,7 +409,7 @@ def _stdin_declined(path: Path, readers: Sequence[Reader] | None) -> str:
     own = [r for r in (readers or ()) if not any(r is b for b in built_in)]
     if not own:
         return ""
-    claimed, tried, _ = _identify(path, readers)
+    claimed, tried, _ = identified
     if claimed is not None and any(claimed is r for r in own):
         return ""
     reasons = [entry for r in own for entry in tried if entry.startswith(f"{r.name}: ")]
