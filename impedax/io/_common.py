@@ -227,17 +227,19 @@ def first_line(lines: Sequence[str], path: Path) -> int:
     return k
 
 
-def number(cell: str, path: Path, line: int | None, column: str, *, comma: bool = False) -> float:
+def number(cell: str, path: Path, line: int | None, column: str, *, comma: bool = False, comma_line: int | None = None) -> float:
     """``cell`` as a finite float; an empty cell is a missing value, named as such. With
     ``comma`` (the file's decimal mark, `decimal_comma`) a cell holding a '.' is refused: in
-    "1.259;108,080" the dot is a thousands separator (1259 Hz) that would be read as a decimal."""
+    "1.259;108,080" the dot is a thousands separator (1259 Hz) that would be read as a decimal.
+    ``comma_line``: the line of the file's first decimal comma, named in that message."""
     text = cell.strip().strip('"').strip()
     if not text:
         raise DataError(f"column {column!r} is empty (missing value)", path=path, line=line)
     if comma:
         if "." in text:  # (1.259 beside 108,080: a thousands separator, or two locales in one file; never guessed)
             raise DataError(
-                f"column {column!r}: {cell.strip()!r} has a '.', and other numbers of this file a ',': one of the two is a thousands "
+                f"column {column!r}: {cell.strip()!r} has a '.', and other numbers of this file a ','"
+                f"{f' (the first on line {comma_line})' if comma_line is not None and comma_line != line else ''}: one of the two is a thousands "
                 "separator (1,000 or 1.000 for a thousand), or the file mixes two locales; impedax does not guess which: export the "
                 "numbers without thousands separators, with one decimal mark",
                 path=path, line=line,

@@ -589,6 +589,15 @@ def _degrees_note(layout: Layout, phase: np.ndarray) -> dict:
 EMPTY_ROW = "empty row (delimiters only)"
 
 
+def _first_decimal_comma(rows: Sequence[tuple[int, Sequence[str]]], delimiter: str | None) -> int | None:
+    """The line of the first row holding a number written with a decimal comma (`decimal_comma`),
+    over the whole table; None when none does."""
+    for line, cells in rows:
+        if any("," in c for c in cells) and decimal_comma(cells, delimiter):
+            return line
+    return None
+
+
 def spectrum_from_rows(
     path: Path,
     layout: Layout,
@@ -618,8 +627,9 @@ def spectrum_from_rows(
     while header and not header[-1]:
         header.pop()
     n_fields = len(header)
-    if comma is None:
-        comma = decimal_comma([c for _, cells in rows[:20] for c in cells], delimiter)
+    comma_line = _first_decimal_comma(rows, delimiter) if comma is None or comma else None
+    if comma is None:  # (every row: until 2026-12-06 the first 20, so a comma first met below them was 'not a number')
+        comma = comma_line is not None
     if comma:  # (as delimited text says it: an instrument's table read here said nothing until 2026-12-06)
         attrs["decimal_mark"] = "comma"
     polar = ("modulus", "phase", "neg_phase")
@@ -649,7 +659,7 @@ def spectrum_from_rows(
         if line == cut_line:
             check_last_field_digits(last_fields, path, line, name=header[-1])
         for role, (index, scale) in wanted.items():
-            values[role].append(number(cells[index], path, line, header[index], comma=comma) * scale)
+            values[role].append(number(cells[index], path, line, header[index], comma=comma, comma_line=comma_line) * scale)
         for name, index in list(optional.items()):
             try:
                 optional_values[name].append(float(cells[index].replace(",", ".") if comma else cells[index]))
