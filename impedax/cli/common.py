@@ -410,6 +410,16 @@ def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **u
     return provenance(command=f"impedax {name}" if name else None, settings=settings, source=source, data_files=data_files)
 
 
+#: What every argument naming a spectrum to read (DATA, FILE, DATA_TOTAL, --frequencies FILE) says of
+#: '-', in one wording (`data_help`; until 2026-12-06 only inspect's FILE said it).
+STDIN_HELP = "'-' reads standard input, recognised by content as a file is (a reader of your own that goes by the extension does not claim it)"
+
+
+def data_help(what: str) -> str:
+    """The help of an argument naming a spectrum file to read: ``what`` it holds, then `STDIN_HELP`."""
+    return f"{what}; {STDIN_HELP}"
+
+
 JSON_SUMMARY_HELP = "print a JSON summary of what was written on standard output (docs/robustness.md, \"JSON for programs\")"
 
 

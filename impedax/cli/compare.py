@@ -8,7 +8,7 @@ from dataclasses import replace
 
 
 def register(sub) -> None:
-    from .common import add_plot_option, add_select_option
+    from .common import add_plot_option, add_select_option, data_help
     from .fit import add_bound_option, add_fit_options, add_max_steps_option
 
     p = sub.add_parser(
@@ -18,7 +18,7 @@ def register(sub) -> None:
         "A file of several spectra (or a --select leaving several) is compared spectrum by spectrum: each model's wins, "
         "and its AIC summed over the spectra (their joint AIC, the spectra being independent).",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file: one spectrum, or several (compared spectrum by spectrum and summed)")
+    p.add_argument("data", metavar="DATA", help=data_help("spectrum file: one spectrum, or several (compared spectrum by spectrum and summed)"))
     add_select_option(p)
     p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text, or in impedance.py's, AutoEIS's, CDC or EC-Lab notation (give two or more)")
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed in every model that has it; several after one --fix (--fix R1=1M R0=20) or --fix repeated")

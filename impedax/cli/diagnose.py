@@ -23,11 +23,11 @@ def add_spectrum_command(sub, name: str, *, help: str, description: str, plot_he
     """A diagnosis command on one spectrum with a model (diagnose, refine): DATA, --model
     (required unless ``model_default``), --fix, --bound, the fit options, --effects, --noise, --json, --plot,
     --out; runs ``run(args)``."""
-    from .common import add_model_argument, add_output_options, add_select_option, result_out_help
+    from .common import add_model_argument, add_output_options, add_select_option, data_help, result_out_help
     from .fit import add_bound_option, add_fit_options
 
     p = sub.add_parser(name, help=help, description=description)
-    p.add_argument("data", metavar="DATA", help="spectrum file with one spectrum, or one picked with --select")
+    p.add_argument("data", metavar="DATA", help=data_help("spectrum file with one spectrum, or one picked with --select"))
     add_select_option(p, several=False)
     add_model_argument(p, default=model_default)
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter of MODEL fixed (several after one --fix, C_i=1.7n R_e=20, or --fix repeated; SI prefixes), in the baseline fit "

@@ -31,7 +31,7 @@ def _fraction(text: str) -> float:
 
 
 def register(sub) -> None:
-    from .common import add_plot_option, add_quiet_option, add_select_option, number_option
+    from .common import add_plot_option, add_quiet_option, add_select_option, data_help, number_option
     from .fit import add_exclude_option
 
     p = sub.add_parser(
@@ -41,7 +41,7 @@ def register(sub) -> None:
         "lambda chosen by (modified) GCV or the L-curve; a file of several spectra gets the DRT of each (one line each). "
         "The report ends with a starting circuit read off the peaks and the 'impedax fit' command that fits it. See docs/drt.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file (any format impedax reads); a file of several spectra gets a DRT of each, or pick one with --select")
+    p.add_argument("data", metavar="DATA", help=data_help("spectrum file (any format impedax reads); a file of several spectra gets a DRT of each, or pick one with --select"))
     add_select_option(p)
     p.add_argument("--lam", default="auto", metavar="auto|VALUE", help="regularisation parameter, relative to max|Z|^2: 'auto' (default; chosen by --lam-method, never below 1e-4) or a positive number used as given")
     p.add_argument("--lam-method", choices=("gcv", "lcurve"), default="gcv", help="how 'auto' chooses lambda (default: gcv)")

@@ -109,10 +109,10 @@ def shared_arguments(args) -> dict:
 
 
 def register(sub) -> None:
-    from .common import add_model_argument, add_output_options, add_select_option, result_out_help
+    from .common import add_model_argument, add_output_options, add_select_option, data_help, result_out_help
 
     p = sub.add_parser("fit", help="least-squares fit of a circuit to a spectrum", description="Fit MODEL to the spectrum in DATA (CSV, netCDF or an instrument file). Data with extra dimensions (trials, ...) are fitted together.")
-    p.add_argument("data", metavar="DATA", help="spectrum file")
+    p.add_argument("data", metavar="DATA", help=data_help("spectrum file"))
     add_select_option(p)
     add_model_argument(p)
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed; several after one --fix (--fix R1=1M R0=20) or --fix repeated")

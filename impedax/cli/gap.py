@@ -72,7 +72,7 @@ def _ep_branch(value: str) -> str:
 
 
 def register(sub) -> None:
-    from .common import SELECT_SYNTAX_HELP, accept_negative_numbers, add_output_options, add_quiet_option, number_option
+    from .common import SELECT_SYNTAX_HELP, accept_negative_numbers, add_output_options, add_quiet_option, data_help, number_option
     from ..arguments import GAP_MIN_STEPS
     from .sample import steps_option
 
@@ -88,9 +88,9 @@ def register(sub) -> None:
         "Force bands use the PEAK convention of Sirin eq 1.",
     )
     accept_negative_numbers(p)  # (--area -1e-4: the value, refused by name, not argparse's "expected one argument")
-    p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
-    p.add_argument("skin", metavar="DATA_SKIN", nargs="?", help="skin spectra; leave out with DATA_TS for a single contact (nothing subtracted)")
-    p.add_argument("touchscreen", metavar="DATA_TS", nargs="?", help="touchscreen spectra; given with DATA_SKIN or not at all")
+    p.add_argument("total", metavar="DATA_TOTAL", help=data_help("finger-on-screen spectra (trials as an extra dimension)"))
+    p.add_argument("skin", metavar="DATA_SKIN", nargs="?", help=data_help("skin spectra; leave out with DATA_TS for a single contact (nothing subtracted)"))
+    p.add_argument("touchscreen", metavar="DATA_TS", nargs="?", help=data_help("touchscreen spectra; given with DATA_SKIN or not at all"))
     p.add_argument("--area", type=number_option, required=True, help="apparent contact area A [m²], e.g. 130e-6; outside 1e-6–1e-2 m² (1–10 000 mm², a fingertip) it is refused as a likely unit slip unless --no-area-check")
     p.add_argument("--no-area-check", action="store_true", help="analyse any positive --area, e.g. a contact other than a fingertip: one outside 1e-6–1e-2 m² gives a warning instead of an error")
     p.add_argument("--v0", type=number_option, help="drive amplitude V0 [V], peak; default: the one voltage the total spectra carry (a --select voltage=500 "

@@ -16,7 +16,7 @@ _HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit
 def register(sub) -> None:
     from .common import add_quiet_option
 
-    from .common import add_output_options, add_select_option
+    from .common import add_output_options, add_select_option, data_help
 
     p = sub.add_parser(
         "inspect",
@@ -24,7 +24,7 @@ def register(sub) -> None:
         description="Read FILE (any format impedax knows: see docs/io.md) and say what was read and how: format, sign "
         "convention, units, skipped rows. --out converts it to canonical CSV or netCDF; --plot writes a Nyquist/Bode preview.",
     )
-    p.add_argument("file", metavar="FILE", help="spectrum file; '-' reads standard input, recognised by content as a file is (a reader of your own that goes by the extension does not claim it)")
+    p.add_argument("file", metavar="FILE", help=data_help("spectrum file"))
     add_select_option(p)
     add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form; '-' the CSV to standard output", out_metavar="FILE.csv|.nc")
     add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 
 def register(sub) -> None:
-    from .common import add_plot_option, add_quiet_option, add_select_option, number_option
+    from .common import add_plot_option, add_quiet_option, add_select_option, data_help, number_option
     from .fit import add_exclude_option
 
     p = sub.add_parser(
@@ -12,7 +12,7 @@ def register(sub) -> None:
         help="linear Kramers-Kronig test of a spectrum (data problems vs model problems)",
         description="Fit a Kramers-Kronig-consistent Voigt chain (Schoenleber et al. 2014) and report where the data are not KK-consistent (drift, movement, non-stationarity). See docs/kk.md.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file; a file of several spectra is tested spectrum by spectrum (one line each, by either method), or pick one with --select")
+    p.add_argument("data", metavar="DATA", help=data_help("spectrum file; a file of several spectra is tested spectrum by spectrum (one line each, by either method), or pick one with --select"))
     p.add_argument("--method", choices=("linear", "zhit"), default="linear", help="linear: Voigt-chain KK test (default); zhit: |Z| reconstructed from the phase (Z-HIT, docs/drt.md; --c, --max-rc, --no-inductance and --no-capacitance set the linear test's chain and are refused with it)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     add_plot_option(p, "save data vs KK fit and the residuals with bad bands shaded (several spectra: every spectrum's residual mapped over the spectra and frequency)")

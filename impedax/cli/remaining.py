@@ -10,7 +10,7 @@ import sys
 def register(sub) -> None:
     from .common import add_quiet_option
 
-    from .common import JSON_SUMMARY_HELP, SELECT_SYNTAX_HELP
+    from .common import JSON_SUMMARY_HELP, SELECT_SYNTAX_HELP, data_help
     from .gap import add_band_options
 
     p = sub.add_parser(
@@ -24,9 +24,9 @@ def register(sub) -> None:
         "what gap's least-squares fits and --pooled fit; --trials: every total trial minus the skin and screen means, "
         "what gap's hierarchical model fits (the total's trial dimensions, so .nc). No fit, no sampling.",
     )
-    p.add_argument("total", metavar="DATA_TOTAL", help="finger-on-screen spectra (trials as an extra dimension)")
-    p.add_argument("skin", metavar="DATA_SKIN", nargs="?", help="skin spectra; leave out with DATA_TS for a single contact (nothing subtracted)")
-    p.add_argument("touchscreen", metavar="DATA_TS", nargs="?", help="touchscreen spectra; given with DATA_SKIN or not at all")
+    p.add_argument("total", metavar="DATA_TOTAL", help=data_help("finger-on-screen spectra (trials as an extra dimension)"))
+    p.add_argument("skin", metavar="DATA_SKIN", nargs="?", help=data_help("skin spectra; leave out with DATA_TS for a single contact (nothing subtracted)"))
+    p.add_argument("touchscreen", metavar="DATA_TS", nargs="?", help=data_help("touchscreen spectra; given with DATA_SKIN or not at all"))
     p.add_argument("--trials", action="store_true", help="one remainder per total trial (Z_total,t − mean Z_skin − mean Z_TS) instead of the trial means; needs --out FILE.nc")
     p.add_argument(
         "--select", action="append", metavar="DIM=LABEL",

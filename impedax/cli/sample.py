@@ -7,7 +7,7 @@ import sys
 
 def register(sub) -> None:
     from ..arguments import AUTO_MAX_STEPS, CHAIN_TAU_MULTIPLE, NOISE_MODELS, PRIOR_KINDS  # (the sampler's vocabulary, below JAX: --help imports no JAX)
-    from .common import add_model_argument, add_output_options, add_plot_option, add_quiet_option, add_select_option, number_option, result_out_help
+    from .common import add_model_argument, add_output_options, add_plot_option, add_quiet_option, add_select_option, data_help, number_option, result_out_help
     from .fit import add_bound_option, add_exclude_option, add_shared_options
 
     p = sub.add_parser(
@@ -15,7 +15,7 @@ def register(sub) -> None:
         help="Bayesian fit (emcee): posterior draws, credible intervals, diagnostics",
         description="Sample the posterior of MODEL's parameters given the spectrum in DATA with emcee, starting from a least-squares fit. Reports medians, 5/16/84/95 % quantiles, acceptance, autocorrelation times, effective sample sizes, Laplace log evidence and WAIC.",
     )
-    p.add_argument("data", metavar="DATA", help="spectrum file")
+    p.add_argument("data", metavar="DATA", help=data_help("spectrum file"))
     add_select_option(p, several="with --shared")
     add_model_argument(p)
     p.add_argument("--walkers", type=int, metavar="N", help="number of walkers (even, at least 2 × parameters; default max(64, 4 × parameters))")

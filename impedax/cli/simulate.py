@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from .common import (JSON_SUMMARY_HELP, add_model_argument, add_select_option, append_title_line, check_band_options, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
+from .common import (JSON_SUMMARY_HELP, data_help, add_model_argument, add_select_option, append_title_line, check_band_options, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
                      load_selected, model_and_values, number_option, plan_outputs, spectrum_summary, spectrum_writer)
 
 DEFAULT_FMIN, DEFAULT_FMAX = 1.0, 1e6  # Hz: the band without --fmin, --fmax (or --frequencies)
@@ -32,8 +32,8 @@ def register(sub) -> None:
     p.add_argument("--fmax", type=number_option, default=None, help=f"highest frequency [Hz] (default {DEFAULT_FMAX:g})")
     p.add_argument("--points", type=int, default=None, help="number of frequencies (default 61; 1 when --fmin equals --fmax)")
     p.add_argument("--frequencies", metavar="FILE", default=None,
-                   help="evaluate at the frequencies of spectrum FILE (any format impedax reads, e.g. a measurement; in its order, "
-                        "each value as read) in place of --fmin/--fmax/--points")
+                   help=data_help("evaluate at the frequencies of spectrum FILE (any format impedax reads, e.g. a measurement; in its order, "
+                                  "each value as read) in place of --fmin/--fmax/--points"))
     add_select_option(p, several=True)  # (with --frequencies: a file of sweeps on different grids is read one sweep alone)
     add_output_options(p, json=JSON_SUMMARY_HELP + " (needs --out FILE): written, model, parameters, parameter_units, defaulted, frequencies, ...", plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted or '-'", out_metavar="FILE.csv")
     add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)

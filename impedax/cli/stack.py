@@ -11,7 +11,7 @@ import sys
 def register(sub) -> None:
     from .common import add_quiet_option
 
-    from .common import JSON_SUMMARY_HELP
+    from .common import JSON_SUMMARY_HELP, data_help
 
     p = sub.add_parser(
         "stack",
@@ -22,7 +22,7 @@ def register(sub) -> None:
         "the spectra lined up by their labels. The files must share "
         "one frequency grid (within 0.1 %), or, with --common-frequencies, the frequencies every file has are kept and the rest left out. Labels along NAME: --coords, else the file names without extension.",
     )
-    p.add_argument("files", nargs="+", metavar="FILE", help="spectrum files, one spectrum each (or each over the same dimensions), in the order of the series")
+    p.add_argument("files", nargs="+", metavar="FILE", help=data_help("spectrum files, one spectrum each (or each over the same dimensions), in the order of the series"))
     p.add_argument("--dim", default="file", metavar="NAME", help="name of the new dimension (default: file), e.g. day")
     p.add_argument("--coords", nargs="+", metavar="V", help="one label per FILE, in order: numbers when every one reads as a number (1 2 3, 0.5 1.5), else text; default: the file names without extension (day01)")
     p.add_argument("--common-frequencies", action="store_true",
