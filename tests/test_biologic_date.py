@@ -41,7 +41,7 @@ def test_a_date_whose_order_the_file_establishes_is_iso_8601(tmp_path, acquisiti
 
 @pytest.mark.parametrize("written, note", [
     ("13/13/2020 10:00:00", "'13/13/2020 10:00:00' is no date read month first (MM/DD/YYYY) nor day first (DD/MM/YYYY); kept as written"),
-    ("Monday 10:00", "'Monday 10:00' is not read as a date (day, month and year with '/', '-' or '.'); kept as written"),
+    ("Monday 10:00", "'Monday 10:00' is not read as a date (day, month and year with '/', '-' or '.', or a month by name); kept as written"),
 ])
 def test_a_date_that_is_no_date_is_kept_and_said_so(tmp_path, written, note):
     path = tmp_path / "odd.mpt"

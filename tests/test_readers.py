@@ -31,7 +31,7 @@ DESCENDING = np.array([1e5, 1e4, 1e3, 100.0, 10.0, 1.0])
 @pytest.mark.parametrize(
     "name, fmt, rtol, attrs",
     [
-        ("gamry_eispot.DTA", "Gamry DTA", 1e-6, {"instrument": "Gamry", "date": "3/14/2024 10:29:09", "instrument_serial": "REF600-12345", "experiment": "EISPOT"}),
+        ("gamry_eispot.DTA", "Gamry DTA", 1e-6, {"instrument": "Gamry", "date": "2024-03-14T10:29:09", "date_as_written": "3/14/2024 10:29:09", "instrument_serial": "REF600-12345", "experiment": "EISPOT"}),
         ("biologic_peis.mpt", "BioLogic EC-Lab mpt", 1e-6, {"instrument": "BioLogic SP-150 (SN 10791079)", "date": "02/04/2024 10:02:46", "technique": "Potentio Electrochemical Impedance Spectroscopy"}),
         ("zplot_sweep.z", "Scribner ZPlot z", 1e-4, {"instrument": "Scribner ZPlot", "date": "10-12-2024 11:04:34", "experiment": "Sweep Frequency, Control Voltage"}),
         ("autolab_nova.txt", "Metrohm Autolab NOVA text", 1e-8, {"instrument": "Metrohm Autolab"}),

@@ -19,6 +19,7 @@ import xarray as xr
 
 from ...errors import DataError
 from .._common import cut_last_line, cut_short_note, head_text, read_text
+from ..dates import record_date
 from ..registry import Reader
 from ..table import NoLayout, detect_layout, spectrum_from_rows
 
@@ -79,63 +80,9 @@ def read_biologic(path: str | Path) -> xr.Dataset:
         elif key == "Run on channel":
             attrs["channel"] = value.strip()
     if dates:
-        _record_date(attrs, dates)
+        record_date(attrs, dates)  # (ISO 8601 when the file establishes the order of day and month; until 2026-12-06 as written)
     _check_header_count(path, lines, n_header)
     return _columns(path, lines, n_header - 1, attrs, cut_line=cut_last_line(text, lines))
-
-
-#: A date and time as EC-Lab writes them: ``02/04/2018 10:02:46``, ``06/15/2023 16:30:52.260``,
-#: ``01-31-2020 10:32:02``, ``02.04.2018 10:02:46`` (day, month and year in an order the file does not
-#: name) or year first, ``2018-04-02 10:02:46``.
-_DATE = re.compile(r"(\d{1,4})([/.-])(\d{1,2})\2(\d{1,4})(?:[ T]+(\d{1,2})(:\d{2}(?::\d{2}(?:[.,]\d+)?)?))?")
-_ORDERS = {"month first": "MM/DD/YYYY", "day first": "DD/MM/YYYY"}
-
-
-def _iso(date: re.Match, order: str) -> str | None:
-    """``date`` (a `_DATE` match) in ISO 8601 read in ``order`` (a key of `_ORDERS`, or
-    "year first"), None when it is no date in that order."""
-    import datetime
-
-    first, _, second, third, hour, rest = date.groups()
-    if order == "year first":
-        year, month, day = first, second, third
-    else:
-        month, day = (first, second) if order == "month first" else (second, first)
-        year = third
-    if len(year) != 4 or len(month) > 2 or len(day) > 2:
-        return None
-    try:
-        text = datetime.date(int(year), int(month), int(day)).isoformat()
-    except ValueError:
-        return None
-    return text if hour is None else f"{text}T{int(hour):02d}{rest.replace(',', '.')}"
-
-
-def _record_date(attrs: dict, dates: list[str]) -> None:
-    """``attrs["date"]`` of an EC-Lab header whose date lines (``Acquisition started on``,
-    ``Technique started on``) hold ``dates``: ISO 8601 (``2023-06-15T16:30:52.260``) when the order
-    of day and month is established, by a year first or a day above 12 in any of them, the text as
-    written then kept as ``attrs["date_as_written"]``; else the first as written, and
-    ``attrs["date_note"]`` says why (both readings of ``02/04/2018``). Until 2026-12-06 ``date`` was
-    the text alone, MM/DD or DD/MM unsaid."""
-    found = [_DATE.fullmatch(d) for d in dates]
-    written = dates[0]
-    attrs["date"] = written
-    if not all(found):
-        attrs["date_note"] = f"{written!r} is not read as a date (day, month and year with '/', '-' or '.'); kept as written"
-        return
-    if all(len(m.group(1)) == 4 for m in found):
-        orders = ["year first"] if all(_iso(m, "year first") for m in found) else []
-    else:
-        orders = [order for order in _ORDERS if all(_iso(m, order) for m in found)]
-    if len(orders) == 1:
-        attrs["date"], attrs["date_as_written"] = _iso(found[0], orders[0]), written
-    elif not orders:
-        attrs["date_note"] = f"{written!r} is no date read month first ({_ORDERS['month first']}) nor day first ({_ORDERS['day first']}); kept as written"
-    else:
-        readings = " or ".join(f"{_iso(found[0], order)} ({order}, {_ORDERS[order]})" for order in orders)
-        attrs["date_note"] = (f"{written!r} is ambiguous: {readings}; no day above 12 in the file's dates "
-                              f"({', '.join(repr(d) for d in dict.fromkeys(dates))}) tells which; kept as written")
 
 
 #: The column names an EC-Lab impedance export holds (`_columns`).

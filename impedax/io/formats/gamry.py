@@ -20,6 +20,7 @@ import xarray as xr
 
 from ...errors import DataError
 from .._common import Skipped, check_field_count, check_last_field_digits, column_entry, cut_short_note, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
+from ..dates import record_date
 from ..registry import Reader
 from ..table import NUMBER_CELL
 
@@ -45,6 +46,7 @@ def read_gamry(path: str | Path) -> xr.Dataset:
     attrs: dict[str, object] = {"format": "Gamry DTA", "instrument": "Gamry"}
     tables: list[int] = []
     notes: list[str] = []
+    calibrated: list[str] = []  # (DCCALDATE, ACCALDATE: dates in the file's own order of day and month)
     i = 0
     while i < len(lines):
         cells = lines[i].split("\t")
@@ -63,6 +65,8 @@ def read_gamry(path: str | Path) -> xr.Dataset:
             continue
         elif key == "TAG" and len(cells) >= 2:
             attrs["experiment"] = cells[1].strip()
+        elif len(cells) >= 3 and key in ("DCCALDATE", "ACCALDATE") and cells[2].strip():
+            calibrated.append(cells[2].strip())
         elif len(cells) >= 3 and key in _ATTR_KEYS:
             value = cells[2].strip()
             if len(cells) > 1 and cells[1].strip() in ("QUANT", "IQUANT", "POTEN"):  # (a number, a potential: "-5.00000E-002" read as -0.05)
@@ -77,6 +81,8 @@ def read_gamry(path: str | Path) -> xr.Dataset:
         raise DataError("no ZCURVE table (is this an impedance experiment?)" + cut_short_note(text), path=path)
     if "date" in attrs and "time" in attrs:
         attrs["date"] = f"{attrs['date']} {attrs.pop('time')}"
+    if "date" in attrs:  # (ISO 8601 when the file's dates, its calibration dates too, establish the order of day and month; 2026-12-06)
+        record_date(attrs, [str(attrs["date"]), *calibrated])
     if notes:
         attrs["comments"] = "\n".join(notes)
     attrs["sign_convention"] = "Zimag holds Z'' (negative for capacitive data), taken as stored"

@@ -19,6 +19,7 @@ import xarray as xr
 
 from ...errors import DataError
 from .._common import cut_last_line, cut_short_note, decimal_comma, head_text, read_text
+from ..dates import record_date
 from ..registry import Reader
 from ..table import Layout, NoLayout, detect_layout, spectrum_from_rows
 
@@ -76,7 +77,8 @@ def read_zplot(path: str | Path) -> xr.Dataset:
                 attrs["software"] = f"{key.split(',')[-1].strip()} {value}".strip()
             elif key == "Data Points" and value.isdigit():
                 announced = int(value)
-        attrs["date"] = " ".join(v for v in (date, time) if v)
+        if date or time:  # (ISO 8601 when the order of day and month is established; 2026-12-06)
+            record_date(attrs, [" ".join(v for v in (date, time) if v)])
         names_line = lines[end - 1] if end > 0 else ""
     rows = [(k + 1, split_row(lines[k])) for k in range(end + 1, len(lines)) if lines[k].strip()]
     layout = FIXED_LAYOUT
