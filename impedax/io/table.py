@@ -593,7 +593,7 @@ def _first_decimal_comma(rows: Sequence[tuple[int, Sequence[str]]], delimiter: s
     """The line of the first row holding a number written with a decimal comma (`decimal_comma`),
     over the whole table; None when none does."""
     for line, cells in rows:
-        if any("," in c for c in cells) and decimal_comma(cells, delimiter):
+        if "," in "".join(cells) and decimal_comma(cells, delimiter):  # (one join a row: rows without a ',' cost next to nothing)
             return line
     return None
 
