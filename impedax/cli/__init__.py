@@ -312,7 +312,11 @@ def _subparser(parser: argparse.ArgumentParser, command: str) -> argparse.Argume
 
 # the commands that analyse every spectrum of one DATA file: a series from files of one
 # spectrum each is `impedax stack`'s output (named when such a command is given several files)
-SERIES_COMMANDS = ("fit", "kk", "drt")
+SERIES_COMMANDS = ("fit", "kk", "drt", "compare")
+#: Commands of one spectrum file whose second file is told to run the command once per file (`_refuse_unknown`).
+ONE_FILE_COMMANDS = ("inspect", "diagnose", "refine", "sample")
+#: Commands of up to three files (total, skin, touchscreen) whose fourth is told how trials go in one file.
+CONTACT_COMMANDS = ("gap", "remaining")
 
 
 def _model_parameters(model) -> list[tuple[list[str], dict[str, str]]]:
@@ -441,6 +445,12 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
     files = [item for item in unknown if not item.startswith("-") and os.path.isfile(item)]
     if files and command in SERIES_COMMANDS:  # (fit day01.csv day02.csv: one DATA per run)
         hint += f"; {command} reads one DATA file: join files of one spectrum each into one series with impedax stack FILE ... --out SERIES.nc, then impedax {command} SERIES.nc"
+    elif files and command in ONE_FILE_COMMANDS:  # (inspect a.csv b.csv: said "unrecognized arguments: b.csv" alone until 2026-12-06)
+        what = "" if command == "inspect" else "DATA "
+        hint += f"; {command} reads one {what}file: run impedax {command} once per file"
+    elif files and command in CONTACT_COMMANDS:
+        hint += (f"; {command} reads at most three files, DATA_TOTAL [DATA_SKIN DATA_TS]: the trials of one contact go in one file as an extra "
+                 "dimension (impedax stack TRIAL_FILE ... --dim trial --out TOTAL.nc)")
     sub.error(f"unrecognized arguments: {' '.join(unknown)}{hint}")
 
 
