@@ -306,6 +306,19 @@ def _repeated_file(subparser: argparse.ArgumentParser, argv: list[str]) -> str |
     return None
 
 
+def _refuse_empty_file(subparser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """Exit 2 naming the argument that names a spectrum file to read (DATA, FILE, DATA_SKIN …,
+    --frequencies) when it is empty, ``impedax kk "$DATA"`` of an unset variable: until 2026-12-06
+    "'.': is a directory, not a spectrum file" (pathlib reads '' as the current folder)."""
+    for action in subparser._actions:
+        named = action.option_strings[-1] if action.option_strings else action.metavar
+        if not (named == "--frequencies" or (not action.option_strings and str(named).startswith(("DATA", "FILE")))):
+            continue
+        value = getattr(args, action.dest, None)
+        if value == "" or (isinstance(value, list) and "" in value):
+            subparser.error(f"argument {named}: empty file name: no spectrum file was named (an unset shell variable, \"$DATA\" with nothing in it?)")
+
+
 def _subparser(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
     return next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
 
@@ -517,6 +530,7 @@ def _run(argv: list[str], command: list[str]) -> int:
     if unknown:
         _refuse_unknown(parser, args.command, unknown, getattr(args, "model", None))
     positional_model(_subparser(parser, args.command), args)
+    _refuse_empty_file(_subparser(parser, args.command), args)
     repeated = _repeated_file(_subparser(parser, args.command), argv)
     if repeated:
         print(f"impedax {args.command}: error: {repeated}", file=sys.stderr)

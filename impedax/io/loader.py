@@ -455,6 +455,8 @@ def _check_path(path) -> None:
     """A file path as `load` and `save` take it (str or os.PathLike), else one `DataError`."""
     if not isinstance(path, (str, os.PathLike)):
         raise DataError(f"a file path (str or pathlib.Path) is needed, got {shown(path)} ({type(path).__name__})")
+    if isinstance(path, str) and not path:  # (Path('') is '.': until 2026-12-06 "'.': is a directory, not a spectrum file")
+        raise DataError("empty file name: no spectrum file was named (an unset shell variable, \"$DATA\" with nothing in it?)")
     if "\x00" in str(path):
         raise DataError(f"a file name cannot contain a NUL character: {shown(str(path))}")
 
