@@ -142,3 +142,21 @@ def test_a_users_sniff_runs_once_on_standard_input(monkeypatch, capsys, tmp_path
     code, _, err = run([command[0], "-", "--plugin", plugin, *command[1:]], capsys)
     assert code == 0, err
     assert calls.read_text().splitlines() == ["sniff"]
+
+
+def test_standard_input_that_is_a_terminal_is_refused_at_once(monkeypatch, capsys):
+    # impedax kk - typed with nothing piped in waited silently for the keyboard; a REAL pseudo-terminal stands in
+    import os
+
+    leader, follower = os.openpty()
+    os.write(leader, b"\x04")  # (Ctrl-D typed ahead: code that reads the terminal gets end-of-file, not a hang)
+    try:
+        with open(follower, "rb", buffering=0, closefd=False) as raw:
+            monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BufferedReader(raw)))
+            assert sys.stdin.buffer.isatty()
+            code, out, err = run(["kk", "-"], capsys)
+    finally:
+        os.close(leader)
+        os.close(follower)
+    assert code == 2 and out == ""
+    assert "impedax kk: error: <stdin>: standard input is a terminal, not a file: '-' reads a spectrum piped in (impedax kk - < run.csv" in err

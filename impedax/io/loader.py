@@ -370,6 +370,13 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
     if stream is None:
         raise DataError("no standard input to read from", path=STDIN_NAME)
     try:
+        terminal = stream.isatty()
+    except (OSError, ValueError):  # (a closed or detached stream: read below says so)
+        terminal = False
+    if terminal:  # (impedax kk - typed with nothing piped in waited silently for the keyboard until 2026-12-06)
+        raise DataError("standard input is a terminal, not a file: '-' reads a spectrum piped in (impedax kk - < run.csv, or another "
+                        "command's output through |); give the file's path otherwise", path=STDIN_NAME)
+    try:
         raw = stream.read(limit + 1)
     except OSError as exc:
         raise DataError(f"cannot read standard input: {exc.strerror}", path=STDIN_NAME) from None
