@@ -407,8 +407,8 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
 
 def _stdin_declined(readers: Sequence[Reader] | None, identified: tuple[Reader | None, list[str], list[str]]) -> str:
     """Why standard input (kept in a file with no suffix, whose `_identify` answer is
-    ``identified``) may be read by the wrong reader: the user's readers (not built in, a ``--plugin``'s) that did not claim it, with their
-    reasons, when none of them did; "" otherwise. A reader that goes by the file's extension never
+    ``identified``) may be read by the wrong reader: the user's readers (not built in, a
+    ``--plugin``'s) that did not claim it, with their reasons, when none of them did; "" otherwise. A reader that goes by the file's extension never
     claims standard input, which was then read as delimited text without a word (a kHz/kΩ
     table 1000× off; until 2026-12-06). Stored as ``attrs["stdin_note"]``."""
     from .formats import READERS as built_in
