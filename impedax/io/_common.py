@@ -130,6 +130,18 @@ def missing_file_hint(path: Path) -> str:
     import difflib
 
     name, folder = path.name, path.parent
+    if re.match(r"(?i)(https?|ftp|s3|file):/", str(path)):  # (pathlib made 'https://' 'https:/'; added 2026-12-06)
+        return ("; it is a web address, and impedax reads files on this computer: download it first (curl -O URL), "
+                "or pipe it in with '-' for the file (curl -s URL | impedax COMMAND -)")
+    if any(c in name for c in "*?"):  # (a quoted 'data/*.csv', or one that matches nothing: added 2026-12-06)
+        import glob
+
+        matches = sorted(glob.glob(str(path)))
+        if matches:
+            shown_matches = ", ".join(matches[:3]) + (", …" if len(matches) > 3 else "")
+            return (f"; {name!r} is a pattern of file names that the shell did not expand (was it quoted?): it matches {len(matches)} "
+                    f"file{'s' if len(matches) > 1 else ''} here ({shown_matches}); leave out the quotes")
+        return f"; {name!r} is a pattern of file names, and no file matches it"
     if str(path).startswith("~"):
         return "; '~' is not expanded here (a shell expands it when not quoted; in Python, give pathlib.Path(path).expanduser())"
     if name != name.strip():
