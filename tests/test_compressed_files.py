@@ -49,3 +49,19 @@ def test_the_decompressed_file_reads(monkeypatch):
     # (what the message says to do: the same bytes, decompressed, are the spectrum written)
     monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(gzip.decompress(gzip.compress(TEXT)))))
     np.testing.assert_array_equal(ix.load("-")["Z"].values, Z)
+
+
+@pytest.mark.parametrize("name, opening, said", [
+    # SYNTHETIC: each format's signature (its specification's first bytes), then binary content
+    ("old.xls", b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1", "an Excel 97-2003 workbook (.xls) or another OLE2 file, which impedax does not open: "
+                                                     "save the workbook as .xlsx (Excel: File > Save As) or each sheet as CSV"),
+    ("report.pdf", b"%PDF-1.4\n%\xe2\xe3\xcf\xd3\n", "a PDF document, which impedax does not open: give the file of the spectrum's numbers"),
+    ("nyquist.png", b"\x89PNG\r\n\x1a\n", "a PNG image, which impedax does not open: give the file of the spectrum's numbers"),
+    ("nyquist.jpg", b"\xff\xd8\xff\xe0", "a JPEG image, which impedax does not open: give the file of the spectrum's numbers"),
+])
+def test_a_workbook_document_or_image_is_named(tmp_path, name, opening, said):
+    # (an .xls, a PDF or a plot given for the data was "a binary file that no reader claims")
+    path = tmp_path / name
+    path.write_bytes(opening + bytes(range(256)) * 8)
+    with pytest.raises(ix.DataError, match="^" + re.escape(f"{path}: not a recognised spectrum file: {said}")):
+        ix.load(path)

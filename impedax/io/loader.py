@@ -209,9 +209,9 @@ def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
     head = _head(path)
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
         if head.strip(b" \t\r\n"):
-            packed = _compressed(head)
-            if packed and not faults:  # (a .csv.gz was "a binary file that no reader claims" until 2026-12-06)
-                raise DataError(f"not a recognised spectrum file: {packed} ({len(tried)} formats tried)", path=path)
+            kind = _unread_kind(head)
+            if kind and not faults:  # (a .csv.gz, an .xls was "a binary file that no reader claims" until 2026-12-06)
+                raise DataError(f"not a recognised spectrum file: {kind} ({len(tried)} formats tried)", path=path)
             raise DataError(_unrecognised(None, tried, faults, _by_extension(path, readers, tried)), path=path)
         raise DataError("file is empty", path=path)
     try:
@@ -340,20 +340,26 @@ def _unrecognised(as_text: str | None, tried: Sequence[str], faults: Sequence[st
     return f"not a recognised spectrum file: as delimited text, {as_text}{listed}"
 
 
-#: Signatures of compressed files and archives: (bytes, what it is, what to do).
-COMPRESSED_SIGNATURES = (
+#: Signatures of files impedax does not open, compressed files and archives first: (bytes, what
+#: it is, what to do).
+UNREAD_SIGNATURES = (
     (b"\x1f\x8b", "a gzip-compressed file", "decompress it first (gunzip -k FILE), or pipe it in with '-' for the file (gunzip -c FILE | impedax COMMAND -)"),
     (b"BZh", "a bzip2-compressed file", "decompress it first (bunzip2 -k FILE), or pipe it in with '-' for the file (bunzip2 -c FILE | impedax COMMAND -)"),
     (b"\xfd7zXZ\x00", "an xz-compressed file", "decompress it first (unxz -k FILE), or pipe it in with '-' for the file (unxz -c FILE | impedax COMMAND -)"),
     (b"\x28\xb5\x2f\xfd", "a zstd-compressed file", "decompress it first (unzstd FILE), or pipe it in with '-' for the file (unzstd -c FILE | impedax COMMAND -)"),
     (b"PK\x03\x04", "a zip archive (and no .xlsx or .ods workbook)", "extract the spectrum file from it first (unzip FILE)"),
     (b"7z\xbc\xaf\x27\x1c", "a 7-Zip archive", "extract the spectrum file from it first"),
+    (b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1", "an Excel 97-2003 workbook (.xls) or another OLE2 file",
+     "save the workbook as .xlsx (Excel: File > Save As) or each sheet as CSV"),
+    (b"%PDF-", "a PDF document", "give the file of the spectrum's numbers that the figure or report was made from"),
+    (b"\x89PNG\r\n\x1a\n", "a PNG image", "give the file of the spectrum's numbers that the plot was made from"),
+    (b"\xff\xd8\xff", "a JPEG image", "give the file of the spectrum's numbers that the plot was made from"),
 )
 
 
-def _compressed(head: bytes) -> str:
-    """What a compressed file or an archive is and what to do, by its signature; "" for others."""
-    return next((f"{what}, which impedax does not open: {advice}" for magic, what, advice in COMPRESSED_SIGNATURES if head.startswith(magic)), "")
+def _unread_kind(head: bytes) -> str:
+    """What a file impedax does not open is (`UNREAD_SIGNATURES`) and what to do; "" for others."""
+    return next((f"{what}, which impedax does not open: {advice}" for magic, what, advice in UNREAD_SIGNATURES if head.startswith(magic)), "")
 
 
 _JSON_OPENING = re.compile(r'\ufeff?\s*(\{\s*["}]|\[\s*[-{\["\d\]])')
