@@ -223,6 +223,10 @@ def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
         if not faults and _looks_like_json(head_text(head)):
             # (a JSON file was told "as delimited text, no frequency column in header ['{"frequency": [1', '10', ...]")
             raise DataError(_unrecognised_json(len(tried)), path=path) from None
+        if not faults and _HTML_OPENING.match(head_text(head)):
+            # (a web page saved in place of the file: until 2026-12-06 "no frequency column in header ['<!DOCTYPE', 'html>']")
+            raise DataError("not a recognised spectrum file: an HTML web page, not the data (a page that shows the file, saved in its place?): "
+                            f"download the file itself (on GitHub, its Raw button); {len(tried)} formats tried", path=path) from None
         raise DataError(_unrecognised(exc.reason, tried, faults, _by_extension(path, readers, tried)), path=exc.path, line=exc.line) from None
     return _checked(ds, path)
 
@@ -362,6 +366,7 @@ def _unread_kind(head: bytes) -> str:
     return next((f"{what}, which impedax does not open: {advice}" for magic, what, advice in UNREAD_SIGNATURES if head.startswith(magic)), "")
 
 
+_HTML_OPENING = re.compile(r"\ufeff?\s*(<!doctype\s+html|<html[\s>])", re.IGNORECASE)
 _JSON_OPENING = re.compile(r'\ufeff?\s*(\{\s*["}]|\[\s*[-{\["\d\]])')
 
 
