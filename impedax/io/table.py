@@ -494,8 +494,14 @@ def find_header(count: int, cells: Callable[[int, int], Sequence[str]], line_of:
 
 
 def preamble_note(first: int, header: int, text: str, word: str = "lines") -> str:
-    """``attrs["preamble"]``: the lines (or sheet rows) above a table's header, not read."""
-    return f"{word} {first}–{header - 1}: text above the table's header ({word.rstrip('s')} {header}), not read: {text.strip()[:60]!r} …"
+    """``attrs["preamble"]``: the lines (or sheet rows) above a table's header, not read; ``text``
+    the first of them, shown up to 60 characters, '…' when more was passed over (one line was
+    "lines 1–1: … 'sep=;' …" until 2026-12-06)."""
+    one = word.rstrip("s")
+    span = f"{word} {first}–{header - 1}" if header - 1 > first else f"{one} {first}"
+    shown = text.strip()
+    more = header - 1 > first or len(shown) > 60
+    return f"{span}: text above the table's header ({one} {header}), not read: {shown[:60]!r}{' …' if more else ''}"
 
 
 def units_row_note(line: int, units: Sequence[str], word: str = "line") -> str:
