@@ -41,6 +41,9 @@ CSV_HEADER = ("frequency_hz", "z_real_ohm", "z_imag_ohm")
 
 HEADERLESS_NOTE = "no header: columns read as frequency [Hz], Z' [Ω], Z'' [Ω] (Z'' < 0 for capacitive data); add a header to say otherwise"
 _NUMBER = NUMBER_CELL
+#: A line that may be a row of numbers: digits with only what numbers, delimiters and quotes hold
+#: (every row `NUMBER_CELL` reads matches; `find_header`'s quick test).
+_NUMBERS_ONLY = re.compile(r'[\d\s.,;eE+"\-]*\d[\d\s.,;eE+"\-]*')
 
 
 def find_delimiter(line: str) -> str | None:
@@ -98,8 +101,8 @@ COMMENT_MARKS = ("#", "%", "!")
 it is reported among the skipped rows."""
 
 PREAMBLE_LINES_MAX = PREAMBLE_ROWS_MAX
-"""How far below the first line `read_csv` looks for a table's header when the first line is
-not one (`impedax.io.table.find_header`)."""
+"""How far below the first line `read_csv` looked for a table's header when the first line is
+not one (`impedax.io.table.find_header`), until 2026-12-06: it now looks through the whole file."""
 
 
 _QUOTED_DECIMAL_COMMA = re.compile(r"[-+]?\d*,\d+(?:[eE][-+]?\d+)?")
@@ -261,8 +264,14 @@ def read_csv(path: str | Path) -> xr.Dataset:
         try:
             layout, units_row = header_layout(cells, split_line(lines[1][1], delimiter) if len(lines) > 1 else None, path, header_no)
         except NoLayout:
-            found = find_header(len(lines), lambda at, k: split_line(lines[k][1], find_delimiter(lines[at][1])), lambda k: lines[k][0], path,
-                                limit=PREAMBLE_LINES_MAX)
+            delimiters: dict[int, str | None] = {}  # (each candidate header's delimiter, found once: the whole file is searched)
+
+            def cells(at: int, k: int) -> list[str]:
+                if at not in delimiters:
+                    delimiters[at] = find_delimiter(lines[at][1])
+                return split_line(lines[k][1], delimiters[at])
+
+            found = find_header(len(lines), cells, lambda k: lines[k][0], path, maybe_numbers=lambda k: _NUMBERS_ONLY.fullmatch(lines[k][1]) is not None)
             if found is None:
                 raise
             delimiter, layout, units_row = find_delimiter(lines[found.at][1]), found.layout, found.units_row

@@ -399,8 +399,10 @@ def _decimal_comma_row(n_fields: int) -> re.Pattern:
     return re.compile(rf"{number}(?:,{number}){{{n_fields - 1}}}")
 
 PREAMBLE_ROWS_MAX = 100
-"""How far below the first row `find_header` looks for a table's header when the first row is
-not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``)."""
+"""How far below the first row `find_header` looked for a table's header when the first row is
+not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``), until
+2026-12-06; it now looks through every row (a table below 120 lines of notes was refused as
+"no frequency column in header ['note', '1:', 'value']"). Kept for code that imports it."""
 
 #: Units of columns that hold no spectrum quantity (time, potential, current, point number ...),
 #: which a units row may hold beside Hz, Ω and degrees (`with_units_row`).
@@ -469,15 +471,25 @@ class HeaderFound:
 
 
 def find_header(count: int, cells: Callable[[int, int], Sequence[str]], line_of: Callable[[int], int], path: Path, *, first: int = 1,
-                limit: int = PREAMBLE_ROWS_MAX) -> HeaderFound | None:
-    """The first of ``count`` rows, from ``first`` to ``limit``, that reads as a spectrum header
+                limit: int | None = None, maybe_numbers: Callable[[int], bool] | None = None) -> HeaderFound | None:
+    """The first of ``count`` rows, from ``first`` to ``limit`` (None: every row), that reads as a spectrum header
     (`detect_layout`, through a units row under it) and is followed by a row of as many numbers;
     None when there is none. ``cells(at, k)`` are the cells of row ``k`` as row ``at`` splits
-    them (a text file's delimiter is the header's); ``line_of(k)`` its line (or sheet row)."""
-    for at in range(first, min(count - 1, limit)):
+    them (a text file's delimiter is the header's); ``line_of(k)`` its line (or sheet row).
+    ``maybe_numbers(k)``: a quick test that row ``k`` may be a row of numbers (False only when it
+    cannot be), which spares splitting the rows of a long text that holds no table."""
+    def numbers_below(at: int, k: int, n: int) -> bool:  # (row k, as row at splits it: n numbers)
+        row = cells(at, k) if k < count else ()
+        return len(row) == n and all(NUMBER_CELL.fullmatch(c.strip().strip('"')) for c in row if c.strip())
+
+    for at in range(first, count - 1 if limit is None else min(count - 1, limit)):
+        if maybe_numbers is not None and not (maybe_numbers(at + 1) or (at + 2 < count and maybe_numbers(at + 2))):
+            continue
         header = cells(at, at)
         if len(header) < 2:
             continue
+        if not (numbers_below(at, at + 1, len(header)) or numbers_below(at, at + 2, len(header))):
+            continue  # (no row of numbers under it, nor under a units row: no header; cheap, before with_units_row)
         merged = with_units_row(header, cells(at, at + 1))
         data = at + 2 if merged is not None else at + 1
         if data >= count:
