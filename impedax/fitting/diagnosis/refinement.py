@@ -556,19 +556,50 @@ def _drt_start(first: Diagnosis, steps: list[RefinementStep], limit: int) -> _DR
 
 def unfollowed_effect_note(steps: list[RefinementStep], best) -> str:
     """Why refine ends on a model whose own diagnosis names an effect ``best`` (its verdict) that
-    refine did not add, below its limit: the model is a simplification of the path's end
-    (`_simplified`, `_pruned` come after the paths) or the step taken from it was dropped
-    (`_finish`). REAL Autolab under proportional weighting ended "MISSING_EFFECT — adding
-    extra_relaxation lowers AIC by 36.6" with no word of why (2026-12-06)."""
+    refine did not add, below its limit: the step taken from it was dropped (`_finish`), after a
+    simplifying step too (`_after_simplifying` goes on from one). REAL Autolab under proportional
+    weighting ended "MISSING_EFFECT — adding extra_relaxation lowers AIC by 36.6" with no word of
+    why (2026-12-06)."""
     last = steps[-1]
     if len(steps) > 1 and last.effect is None:
-        why = f"refine simplified the model in its last step ({last.change.removesuffix(' [simplified]')}) and adds no effect after simplifying"
+        why = (f"refine simplified the model in its last step ({last.change.removesuffix(' [simplified]')}), went on from it, and the step it took "
+               "was dropped (see the note on what the data do not determine)")
     else:
         why = "the step refine took from it was dropped (see the note on what the data do not determine)"
     return (
         f"the final model still misses {best.effect} ({best.added}) by its own diagnosis, which refine did not add: {why}; "
         f"a diagnosis of {last.model} shows it, and refine from that model tries it"
     )
+
+
+def _after_simplifying(steps: list[RefinementStep], limit: int, diagnosed, say, notes: list[str], finished, simplify) -> list[RefinementStep]:
+    """``steps`` continued greedily from a last step that simplified the model (`_simplified`,
+    `_pruned`: it adds no effect) while that model's own diagnosis names a significant effect
+    within ``limit``, as from any other step: the simpler model is the same fit with fewer
+    parameters, and its candidates differ (an arc beside a C, where the CPE at α = 1 it
+    replaced left the arc's parameters undetermined). The continued path is finished
+    (``finished``: refitted from scratch, a last step dropped when that leaves parameters
+    undetermined) and simplified again (``simplify``); each round adds an effect, so at most
+    ``limit`` rounds. REAL Autolab under proportional weighting ended "MISSING_EFFECT — adding
+    extra_relaxation (R_relax2 ∥ C_relax2) lowers AIC by 36.6" after CPE3 → C3 with 3 of its
+    4 effects unused (2026-12-06)."""
+    for _ in range(limit):
+        last = steps[-1]
+        if len(steps) < 2 or last.effect is not None or last.diagnosis is None:
+            break
+        best = _best_within(last.diagnosis, limit - sum(effect_count(s.effect) for s in steps))
+        if best is None:
+            break
+        went_on = finished(_greedy(steps, best, limit, diagnosed, say, "after simplifying, "), "")
+        if len(went_on) <= len(steps):  # (every step it took was dropped: `_finish`'s note says why)
+            break
+        added = [s.added for s in went_on[len(steps):]]
+        notes.append(
+            f"refine went on after simplifying ({last.change.removesuffix(' [simplified]')}): the simpler model's own diagnosis still names "
+            f"{best.effect} ({best.added}), which lowers AIC by {-best.delta_aic:.1f}, within the limit of {limit} effect(s); it added {', '.join(added)}"
+        )
+        steps = simplify(went_on)
+    return steps
 
 
 def _best_within(diagnosis: Diagnosis, room: int):
@@ -1326,6 +1357,12 @@ def refine(
         steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
         steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
         steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
+
+        def simplify(path):
+            path = _simplified(path, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
+            return _pruned(path, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
+
+        steps = _after_simplifying(steps, limit, diagnosed, say, notes, finished, simplify)
     steps = _with_alternatives(steps)
     last = steps[-1].diagnosis
     if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(effect_count(s.effect) for s in steps) + effect_count(last.best.effect) > limit:
