@@ -27,9 +27,10 @@ def add_fit_options(p) -> None:
     add_quiet_option(p)
 
 
-def add_exclude_option(p) -> None:
+def add_exclude_option(p, *, of_every_file: bool = False) -> None:
     """``--exclude F,F``, as `impedax.cli.common.exclude_points` reads it (fit, compare,
-    diagnose, refine, kk, drt, sample: the points refine and diagnose masked can be left out of each);
+    diagnose, refine, kk, drt, sample: the points refine and diagnose masked can be left out of each;
+    gap and remaining, ``of_every_file``: of each input file, `gap.files_without_points`);
     repeated, the lists join (until 2026-12-03 the last one alone was kept, without a word)."""
     import argparse
 
@@ -39,7 +40,8 @@ def add_exclude_option(p) -> None:
             setattr(namespace, self.dest, f"{before},{values}" if before else values)
 
     p.add_argument("--exclude", metavar="F,F", action=Joined, help="leave out these measured frequencies [Hz], comma-separated (5.34,56.2,1.12M), or --exclude repeated: each names the nearest "
-                   "measured frequency within 0.5 %%, so values copied from a report match (the masked points diagnose and refine print)")
+                   "measured frequency within 0.5 %%, so values copied from a report match (the masked points diagnose and refine print)"
+                   + ("; left out of every input file whose band holds them, before the subtraction and every fit (a frequency beyond a file's band is left to the others)" if of_every_file else ""))
 
 
 def add_max_steps_option(p, default: int, what: str) -> None:

@@ -58,6 +58,55 @@ def files_in_band(datasets: list, paths: list[str], fmin: float | None, fmax: fl
     return out
 
 
+def files_without_points(datasets: list, paths: list[str], text: str | None) -> list:
+    """Each spectrum of ``datasets`` (read from ``paths``) without the frequencies of
+    ``--exclude F,F,...`` (`common.exclude_points`: each the nearest measured one within
+    `EXCLUDE_RTOL`), before the subtraction and every fit of ``impedax gap``. A frequency
+    beyond a file's measured band is left to the others (a file measured over a narrower band,
+    met with --fmin/--fmax); one that names no point of a file whose band holds it, or of no
+    file at all, is a `ParameterError` naming the file(s)."""
+    import numpy as np
+
+    from ..arguments import EXCLUDE_RTOL
+    from ..errors import ParameterError
+    from .common import exclude_points, prefixed_number
+
+    if text is None:
+        return datasets
+    items = [t.strip() for t in text.split(",") if t.strip()]
+    values = []
+    for item in items:
+        try:
+            values.append(prefixed_number(item))
+        except ValueError as error:
+            raise ParameterError(f"--exclude: {error}") from None
+    if not items:
+        exclude_points(next(d for d in datasets if d is not None), text)  # (its message: names no frequency)
+    out, named = [], set()
+    for data, path in zip(datasets, paths):
+        if data is None:
+            out.append(data)
+            continue
+        freq = np.asarray(data["frequency"].values, float)
+        low, high = freq.min() * (1 - EXCLUDE_RTOL), freq.max() * (1 + EXCLUDE_RTOL)
+        inside = [item for item, value in zip(items, values) if not value > 0 or low <= value <= high]  # (a non-positive one: exclude_points refuses it)
+        named.update(inside)
+        if not inside:
+            out.append(data)
+            continue
+        try:
+            kept = exclude_points(data, ",".join(inside))
+        except ParameterError as error:
+            raise ParameterError(f"{path}: {error}") from None
+        kept.attrs = dict(data.attrs)
+        out.append(kept)
+    beyond = [item for item in items if item not in named]
+    if beyond:
+        bands = "; ".join(f"{path} {d.frequency.values.min():g}–{d.frequency.values.max():g} Hz" for d, path in zip(datasets, paths) if d is not None)
+        raise ParameterError(f"--exclude {', '.join(beyond)}: beyond the measured band of every input file ({bands})")
+    return out
+
+
 def _ep_branch(value: str) -> str:
     """--ep as its element symbol (``Q``, the circuit language's alias of CPE → ``CPE``; any case),
     `models.gap.ep_branch_name`; the rest refused with the aliases named."""
@@ -74,6 +123,7 @@ def _ep_branch(value: str) -> str:
 def register(sub) -> None:
     from .common import SELECT_SYNTAX_HELP, accept_negative_numbers, add_output_options, add_quiet_option, data_help, number_option
     from ..arguments import GAP_MIN_STEPS
+    from .fit import add_exclude_option
     from .sample import steps_option
 
     p = sub.add_parser(
@@ -111,6 +161,7 @@ def register(sub) -> None:
     )
     add_quiet_option(p)
     add_band_options(p)
+    add_exclude_option(p, of_every_file=True)
     p.add_argument("--remaining", metavar="FILE.nc|.csv", help="also save the trial-mean remainder total − skin − touchscreen that the EDL model is fitted to (a single contact: the total's trial mean, nothing subtracted, attr single_contact 1), as a spectrum (with sigma) that impedax fit reads; impedax remaining writes it without the sampling")
     add_output_options(p, plot="save impedance, gap posterior and force bands", out=GAP_OUT_HELP)
     p.set_defaults(run=run)
@@ -151,7 +202,8 @@ def run(args) -> int:
     auto_length = auto_step_cap(64) if args.method == "pooled" else HIERARCHICAL_AUTO_DRAWS
     length = auto_length if steps == AUTO_STEPS else steps
     check_memory("--steps", length * 64 * 10 * 8 * 3, f"a gap-thickness chain of {'up to ' if steps == AUTO_STEPS and args.method == 'pooled' else ''}{length} steps")
-    total, skin, touchscreen = (*files_in_band(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
+    read = files_without_points(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.exclude)  # (before the band, as fit takes them)
+    total, skin, touchscreen = (*files_in_band(read, list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
     check_not_a_remainder(total, skin, touchscreen)  # (gap_analysis checks it again; here before the notes on the drive)
     drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)

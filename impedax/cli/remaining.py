@@ -11,6 +11,7 @@ def register(sub) -> None:
     from .common import add_quiet_option
 
     from .common import JSON_SUMMARY_HELP, SELECT_SYNTAX_HELP, data_help
+    from .fit import add_exclude_option
     from .gap import add_band_options
 
     p = sub.add_parser(
@@ -39,6 +40,7 @@ def register(sub) -> None:
         "CSV to standard output when omitted or '-'",
     )
     add_band_options(p)
+    add_exclude_option(p, of_every_file=True)
     p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + " (needs --out FILE): written, kind, n_trials, dims, spectra, frequencies, has_sigma, warnings, ...")
     add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
@@ -51,7 +53,7 @@ def run(args) -> int:
     from ..io import write_csv
     from ..fitting.least_squares.result import sigma_sources, trial_means_of_sigma
     from ..models.gap import gap_remainder
-    from .gap import files_in_band
+    from .gap import files_in_band, files_without_points
     from .common import check_band_options, check_distinct_paths, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
 
     paths = contact_paths(args, "remaining")
@@ -61,7 +63,8 @@ def run(args) -> int:
     check_json_with_spectrum_out(args.json, out, "remaining")
     check_band_options(args.fmin, args.fmax)
     outputs = plan_outputs([("--out", out, "spectrum")], inputs=list(paths.values()), stdout="--json" if args.json else None)
-    total, skin, touchscreen = (*files_in_band(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
+    read = files_without_points(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.exclude)  # (as impedax gap takes them)
+    total, skin, touchscreen = (*files_in_band(read, list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)
     remaining, notes = gap_remainder(total, skin, touchscreen, kind="trials" if args.trials else "mean")
     remaining = remainder_with_paths(remaining, paths)
