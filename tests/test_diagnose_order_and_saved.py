@@ -144,7 +144,7 @@ def test_kk_says_m_fit_was_used_when_mu_never_fell_below_c():
     assert "M = M_fit, the smallest M that fits them, is used" in text and "capped" not in text
     given = ix.kk_test(data, n_rc=result.n_rc)
     assert given.n_rc == result.n_rc and not given.mu_reached
-    assert f"(µ ≥ c={given.c:g} at the M given)" in given.report()
+    assert f"(µ ≥ c = {given.c:g} at the M given)" in given.report()
 
 
 def test_drt_support_follows_the_new_arc_under_a_baseline_arcs_name(swapped_candidate):

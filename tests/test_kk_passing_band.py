@@ -46,7 +46,7 @@ def test_the_band_that_passes_is_found_by_leaving_out_the_fewest_points_at_the_e
     np.testing.assert_allclose(found.excludable_frequencies, f[-6:])
     assert found.suggested_options[0] == "--fmax" and f[-7] < float(found.suggested_options[1]) < f[-6]
     lines = found.next_step()
-    assert lines[0].startswith("next: the test passes on 10 Hz–2.51 kHz (KK rms_rel 0.31 %), leaving out the 6 points above it: trim the measurement to it: --fmax ")
+    assert lines[0].startswith("next: the test passes on 10 Hz–2.51 kHz (KK rms_rel 0.31 %), leaving out the 6 points above it: trim the measurement to it: kk_test(data.drop_sel(frequency=result.excludable_frequencies))")
     # the whole band's flags reach into the band that passes: the report says why those points pass there
     inside = np.asarray(found.flagged, bool) & (found.frequency <= f[-7])
     assert 10 < np.count_nonzero(inside) < np.count_nonzero(found.flagged)

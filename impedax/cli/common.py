@@ -1634,7 +1634,8 @@ _NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "s
 
 
 # the commands whose text output (`print_result`, compare's) and so --json say Python's words as their options
-COMMANDS_IN_THEIR_WORDS = frozenset({"fit", "compare", "diagnose", "refine", "sample", "gap"})
+# (kk and drt since 2026-12-06: their notes had said both, "(signed=True, --signed)", in Python too)
+COMMANDS_IN_THEIR_WORDS = frozenset({"fit", "compare", "diagnose", "refine", "sample", "gap", "kk", "drt"})
 
 
 def json_in_command_words(summary, command: str | None):
@@ -1709,6 +1710,19 @@ _PHRASE_OF_CALL: dict[str, tuple[str, tuple[str, ...]]] = {
     "(bounds=)": ("(--bound)", ("--bound",)),
     "leave them out (fmin/fmax)": ("leave them out (--fmin/--fmax)", ("--fmin", "--fmax")),
     "e.g. --noise 1% (noise=0.01)": ("e.g. --noise 1%", ("--noise",)),
+    # (the validity tests and the DRT, in Python's words since 2026-12-06, where their notes had
+    # said both, "(signed=True, --signed)", in Python too: `kk.NON_PASSIVE_LEAVE_OUT`, the sigma
+    # line of `KKResult.report`, `DRTResult.warnings` and the report's dropped peaks)
+    "leave them out (data.drop_sel(frequency=result.non_passive_frequencies))": ("leave them out with --fmin/--fmax", ("--fmin", "--fmax")),
+    "kk_test(noise='residuals')": ("impedax kk --noise residuals", ()),
+    "leave the top points out (`data.where(data.frequency <= f, drop=True)`, in either order of the points)": ("leave the top points out (--fmax)", ("--fmax",)),
+    "give a smaller λ (lam)": ("give a smaller λ (--lam)", ("--lam",)),
+    ": min_peak_fraction)": (": --min-peak-fraction)", ("--min-peak-fraction",)),
+    "(signed=True)": ("(--signed)", ("--signed",)),
+    # (`kk.BAND_CUT_AT_END`: the points from an end of the data through a band there)
+    "(data.where(data.frequency >= f, drop=True) and data.where(data.frequency <= f, drop=True))": ("(--fmin/--fmax)", ("--fmin", "--fmax")),
+    "(data.where(data.frequency >= f, drop=True))": ("(--fmin)", ("--fmin",)),
+    "(data.where(data.frequency <= f, drop=True))": ("(--fmax)", ("--fmax",)),
     # (`problem.SIGMA_SOURCES`: a command reads σ from the file's column or netCDF variable)
     "or make_spectrum(sigma=...)": ("or a 'sigma' variable of a netCDF file", ()),
     # (a large batch's report: `least_squares.batch.EACH_SPECTRUM_WHERE`)
@@ -1732,8 +1746,9 @@ _FIXED_KEYWORD = re.compile(r"fixed=\{'([^']+)': VALUE\}")
 # a keyword named with its value in Python's words (``consider weighting='modulus'``, ``use
 # noise='proportional'``, ``over='session'``, ``over=['session', 'trial']``, ``steps='auto'``),
 # which the command line sets with the option of its name: --weighting modulus, --noise
-# proportional, --over session, --over session,trial, --steps auto (2026-12-03: noise, over, steps)
-_VALUED_KEYWORDS = ("weighting", "noise", "over", "steps")
+# proportional, --over session, --over session,trial, --steps auto (2026-12-03: noise, over, steps;
+# 2026-12-06: lam='auto' → --lam auto, lam_method='gcv' → --lam-method gcv, impedax drt's)
+_VALUED_KEYWORDS = ("weighting", "noise", "over", "steps", "lam_method", "lam")
 _VALUED_KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(_VALUED_KEYWORDS) + r")=(?:(['\"])([\w.-]+)\2|\[((?:'[\w.-]+'(?:, )?)+)\])")
 
 
@@ -1741,11 +1756,20 @@ _VALUED_KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(_VALUED_KEYWORDS) + r")=
 # `fitting.bayes.diagnostics.steps_advice`), which the command line sets with --steps 4500
 _STEPS_NUMBER = re.compile(r"(?<![\w.-])steps=(\d+)(?![\w.])")
 
+# a DRT's λ in Python's words (``lam=1e-3``: the DRT solve's failure, `drt._drt`), which impedax
+# drt sets with --lam 1e-3 (2026-12-06)
+_LAM_NUMBER = re.compile(r"(?<![\w.-])lam=(\d[\d.]*(?:[eE][+-]?\d+)?)(?![\w.])")
+
 
 def _valued_option(match: re.Match) -> str:
     """``--KEYWORD VALUE`` of a `_VALUED_KEYWORD` match: a list's values joined by commas."""
     keyword, value, listed = match.group(1), match.group(3), match.group(4)
-    return f"--{keyword} {value if value is not None else ','.join(v.strip(chr(39)) for v in listed.split(', '))}"
+    return f"{_flag_of(keyword)} {value if value is not None else ','.join(v.strip(chr(39)) for v in listed.split(', '))}"
+
+
+def _flag_of(keyword: str) -> str:
+    """The option of a Python keyword: ``lam_method`` → ``--lam-method``."""
+    return "--" + keyword.replace("_", "-")
 
 
 def command_options(command: str) -> frozenset[str]:
@@ -1785,7 +1809,9 @@ def _phrased(text: str, command: str | None = None) -> str:
         text = _FIXED_KEYWORD.sub(r"--fix \1=VALUE", text)
     if has("--steps"):
         text = _STEPS_NUMBER.sub(r"--steps \1", text)
-    return _VALUED_KEYWORD.sub(lambda m: _valued_option(m) if has(f"--{m.group(1)}") else m.group(0), text)
+    if has("--lam"):
+        text = _LAM_NUMBER.sub(r"--lam \1", text)
+    return _VALUED_KEYWORD.sub(lambda m: _valued_option(m) if has(_flag_of(m.group(1))) else m.group(0), text)
 
 
 # per command, the Python keywords whose names the errors of the functions it calls start

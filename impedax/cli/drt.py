@@ -65,7 +65,7 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..fitting.drt import drt
     from ..fitting.problem import open_spectrum
-    from .common import check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows, plan_outputs, progress_printer, skipped_rows, with_source, WithSummaryKeys
+    from .common import check_band_options, command_line_words, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, InCommandWords, load_selected, note_skipped_rows, plan_outputs, progress_printer, skipped_rows, with_source, WithSummaryKeys
 
     outputs = plan_outputs([("--out", args.out, "drt"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
@@ -90,7 +90,8 @@ def run(args) -> int:
         kk_note = _kk_note(result, data, args)
         # (the JSON's, as inspect --json's: added 2026-12-01; kk_note 2026-12-05; suggestion_withheld
         # 2026-12-06: the text's "none while …" reason, where suggested_model still holds γ's circuit)
-        read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), "kk_note": kk_note, "suggestion_withheld": suggestion_withheld(result)})
+        # (the notes in the command's words, as fit's: --signed, --lam auto where the Python API says signed=True, lam='auto')
+        read = InCommandWords(WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), "kk_note": kk_note, "suggestion_withheld": suggestion_withheld(result)}), "drt")
         outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
     finally:
         progress.close()
@@ -99,7 +100,7 @@ def run(args) -> int:
     if args.json:
         emit_json(with_source(read.summary(), source, record))
     else:
-        print(result.report())
+        print(command_line_words(result.report(), "drt"))
         if kk_note:
             print(f"note: {kk_note}")
         print(_suggestion_line(result, args, data))

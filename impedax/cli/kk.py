@@ -43,8 +43,8 @@ LINEAR_ONLY = ("--c", "--max-rc", "--no-inductance", "--no-capacitance", "--nois
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import kk_test, kk_test_batch, zhit, zhit_batch
-    from .common import (check_band_options, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows,
-                         plan_outputs, result_writer, skipped_rows, with_source, WithSummaryKeys)
+    from .common import (check_band_options, command_line_words, command_provenance, data_source, emit_json, exclude_points, figure_options, figure_writer, json_in_command_words,
+                         load_selected, note_skipped_rows, plan_outputs, result_writer, skipped_rows, with_source, WithSummaryKeys)
 
     if args.method == "zhit":
         given = [flag for flag, value in zip(LINEAR_ONLY, (args.c, args.max_rc, args.no_inductance or None, args.no_capacitance or None, args.noise)) if value is not None]
@@ -80,13 +80,15 @@ def run(args) -> int:
     outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(lambda: result.plot(), source, **figure_options(args))})  # (a batch's: its residuals mapped)
     if outputs.uses_stdout:
         return 0
+    # (the notes in the command's words, as fit's and diagnose's: --noise residuals, --fmin/--fmax where
+    # the Python API says kk_test(noise='residuals') and data.drop_sel(...); --out FILE.json alike, `result_writer`)
     if args.json:
-        emit_json(with_source(read.summary(), source, record))
+        emit_json(with_source(json_in_command_words(read.summary(), "kk"), source, record))
         return 0
     if several:
-        print(result.report(args.data))
+        print(command_line_words(result.report(args.data), "kk"))
     else:
-        print(result.report(command) if args.method == "linear" else result.report())
+        print(command_line_words(result.report(command) if args.method == "linear" else result.report(), "kk"))
     note_skipped_rows(data, "kk", args.data)
     return 0
 

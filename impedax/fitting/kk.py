@@ -86,6 +86,18 @@ _JSON_KEYS_ADDED = {"bad_band_frequencies_hz": "band_frequencies", "suggested_op
 # added keys (never renamed): the method, units in the name (``_hz``; ``_rel`` = a fraction of |Z|)
 # and the rules that flagged each band with their levels (`KKResult.summary`)
 
+NON_PASSIVE_LEAVE_OUT = "leave them out (data.drop_sel(frequency=result.non_passive_frequencies))"
+"""How the linear test's and Z-HIT's note on points with Re Z < 0 (`KKResult.non_passive_note`)
+ends, in Python's words; ``impedax kk`` says ``leave them out with --fmin/--fmax``
+(`cli.common.command_line_words`; both said the option until 2026-12-06, in Python too)."""
+
+RETEST_WITHOUT_THEM = "kk_test(data.drop_sel(frequency=result.excludable_frequencies))"
+TRIMMED_DATA_TOO = "fit, diagnose and refine take the data so trimmed"
+BAND_CUT_AT_END = {True: "data.where(data.frequency >= f, drop=True)", False: "data.where(data.frequency <= f, drop=True)"}  # (low end: True; impedax kk says --fmin, --fmax)
+"""The report's ``next:`` step in Python's words (`KKResult.next_step` without the command line,
+which ``impedax kk`` gives: the run's command with ``--exclude``/``--fmin``/``--fmax``; until
+2026-12-06 the Python report gave those options alone, words no Python call takes)."""
+
 FEW_BAND_POINTS = 3
 """A band of at most this many flagged points is "a few points": the report names their measured
 frequencies (which ``--exclude`` takes; the band's edges lie between points), and one inside the
@@ -358,7 +370,7 @@ class KKResult(FrozenResult):
         where = ", ".join(format_frequency(f) for f in bad[:6]) + (", …" if bad.size > 6 else "")
         noise_from = KK_RESIDUAL_NOISE if self.non_passive_noise is not None else None
         return (f"{bad.size} of {self.frequency.size} points have {non_passive_words(noise_from, self.frequency.size)} ({where}), which no passive circuit reaches; they are "
-                "part of this test (impedax diagnose and refine leave them out before theirs: their verdicts may differ); leave them out with --fmin/--fmax")
+                "part of this test (impedax diagnose and refine leave them out before theirs: their verdicts may differ); " + NON_PASSIVE_LEAVE_OUT)
 
     @property
     def rule_levels(self) -> dict[str, float]:
@@ -493,9 +505,10 @@ class KKResult(FrozenResult):
                 f"a half decade further in ({options})")
 
     def next_step(self, command: str | None = None) -> list[str]:
-        """The report's closing lines when the test failed: the options that leave the failing
-        points out (`suggested_options`), appended to ``command`` (the run's own command line,
-        those options merged into it) when given; that ``impedax refine`` leaves them out by
+        """The report's closing lines when the test failed: ``command`` (the run's own command
+        line, the options that leave the failing points out, `suggested_options`, merged into it)
+        or without it the Python call that tests the data without them (`RETEST_WITHOUT_THEM`);
+        that ``impedax refine`` leaves them out by
         itself; when to stop (`marginal_points_only`); and the bands that leaving points out does
         not mend. [] when the test passed, was inconclusive, or the sign hint explains it."""
         if self.valid or self.sign_hint or not self.conclusive:
@@ -513,7 +526,7 @@ class KKResult(FrozenResult):
             low, high = int(np.count_nonzero(self.frequency < lo)), int(np.count_nonzero(self.frequency > hi))
             ends = " and ".join(x for x in (f"the {points_text(low)} below it" if low else "", f"the {points_text(high)} above it" if high else "") if x)
             lines.append(f"next: the test passes on {format_band(lo, hi)} (KK rms_rel {self.passing_rms_rel * 100:.2g} %), leaving out {ends}: "
-                         f"trim the measurement to it: {command if command else ' '.join(words)}")
+                         f"trim the measurement to it: {command or RETEST_WITHOUT_THEM}")
             cleared = np.asarray(self.flagged, bool) & (self.frequency >= lo) & (self.frequency <= hi)
             if cleared.any():  # (the bad band reaches into the passing one: why the same points pass there)
                 order = np.argsort(self.frequency)  # (named by their bands: REAL CH Instruments' two, not the 4.64 Hz–82.5 kHz between their ends)
@@ -522,10 +535,11 @@ class KKResult(FrozenResult):
                              f"fitted to every point, the chain was pulled off them by {ends}")
             if self.passing_edge is not None:
                 lines.append(f"  {self.passing_edge_words()}")
-            lines.append("  impedax fit, diagnose and refine take the same options")
+            lines.append("  impedax fit, diagnose and refine take the same options" if command else f"  {TRIMMED_DATA_TOO}")
         elif words:
-            lines.append(f"next: leave them out and test again: {command if command else ' '.join(words)}")
-            lines.append("  impedax fit, diagnose and refine take the same options; impedax refine leaves the KK-flagged points out by itself")
+            lines.append(f"next: leave them out and test again: {command or RETEST_WITHOUT_THEM}")
+            lines.append("  impedax fit, diagnose and refine take the same options; impedax refine leaves the KK-flagged points out by itself" if command else
+                         f"  {TRIMMED_DATA_TOO}; refine leaves the KK-flagged points out by itself")
         spans = _band_spans(*self._rule_masks()[::2])
         inside = [f for f, (i, j) in zip(self.band_frequencies, spans) if len(f) > FEW_BAND_POINTS and i > 0 and j < self.frequency.size]
         if self.passing_band is not None and not self._excludable_by_bands().size:
@@ -541,7 +555,7 @@ class KKResult(FrozenResult):
                 what = ", ".join(band_name(f) for f, _ in at_ends)
                 ends = " and ".join("low" if low else "high" for _, low in at_ends)
                 how = (f"the {np.count_nonzero(drop)} of {drop.size} points from the {ends} end{'s' if len(at_ends) > 1 else ''} through {'them' if len(at_ends) > 1 else 'it'} "
-                       f"({'/'.join('--fmin' if low else '--fmax' for _, low in at_ends)})")
+                       f"({' and '.join(BAND_CUT_AT_END[low] for _, low in at_ends)})")
             else:
                 what, how = "the bands", f"their {np.count_nonzero(drop)} of {drop.size} points"
             short = "fewer than half of the points" if kept < drop.size / 2 else f"fewer than the {CONCLUSIVE_POINTS_MIN} the test needs"
@@ -561,9 +575,9 @@ class KKResult(FrozenResult):
                        "the tail of the data's own scatter more than a sign that the data are not KK-consistent")
         if not self.conclusive:
             verdict = f"inconclusive: {self.frequency.size} frequencies are too few for the test (it needs {CONCLUSIVE_POINTS_MIN})" + ("" if self.valid else "; it flags the bands below")
-        mu_note = "" if self.mu_reached else f" (µ ≥ c={self.c:g} at the M given)" if self.n_rc_given else (
+        mu_note = "" if self.mu_reached else f" (µ ≥ c = {self.c:g} at the M given)" if self.n_rc_given else (
             # (docs/kk.md, "Choosing M": no M from M_fit up had µ < c and fitted the data)
-            f" (no M tried had µ < c={self.c:g} while fitting the data; M = M_fit, the smallest M that fits them, is used)"
+            f" (no M tried had µ < c = {self.c:g} while fitting the data; M = M_fit, the smallest M that fits them, is used)"
         )
         # (what M, µ and rms_rel are, in a few words: a beginner's walkthrough met them unexplained)
         misfit_words = ("about what a sound model can reach" if self.valid else
@@ -589,7 +603,7 @@ class KKResult(FrozenResult):
         if self.noise_from == "sigma":
             scale = self.scale_per_point
             lines.insert(3, f"noise: the data's sigma (the chain weighted by 1/σ; each point judged against its own σ/|Z|, {scale.min() * 100:.3g}–{scale.max() * 100:.3g} %; "
-                            "kk_test(noise='residuals'), impedax kk --noise residuals, judges by the noise estimate instead)")  # (both: "kk_test(...)" alone until 2026-12-06, an impedax kk user's only words)
+                            "kk_test(noise='residuals') judges by the noise estimate instead)")  # (impedax kk says --noise residuals: `cli.common.command_line_words`; both, in Python too, until 2026-12-06)
         if self.sparse_note:
             lines.append(self.sparse_note)
         if self.bad_bands:
@@ -910,7 +924,7 @@ class KKBatchResult(ValidityGrid):
         few, consistent = batch._verdict_counts()
         lines.append(f"linear KK test of {counted(len(batch.results), 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
                      + (f", {few} inconclusive (too few frequencies to tell)" if few else "")
-                     + ("; noise: the data's sigma (each point judged against its σ; --noise residuals for one estimate)" if any(r.noise_from == "sigma" for r in batch.results) else ""))
+                     + ("; noise: the data's sigma (each point judged against its σ; noise='residuals' for one estimate)" if any(r.noise_from == "sigma" for r in batch.results) else ""))
         names = batch._spectrum_names()
         lines += batch._table_lines(names)
         if any(r.bad_bands for r in batch.results):

@@ -42,7 +42,7 @@ import xarray as xr
 from ..arguments import checked_arguments, count, real
 from ..data import concise_repr, counted, format_frequency, label_value, report_text
 from ..errors import DataError, ParameterError
-from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, ValidityGrid, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
+from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, NON_PASSIVE_LEAVE_OUT, ValidityGrid, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
 from .grid import refuse_result_names
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, non_passive_words
@@ -220,7 +220,7 @@ class ZHITResult(FrozenResult):
         where = ", ".join(format_frequency(f) for f in bad[:6]) + (", …" if bad.size > 6 else "")
         noise_from = ZHIT_RESIDUAL_NOISE if math.isfinite(self.noise_estimate) else None
         return (f"{bad.size} of {self.frequency.size} points have {non_passive_words(noise_from, self.frequency.size)} ({where}), which no passive circuit reaches; "
-                "they are part of this test (impedax diagnose and refine leave them out before theirs); leave them out with --fmin/--fmax")
+                "they are part of this test (impedax diagnose and refine leave them out before theirs); " + NON_PASSIVE_LEAVE_OUT)
 
     @property
     def rules_text(self) -> str:

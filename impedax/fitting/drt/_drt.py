@@ -112,7 +112,7 @@ def _check_finite(x: np.ndarray, fixed: float | None, source: str, lam: np.ndarr
     other = "lcurve" if lam_method == "gcv" else "gcv"
     raise ParameterError(
         f"the DRT solve gave a non-finite solution{which}{lam_text} chosen by {lam_method}: a numerical failure of the solve, not of the data "
-        f"(which are finite); give a fixed λ (lam=1e-3, --lam 1e-3) or lam_method={other!r} (--lam-method {other})"
+        f"(which are finite); give a fixed λ (lam=1e-3) or lam_method={other!r}"
     )
 
 

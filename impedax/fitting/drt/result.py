@@ -218,7 +218,7 @@ class DRTResult(FrozenResult):
         if self.r_inf_ohm < -0.01 * z_top:
             out.append(
                 f"R_inf = {format_quantity(self.r_inf_ohm, 'Ω')} is negative, which no passive cell has: the data stop before the high-frequency "
-                "limit or carry an instrument's phase error there; leave the top points out (`data.where(data.frequency <= f, drop=True)`, in either order of the points, or impedax drt --fmax) or check the sign convention"
+                "limit or carry an instrument's phase error there; leave the top points out (`data.where(data.frequency <= f, drop=True)`, in either order of the points) or check the sign convention"
             )
         if self.l_h < 0 and 2 * math.pi * float(self.frequency[top]) * -self.l_h > 0.05 * z_top:
             top_share = -float(self.impedance[top].imag) / z_top
@@ -237,11 +237,11 @@ class DRTResult(FrozenResult):
             if self.over_smoothed:
                 out.append(
                     f"{short}: λ = {format_lambda(self.lam)} as given over-smooths them; at λ = {format_lambda(self.auto_lambda)}, the automatic "
-                    f"choice, γ reproduces them to {self.auto_rms_rel * 100:.3g} %: give a smaller λ (lam, --lam) or let it be chosen (lam='auto', --lam auto); "
+                    f"choice, γ reproduces them to {self.auto_rms_rel * 100:.3g} %: give a smaller λ (lam) or let it be chosen (lam='auto'); "
                     "peaks read off this γ come out too broad, and close ones merge"
                 )
             else:
-                out.append(f"{short}: the data are not Kramers–Kronig consistent in part (impedax kk)" + ("" if self.signed else " or need γ < 0 somewhere (signed=True, --signed)"))
+                out.append(f"{short}: the data are not Kramers–Kronig consistent in part (impedax kk)" + ("" if self.signed else " or need γ < 0 somewhere (signed=True)"))
         return tuple(out)
 
     @property
@@ -345,7 +345,7 @@ class DRTResult(FrozenResult):
         if self.dropped_peaks:
             d = self.dropped_peaks
             lines.append(
-                f"{len(d)} peak(s) below the cut-off ({self.cutoff_text}: min_peak_fraction, --min-peak-fraction) dropped, R = {format_quantity(sum(p.r_ohm for p in d), 'Ω')} in all "
+                f"{len(d)} peak(s) below the cut-off ({self.cutoff_text}: min_peak_fraction) dropped, R = {format_quantity(sum(p.r_ohm for p in d), 'Ω')} in all "
                 f"(at τ = {', '.join(format_time(p.tau_s, 2) for p in d)})"
             )
         lines += [f"note: {n}" for n in self.notes]
@@ -604,10 +604,10 @@ class DRTBatchResult(ResultGrid):
             first = self.results[smoothed[0]]
             out.append(f"warning: λ = {format_lambda(first.lam)} as given over-smooths {len(smoothed)} of {total} ({named(smoothed)}): γ reproduces them to "
                        f"{span([self.results[i].rms_rel for i in smoothed])}, at the automatic λ to {span([self.results[i].auto_rms_rel for i in smoothed])}; "
-                       "give a smaller λ (--lam) or let it be chosen (--lam auto)")
+                       "give a smaller λ (lam) or let it be chosen (lam='auto')")
         if others:
             out.append(f"warning: γ reproduces {len(others)} of {total} ({named(others)}) to only {span([self.results[i].rms_rel for i in others])}, more than their noise explains: "
-                       "their data are not Kramers–Kronig consistent in part (impedax kk)" + ("" if self.results[0].signed else " or need γ < 0 somewhere (--signed)"))
+                       "their data are not Kramers–Kronig consistent in part (impedax kk)" + ("" if self.results[0].signed else " or need γ < 0 somewhere (signed=True)"))
         return out
 
     def _lambda_notes(self):
