@@ -1758,6 +1758,8 @@ _STEPS_NUMBER = re.compile(r"(?<![\w.-])steps=(\d+)(?![\w.])")
 
 # a DRT's λ in Python's words (``lam=1e-3``: the DRT solve's failure, `drt._drt`), which impedax
 # drt sets with --lam 1e-3 (2026-12-06)
+_MORE_CHAINS = re.compile(r", or more chains \(\d+ now\): chains=\d+")
+_WARMUP_WORDS = ", unless warmup= is given"  # (`models.gap.WARMUP_WORDS`)
 _LAM_NUMBER = re.compile(r"(?<![\w.-])lam=(\d[\d.]*(?:[eE][+-]?\d+)?)(?![\w.])")
 
 
@@ -1811,6 +1813,10 @@ def _phrased(text: str, command: str | None = None) -> str:
         text = _STEPS_NUMBER.sub(r"--steps \1", text)
     if has("--lam"):
         text = _LAM_NUMBER.sub(r"--lam \1", text)
+    if not has("--chains"):  # (`models.gap.hierarchical_advice_of_gap`: Python's gap_analysis takes chains= and warmup=, impedax gap neither)
+        text = _MORE_CHAINS.sub("", text)
+    if not has("--warmup"):
+        text = text.replace(_WARMUP_WORDS, "")
     return _VALUED_KEYWORD.sub(lambda m: _valued_option(m) if has(_flag_of(m.group(1))) else m.group(0), text)
 
 

@@ -32,6 +32,7 @@ V0 and F = ½ ε0 ε_gap A V0²/u² at every frequency, with EP and without.
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field, replace
 from typing import Callable, Mapping
 
@@ -1189,6 +1190,29 @@ the population median of R_EP), 20, 33 and 23 at 0.95, 7 and 2 at 0.99 (100 V an
 0.85 one (a shared, loaded machine); fully centred sampling was worse (410 divergent at 0.95)."""
 
 
+_TARGET_ACCEPT_ADVICE = re.compile(r"sample with a higher target_accept \(smaller steps: [^)]*\) or a longer warmup")
+_MORE_DRAWS_ADVICE = re.compile(r"run more draws per chain \((\d+) now; impedax gap: --steps\) or more chains \((\d+) now\)")
+WARMUP_WORDS = ", unless warmup= is given"
+"""Where the gap's sampling advice names ``warmup=``, which ``impedax gap`` has no option for
+(its --steps sets both): the command leaves these words out (`cli.common.command_line_words`)."""
+
+
+def hierarchical_advice_of_gap(warning: str, steps: int) -> str:
+    """A warning of the hierarchical sampling (`HierarchicalPosterior.warnings`) with its remedy
+    in the words of `gap_analysis`, which takes no target acceptance: divergent transitions → a
+    longer warm-up, ``steps=`` twice ``steps`` (the draws per chain, after as many warm-up steps;
+    ``impedax gap --steps N``), and that the analysis itself samples again with smaller steps
+    (`sampled_with_retry`); R-hat or ESS → more draws per chain, the same ``steps=``, or more
+    chains, ``chains=`` twice theirs (Python only: ``impedax gap`` has no --chains). Until
+    2026-12-06 ``impedax gap`` advised "a higher target_accept", which neither it nor
+    `gap_analysis` takes, and "more chains", and Python read "impedax gap: --steps"."""
+    longer = f"steps={2 * int(steps)}"
+    warning = _TARGET_ACCEPT_ADVICE.sub(
+        f"sample with a longer warm-up, {longer} (as many warm-up steps as draws per chain{WARMUP_WORDS}); the gap analysis itself samples again "
+        f"with smaller steps (target acceptance {RETRY_TARGET_ACCEPT:g}) when over {SAMPLING_DIVERGENT_MAX * 100:g} % of the draws diverge", warning)
+    return _MORE_DRAWS_ADVICE.sub(lambda m: f"run more draws per chain ({m.group(1)} now): {longer}, or more chains ({m.group(2)} now): chains={2 * int(m.group(2))}", warning)
+
+
 def sampled_with_retry(sample: Callable, progress=None) -> tuple:
     """``sample(target_accept)`` (a hierarchical posterior) at `hierarchical.TARGET_ACCEPT`, and
     where more than `SAMPLING_DIVERGENT_MAX` of its draws diverged once more at
@@ -1846,7 +1870,7 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
     notes += _bound_notes(pop["u"], reparametrization, area, _single(remaining))
     notes += _gap_breakdown_notes(force, float(np.median(pop["u"])), area, eps_gap)
-    notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {w}" for w in post.warnings]
+    notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {hierarchical_advice_of_gap(w, steps)}" for w in post.warnings]
     notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
