@@ -138,3 +138,31 @@ def test_gap_exclude_end_to_end_equals_the_run_on_the_files_without_the_points(f
         runs.append(summary)
     assert runs[0] == runs[1]
     np.testing.assert_allclose(runs[0]["force_n"]["frequency_hz"], _sets(SPIKED)[0], rtol=1e-12)
+
+
+def _negative_top(tmp_path):
+    """SYNTHETIC trials whose remainder (R_EP ∥ C_gap, 1 GΩ ∥ 400 pF) is pushed to Re Z = −5 kΩ at
+    the two top frequencies (10^5.5 and 10^6 Hz) of the total, 0.1 % noise: files and those two."""
+    rng = np.random.default_rng(0)
+    f = np.geomspace(1.0, 1e6, 13)
+    remainder = 1 / (1 / 1e9 + 2j * np.pi * f * 400e-12)
+    remainder[-2:] = -5e3 + 1j * remainder[-2:].imag
+    skin, ts = 300 + 2e5 / (1 + 2j * np.pi * f * 2e5 * 3e-8), 50 + 2e4 / (1 + 2j * np.pi * f * 2e4 * 8e-11)
+    trials = [z * (1 + 1e-3 * rng.normal(size=(3, f.size))) for z in (skin + ts + remainder, skin, ts)]
+    return saved_gap_files(tmp_path, [ix.make_spectrum(f, z, dims=("trial",)) for z in trials]), f[-2:]
+
+
+def test_the_re_z_below_zero_advice_names_the_options_and_works(tmp_path, capsys):
+    """The note on a remainder's Re Z < 0 says Python's words in Python and the options on the
+    command line, where it sent users to impedax fit --exclude alone; following it, impedax
+    remaining --exclude with the two frequencies, leaves no such warning."""
+    from impedax.models.gap import gap_remainder
+
+    paths, top = _negative_top(tmp_path)
+    _, notes = gap_remainder(*(ix.load(p) for p in paths))
+    (note,) = [n for n in notes if "Re Z < 0" in n]
+    assert note.endswith("leave them out (data.drop_sel(frequency=[...]) of each input spectrum, or a narrower band of all)") and "--" not in note
+    code, _, err = run(["remaining", *paths, "--out", tmp_path / "rem.csv"], capsys)
+    assert code == 0 and "leave them out (--exclude F,F or --fmin/--fmax, which impedax gap, remaining and fit take)" in err
+    code, _, err = run(["remaining", *paths, "--out", tmp_path / "rem2.csv", "--exclude", ",".join(f"{v:.3g}" for v in top)], capsys)
+    assert code == 0 and "Re Z < 0" not in err

@@ -1719,6 +1719,10 @@ _PHRASE_OF_CALL: dict[str, tuple[str, tuple[str, ...]]] = {
     "give a smaller λ (lam)": ("give a smaller λ (--lam)", ("--lam",)),
     ": min_peak_fraction)": (": --min-peak-fraction)", ("--min-peak-fraction",)),
     "(signed=True)": ("(--signed)", ("--signed",)),
+    # (`models.gap.SUBTRACTION_LEAVE_OUT`, `TRIAL_MEANS_CALL`: a remainder's Re Z < 0)
+    "leave them out (data.drop_sel(frequency=[...]) of each input spectrum, or a narrower band of all)":
+        ("leave them out (--exclude F,F or --fmin/--fmax, which impedax gap, remaining and fit take)", ("--exclude", "--fmin", "--fmax")),
+    "(gap_remainder(..., kind='mean'))": ("(impedax remaining without --trials)", ("--trials",)),  # (a remainder of trials: impedax remaining --trials)
     # (`kk.BAND_CUT_AT_END`: the points from an end of the data through a band there)
     "(data.where(data.frequency >= f, drop=True) and data.where(data.frequency <= f, drop=True))": ("(--fmin/--fmax)", ("--fmin", "--fmax")),
     "(data.where(data.frequency >= f, drop=True))": ("(--fmin)", ("--fmin",)),

@@ -54,7 +54,7 @@ def run(args) -> int:
     from ..fitting.least_squares.result import sigma_sources, trial_means_of_sigma
     from ..models.gap import gap_remainder
     from .gap import files_in_band, files_without_points
-    from .common import check_band_options, check_distinct_paths, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
+    from .common import check_band_options, check_distinct_paths, command_line_words, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
 
     paths = contact_paths(args, "remaining")
     out = None if args.out == "-" else args.out
@@ -72,8 +72,8 @@ def run(args) -> int:
     written = outputs.save({"--out": spectrum_writer(lambda: remaining, record)})
     if out is None:
         sys.stdout.write(write_csv(remaining))
-    for note in notes:
-        print(f"impedax remaining: warning: {note}", file=sys.stderr)
+    for note in notes:  # (in the command's words: --exclude where Python says data.drop_sel)
+        print(f"impedax remaining: warning: {command_line_words(note, 'remaining')}", file=sys.stderr)
     # (a CSV keeps no attrs: a fit of it by sigma cannot tell that sigma is the trial means' SEM, and warns
     # that it overstates the noise, as impedax fit did of every remainder until 2026-12-06)
     if trial_means_of_sigma(remaining.attrs) and (out is None or Path(out).suffix.lower() not in (".nc", ".nc4", ".cdf")):
@@ -84,7 +84,7 @@ def run(args) -> int:
                    "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}, "single_contact": len(paths) == 1, **spectrum_summary(remaining),
                    "sigma_method": str(remaining.attrs.get("sigma_method", "")),  # (added 2026-12-06: what sigma is made of, or why there is none)
                    "sigma_sources": sigma_sources(remaining.attrs) or {},  # (added 2026-12-06: the same as data, input → "trial scatter" or "own sigma"; {} without a sigma)
-                   "warnings": [str(n) for n in notes], "source": paths, "provenance": record})
+                   "warnings": [command_line_words(str(n), "remaining") for n in notes], "source": paths, "provenance": record})
         return 0
     n_trials = {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}
     averaged = any(n > 1 for n in n_trials.values())  # (one sweep each: "from 1 total spectra (their trial mean…)" until 2026-12-06)

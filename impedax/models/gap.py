@@ -1518,8 +1518,17 @@ def _subtraction_notes(remaining: xr.Dataset) -> list[str]:
         f"the remainder has Re Z < 0 beyond its sigma at {int(bad.sum())} of {bad.size} frequencies ({listed_frequencies(remaining['frequency'].values, bad.values)})"
         + (" in some trials" if trials else "")
         + f", which no passive contact gives: the cause is {cause}. A fit will flag these points; "
-        "leave them out (impedax fit --exclude or --fmin/--fmax)" + (", or fit the trial means (impedax remaining without --trials)" if trials else "")
+        + SUBTRACTION_LEAVE_OUT + (f", or fit the trial means ({TRIAL_MEANS_CALL})" if trials else "")
     ]
+
+
+SUBTRACTION_LEAVE_OUT = "leave them out (data.drop_sel(frequency=[...]) of each input spectrum, or a narrower band of all)"
+TRIAL_MEANS_CALL = "gap_remainder(..., kind='mean')"
+"""The remedies of the note on a remainder's Re Z < 0 (`_subtraction_notes`) in Python's words;
+``impedax gap`` and ``impedax remaining`` say "leave them out (--exclude F,F or --fmin/--fmax, which
+impedax gap, remaining and fit take)" and "impedax remaining without --trials"
+(`cli.common.command_line_words`). Until 2026-12-06 Python read the options, and the command line
+sent users to impedax fit --exclude alone, which gap and remaining did not take."""
 
 
 def _check_remainder_sign(remaining: xr.Dataset) -> None:
