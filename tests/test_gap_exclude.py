@@ -107,6 +107,9 @@ def test_gap_exclude_of_no_measured_frequency_names_the_file(folders, capsys):
     assert "total.nc: --exclude 7: no measured frequency within 0.5 % of 7 Hz" in err and "Traceback" not in err
     code, _, err = run(["gap", *spiked, "--area", "130e-6", "--pooled", "--quiet", "--exclude", "5M"], capsys)
     assert code == 2 and "--exclude 5M: beyond the measured band of every input file" in err and "skin.nc 1–1e+06 Hz" in err
+    for value in ("0", "inf"):  # (the option's error, naming no file)
+        code, _, err = run(["gap", *spiked, "--area", "130e-6", "--pooled", "--quiet", f"--exclude={value}"], capsys)
+        assert code == 2 and err.strip().endswith(f"impedax gap: error: --exclude: frequencies are positive and finite, got {value}")
 
 
 def test_remaining_exclude_equals_the_remainder_of_the_files_without_the_points(folders, capsys):

@@ -65,6 +65,8 @@ def files_without_points(datasets: list, paths: list[str], text: str | None) -> 
     beyond a file's measured band is left to the others (a file measured over a narrower band,
     met with --fmin/--fmax); one that names no point of a file whose band holds it, or of no
     file at all, is a `ParameterError` naming the file(s)."""
+    import math
+
     import numpy as np
 
     from ..arguments import EXCLUDE_RTOL
@@ -80,6 +82,8 @@ def files_without_points(datasets: list, paths: list[str], text: str | None) -> 
             values.append(prefixed_number(item))
         except ValueError as error:
             raise ParameterError(f"--exclude: {error}") from None
+        if not (values[-1] > 0 and math.isfinite(values[-1])):  # (an option's error, before any file's)
+            raise ParameterError(f"--exclude: frequencies are positive and finite, got {item}")
     if not items:
         exclude_points(next(d for d in datasets if d is not None), text)  # (its message: names no frequency)
     out, named = [], set()
@@ -89,7 +93,7 @@ def files_without_points(datasets: list, paths: list[str], text: str | None) -> 
             continue
         freq = np.asarray(data["frequency"].values, float)
         low, high = freq.min() * (1 - EXCLUDE_RTOL), freq.max() * (1 + EXCLUDE_RTOL)
-        inside = [item for item, value in zip(items, values) if not value > 0 or low <= value <= high]  # (a non-positive one: exclude_points refuses it)
+        inside = [item for item, value in zip(items, values) if low <= value <= high]
         named.update(inside)
         if not inside:
             out.append(data)
