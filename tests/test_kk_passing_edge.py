@@ -33,9 +33,25 @@ def test_an_exact_drift_fading_into_the_band_is_named_with_a_cut_further_in():
     assert np.all(DRIFT[edge][:-1] / np.abs(Z_CELL[edge][:-1]) > 0.001)
     assert d_hi > EDGE_EXCESS * median
     words = result.passing_edge_words()
-    assert words.startswith("its lowest points (316 mHz–1 Hz) still stand") and "(--fmin 1)" in words
+    assert words.startswith("its lowest points (316 mHz–1 Hz) still stand") and "(data.where(data.frequency >= 1, drop=True))" in words  # (Python's words)
     assert words in result.report()
     assert result.summary()["passing_edge"] is not None
+
+
+def test_the_command_line_gives_the_cut_as_its_option(tmp_path, capsys):
+    """`impedax kk` says --fmin 1 where Python says data.where(data.frequency >= 1, drop=True)
+    (text and JSON; until 2026-12-06 Python read the option too)."""
+    import json
+
+    from cli_run import run
+
+    path = tmp_path / "drift.csv"
+    z = Z_CELL + DRIFT
+    np.savetxt(path, np.c_[FREQ, z.real, z.imag], delimiter=",", header="frequency_hz,z_real_ohm,z_imag_ohm", comments="")
+    code, out, _ = run(["kk", path], capsys)
+    assert code == 0 and "check that a fit on it agrees with one a half decade further in (--fmin 1)" in out and "data.where" not in out
+    code, out, _ = run(["kk", path, "--json"], capsys)
+    assert code == 0 and json.loads(out)["passing_edge"]["words"].endswith("a half decade further in (--fmin 1)")
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])

@@ -1629,6 +1629,7 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
 PROSE_KEYS = frozenset({
     "warnings", "warning", "notes", "note", "message", "hints", "misfit_hints", "best_misfit_hint", "best_misfit_hints", "reason", "reasons",
     "removal_reasons", "suggestion_reasons", "explanation", "pattern", "sign_hint", "alarms", "advice", "lambda_note", "f_test_note", "candidate_warning",
+    "words",  # (kk's passing_edge.words, 2026-12-06)
 })
 _NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "source", "provenance", "label", "spectra_with_warnings"})
 
@@ -1762,6 +1763,22 @@ _STEPS_NUMBER = re.compile(r"(?<![\w.-])steps=(\d+)(?![\w.])")
 
 # a DRT's λ in Python's words (``lam=1e-3``: the DRT solve's failure, `drt._drt`), which impedax
 # drt sets with --lam 1e-3 (2026-12-06)
+# the band a half decade further in of a KK test's passing band (`KKResult.passing_edge_words`) in
+# Python's words, ``(data.where((data.frequency >= 1) & (data.frequency <= 1e5), drop=True))``,
+# which the command line gives as --fmin 1 --fmax 1e5 (2026-12-06)
+_FURTHER_IN = re.compile(r"a half decade further in \(data\.where\((?:\(data\.frequency >= (?P<lo>\d[\w.+-]*)\) & \(data\.frequency <= (?P<hi>\d[\w.+-]*)\)"
+                         r"|data\.frequency (?P<op>>=|<=) (?P<value>\d[\w.+-]*)), drop=True\)\)")
+
+
+def _further_in_options(match: re.Match) -> str:
+    """`_FURTHER_IN`'s band as the options ``--fmin LO --fmax HI``."""
+    if match.group("lo") is not None:
+        words = f"--fmin {match.group('lo')} --fmax {match.group('hi')}"
+    else:
+        words = f"{'--fmin' if match.group('op') == '>=' else '--fmax'} {match.group('value')}"
+    return f"a half decade further in ({words})"
+
+
 _MORE_CHAINS = re.compile(r", or more chains \(\d+ now\): chains=\d+")
 _WARMUP_WORDS = ", unless warmup= is given"  # (`models.gap.WARMUP_WORDS`)
 _LAM_NUMBER = re.compile(r"(?<![\w.-])lam=(\d[\d.]*(?:[eE][+-]?\d+)?)(?![\w.])")
@@ -1817,6 +1834,8 @@ def _phrased(text: str, command: str | None = None) -> str:
         text = _STEPS_NUMBER.sub(r"--steps \1", text)
     if has("--lam"):
         text = _LAM_NUMBER.sub(r"--lam \1", text)
+    if has("--fmin", "--fmax"):
+        text = _FURTHER_IN.sub(_further_in_options, text)
     if not has("--chains"):  # (`models.gap.hierarchical_advice_of_gap`: Python's gap_analysis takes chains= and warmup=, impedax gap neither)
         text = _MORE_CHAINS.sub("", text)
     if not has("--warmup"):

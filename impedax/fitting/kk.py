@@ -498,7 +498,9 @@ class KKResult(FrozenResult):
         low_end = f_lo <= lo * 10**EDGE_DECADES and lo > self.frequency.min()
         inner = (lo * 10**EDGE_DECADES, hi) if low_end else (lo, hi / 10**EDGE_DECADES)
         kept = self.frequency[(self.frequency >= inner[0]) & (self.frequency <= inner[1])]
-        options = " ".join(f"{name} {value}" for name, value in left_out_options(kept, np.setdiff1d(self.frequency, kept)))
+        conditions = [f"data.frequency {'>=' if name == '--fmin' else '<='} {value}" for name, value in left_out_options(kept, np.setdiff1d(self.frequency, kept))]
+        # (Python's words; impedax kk says --fmin 1 --fmax …, `cli.common.command_line_words`: the options until 2026-12-06, in Python too)
+        options = f"data.where({conditions[0]}, drop=True)" if len(conditions) == 1 else f"data.where(({conditions[0]}) & ({conditions[1]}), drop=True)"
         spread = f"{d_lo * 100:.2g}–{d_hi * 100:.2g} %" if f"{d_lo * 100:.2g}" != f"{d_hi * 100:.2g}" else f"{d_hi * 100:.2g} %"
         return (f"its {'lowest' if low_end else 'highest'} points ({format_band(f_lo, f_hi)}) still stand {spread} off its chain, against a median of "
                 f"{median * 100:.2g} % for the rest: what was left out may reach into the band, below the test's levels; check that a fit on it agrees with one "
