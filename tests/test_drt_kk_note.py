@@ -41,7 +41,7 @@ def test_a_drifting_spectrum_gets_the_kk_band_and_the_peak_inside_it(files, caps
     assert main(["drt", str(files["drifted"])]) == 0
     lines = capsys.readouterr().out.splitlines()
     (note,) = [line for line in lines if line.startswith("note: the data fail")]
-    assert note.startswith(f"note: the data fail the Kramers–Kronig test at {bands} (impedax kk {files['drifted']} says what to leave out)")
+    assert note.startswith(f"note: the data fail the Kramers–Kronig test at {bands} (impedax kk {files['drifted']} says which points and what to do)")
     slow = max(ix.drt((FREQ, DRIFTED)).peaks, key=lambda p: p.tau_s)  # (the 3 s arc's peak, at 49 mHz, inside the band)
     assert f"the peak at τ = {ix.data.format_time(slow.tau_s)}" in note and note.endswith("lies there")
     assert lines[-1].startswith("starting circuit from the DRT")  # (the note comes before it)

@@ -133,7 +133,7 @@ def _kk_note(result, data, args) -> str | None:
         inside = [p for p in results[0].peaks if any(lo <= p.frequency_hz <= hi for lo, hi in bands)]
         listed = ", ".join(f"τ = {format_time(p.tau_s)} (f = {format_frequency(p.frequency_hz)})" for p in inside)
         peaks = f"; the peak{'s' if len(inside) > 1 else ''} at {listed} {'lie' if len(inside) > 1 else 'lies'} there" if inside else ""
-        return (f"the data fail the Kramers–Kronig test at {tests[0].measured_bands_text()} ({command} says what to leave out): "
+        return (f"the data fail the Kramers–Kronig test at {tests[0].measured_bands_text()} ({command} says which points and what to do): "  # ("what to leave out" until 2026-12-06: on REAL Gamry kk finds none worth leaving out)
                 f"γ there holds their drift or disturbance as well as any relaxation{peaks}")
     labels = result.labels()
     named = "; ".join(", ".join(f"{d}={label_text(v)}" for d, v in labels[i].items()) for i in failed[:3]) + ("; …" if len(failed) > 3 else "")
