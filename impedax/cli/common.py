@@ -1628,7 +1628,7 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
 # (`json_in_command_words`); values, labels, models, paths and keys stay as they are
 PROSE_KEYS = frozenset({
     "warnings", "warning", "notes", "note", "message", "hints", "misfit_hints", "best_misfit_hint", "best_misfit_hints", "reason", "reasons",
-    "removal_reasons", "suggestion_reasons", "explanation", "pattern", "sign_hint", "alarms", "advice", "lambda_note", "f_test_note", "candidate_warning",
+    "removal_reasons", "suggestion_reasons", "explanation", "pattern", "sign_hint", "alarms", "advice", "lambda_note", "f_test_note", "candidate_warning", "waic_note",
     "words",  # (kk's passing_edge.words, 2026-12-06)
 })
 _NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "source", "provenance", "label", "spectra_with_warnings"})

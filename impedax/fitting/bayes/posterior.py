@@ -28,6 +28,7 @@ from ..least_squares.branches import left_to_priors
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
 from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
+from .evidence import short_chain_waic_note
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, tied_to_bound, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel
 from .priors import Prior
@@ -206,6 +207,12 @@ class Posterior(PiledUp, FrozenResult):
         tau = np.asarray([self.autocorr[n] for n in self.names], float) / self.settings.get("thin", 1)
         return bool(np.all(np.isfinite(tau)) and self.n_draws >= CHAIN_TAU_MULTIPLE * max(float(np.max(tau)), 1.0))
 
+    @property
+    def waic_note(self) -> str:
+        """What the report says beside WAIC and p_waic when the kept chain is too short to estimate
+        τ (the chain-length warning's rule: `evidence.short_chain_waic_note`), "" otherwise."""
+        return short_chain_waic_note(self.n_draws)
+
     @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
         """Diagnostics that need attention (straggler walkers left out, chain length, acceptance,
@@ -304,6 +311,7 @@ class Posterior(PiledUp, FrozenResult):
             "log_evidence": self.log_evidence,
             "waic": self.waic,
             "p_waic": self.p_waic,
+            "waic_note": self.waic_note or None,  # (added 2026-12-06: beside WAIC of a chain too short to estimate τ; null otherwise)
             "noise": self.noise.value,
             "sigma_origin": self.settings.get("sigma_origin"),  # (added 2026-12-06: what the data's σ is under noise 'sigma', `diagnosis.noise.sigma_origin`'s words; null otherwise)
             "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as before 2026-12-01)
@@ -347,6 +355,7 @@ class Posterior(PiledUp, FrozenResult):
             f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             (f"evidence   Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "evidence   Laplace ln Z undefined (see the warnings)")
             + f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
+            *([f"           {self.waic_note}"] if self.waic_note else []),
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  {'unit':<{unit_width}}  prior",
         ]
@@ -446,6 +455,7 @@ class Posterior(PiledUp, FrozenResult):
             f"emcee: {self.n_walkers} walkers × {self.n_draws} draws, acceptance {self.mean_acceptance:.3f}; "
             + (f"Laplace ln Z {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "Laplace ln Z undefined")
             + f", WAIC {self.waic:.2f}",
+            *([self.waic_note] if self.waic_note else []),
             *undetermined_rows(self.undetermined, self.set_by_prior_edge)[1],
             *self.warnings,
         ]

@@ -1,0 +1,59 @@
+"""WAIC of a chain too short to estimate τ (fewer than 50 kept draws per walker, the chain-length
+warning's rule) was printed with nothing beside it, though such draws have not yet spread over the
+posterior and p_waic is off (2026-12-06). The report's evidence line, the JSON (key ``waic_note``,
+added) and the notebook view now say so beside it, and what to run. Oracle: a SYNTHETIC
+R0 + R1 ∥ C1 spectrum (numpy formula) and the run's own lengths: 40 steps keep 40 − 10 = 30 draws
+per walker (burn a quarter), below 50; 100 steps keep 75, enough to estimate τ."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+F = np.geomspace(0.1, 1e5, 30)
+pytestmark = pytest.mark.slow  # (the first run compiles the sampler: ~10 s on the shared 2-core machine)
+
+
+@pytest.fixture(scope="module")
+def spectrum(tmp_path_factory):
+    rng = np.random.default_rng(7)
+    z = 20.0 + 1e3 / (1 + 2j * np.pi * F * 1e3 * 1e-6)
+    z = z * (1 + 0.01 * (rng.normal(size=F.size) + 1j * rng.normal(size=F.size)) / np.sqrt(2))
+    path = tmp_path_factory.mktemp("waic") / "rc.csv"
+    ix.save(ix.make_spectrum(F, z), path)
+    return path
+
+
+def _run(capsys, path, steps, *extra):
+    assert main(["sample", str(path), "--model", "R0 + R1 || C1", "--steps", str(steps), "--walkers", "16", "--quiet", *extra]) == 0
+    return capsys.readouterr().out
+
+
+def test_waic_of_a_chain_too_short_for_tau_says_so_beside_it(spectrum):
+    data = ix.load(spectrum)
+    post = ix.sample("R0 + R1 || C1", data, steps=40, walkers=16, progress=False)
+    assert post.n_draws == 30
+    lines = post.report().splitlines()
+    evidence = next(i for i, line in enumerate(lines) if line.startswith("evidence"))
+    assert "WAIC = " in lines[evidence]
+    assert lines[evidence + 1] == f"           {post.waic_note}"
+    assert post.waic_note.startswith("WAIC and p_waic are from a chain too short to trust (30 draws per walker after burn-in") and "steps='auto'" in post.waic_note
+    assert post.summary()["waic_note"] == post.waic_note and "too short to trust" in post._repr_html_()
+    # 100 steps keep 75 draws per walker: τ can be estimated, no note
+    long = ix.sample("R0 + R1 || C1", data, steps=100, walkers=16, progress=False)
+    assert long.n_draws == 75 and long.waic_note == "" and long.summary()["waic_note"] is None
+    assert "too short to trust" not in long.report() and not any("too short to estimate τ" in w for w in long.warnings)  # (the chain-length warning's rule agrees)
+
+
+def test_the_command_line_says_it_in_its_words(capsys, spectrum):
+    text = _run(capsys, spectrum, 40).splitlines()
+    evidence = next(i for i, line in enumerate(text) if line.startswith("evidence"))
+    assert text[evidence + 1].startswith("           WAIC and p_waic are from a chain too short to trust") and "(--steps auto, the default" in text[evidence + 1]
+    doc = json.loads(_run(capsys, spectrum, 40, "--json"))
+    assert doc["draws"] == 30 and doc["waic_note"].startswith("WAIC and p_waic are from a chain too short to trust") and "(--steps auto, the default" in doc["waic_note"]
+    assert {"waic", "p_waic"} <= set(doc)  # (keys only added)
