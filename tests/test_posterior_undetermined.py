@@ -72,7 +72,9 @@ def test_a_start_fit_warning_is_repeated_without_advising_to_sample(pad_posterio
 def test_a_parameter_whose_draws_pile_up_at_its_prior_edge_is_marked_as_the_undetermined_are():
     """REAL exampleData.csv with the EDL model: the start fit ends with C_gap at its bound 0 (NaN
     standard error: not the start fit's rule), and the draws pile up against the lower end of its
-    log-uniform prior. The table said nothing on C_gap's row, the warning alone did (2026-12-06)."""
+    log-uniform prior. The table said nothing on C_gap's row, the warning alone did (2026-12-06);
+    its mark is AT PRIOR EDGE, as the line under the table says (NOT DETERMINED until 2026-12-06:
+    tests/test_prior_edge_mark.py)."""
     from pathlib import Path
 
     data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleData.csv")
@@ -85,12 +87,13 @@ def test_a_parameter_whose_draws_pile_up_at_its_prior_edge_is_marked_as_the_unde
     t05, t95 = np.quantile(t, [0.05, 0.95])
     assert np.mean(t <= 0.01) / 0.01 > 0.9 / (t95 - t05)
     rows = {line.split()[0]: line for line in post.report().splitlines() if line.split() and line.split()[0] in post.names}
-    assert rows["C_gap"].endswith("← NOT DETERMINED"), rows["C_gap"]
-    assert "NOT DETERMINED" not in rows["CPE_EP.Q"] and "NOT DETERMINED" not in rows["sigma_rel"]
+    assert rows["C_gap"].endswith("← AT PRIOR EDGE"), rows["C_gap"]
+    assert "←" not in rows["CPE_EP.Q"] and "←" not in rows["sigma_rel"]
     assert "← C_gap: their draws pile up against an edge of their prior or bound" in post.report()
     assert post.summary()["piled_up"]["C_gap"] == "lower"
-    table = {r["name"]: r["undetermined"] for r in post.to_table()}  # (the CSV's column and the notebook view's mark, 2026-12-06)
+    table = {r["name"]: r["at_prior_edge"] for r in post.to_table()}  # (the CSV's column and the notebook view's mark, 2026-12-06)
     assert table["C_gap"] and not table["CPE_EP.Q"] and not table["sigma_rel"]
+    assert post.summary()["at_prior_edge"] == ["C_gap"] and "C_gap" not in post.summary()["undetermined"]
     assert "← C_gap: their draws pile up" in post._repr_html_()
 
 

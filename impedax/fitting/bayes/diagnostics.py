@@ -527,8 +527,16 @@ class PiledUp:
         return dict(self._prior_edges.piled_up)
 
     @property
+    def at_prior_edge(self) -> list[str]:
+        """The rows the reports mark AT PRIOR EDGE: `set_by_prior_edge` less those the start fit's
+        rule leaves undetermined (``undetermined``, marked NOT DETERMINED) (added 2026-12-06)."""
+        loose = set(getattr(self, "undetermined", ()))
+        return [n for n in self.set_by_prior_edge if n not in loose]
+
+    @property
     def set_by_prior_edge(self) -> tuple[str, ...]:
-        """The piled-up parameters (`piled_up`) whose table rows the reports mark NOT DETERMINED:
+        """The piled-up parameters (`piled_up`) whose table rows the reports mark (AT PRIOR EDGE,
+        or NOT DETERMINED when the start fit's rule leaves them undetermined too):
         a prior's or a bound's edge, not the data, sets one end of their interval. Left out: those
         piled up only at the bound where their element is a simpler one (a CPE's alpha at 1),
         which their warning names instead, as the start fit's bound note does."""

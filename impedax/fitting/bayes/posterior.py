@@ -77,9 +77,12 @@ UNDETERMINED_MARK = "← NOT DETERMINED"
 UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule: an unidentified group, a relative standard error above 100 %, or a term that vanishes from Z, such as a resistor open at ∞); "
                      "their intervals show where the priors take over, not a measurement: fix one of a group from another measurement, or report what the data fix")
 """The report's mark on a row of `Posterior.undetermined` and the line under its table."""
+EDGE_SET_MARK = "← AT PRIOR EDGE"
 EDGE_SET_ROWS = ("their draws pile up against an edge of their prior or bound: that edge, not the data, sets one end of their intervals, "
                  "so their medians are no measurement either; the warnings say which end and what to do, or report only the end the data set")
-"""The line under a report's table for the rows marked for `PiledUp.set_by_prior_edge` (added 2026-12-06)."""
+"""The report's mark on a row of `PiledUp.set_by_prior_edge` the start fit's rule leaves out
+(until 2026-12-06 `UNDETERMINED_MARK`, under which this line explained a pile-up: REAL
+exampleDataGamry.DTA's R0) and the line under its table (added 2026-12-06)."""
 
 
 def fixed_rows(fixed: Mapping[str, float], specs) -> list[dict[str, object]]:
@@ -89,13 +92,37 @@ def fixed_rows(fixed: Mapping[str, float], specs) -> list[dict[str, object]]:
             for n, v in fixed.items()]
 
 
-def undetermined_rows(undetermined: Sequence[str], set_by_edge: Sequence[str]) -> tuple[set[str], list[str]]:
-    """The rows a posterior's report marks `UNDETERMINED_MARK` and the lines under its table:
-    the start fit's rule (``undetermined``) and the draws piled up at a prior's or bound's edge
-    (``set_by_edge``, `PiledUp.set_by_prior_edge`), each group with its reason."""
+def marked_rows(undetermined: Sequence[str], set_by_edge: Sequence[str]) -> tuple[dict[str, str], list[str]]:
+    """The marks a posterior's report puts on its rows ({name: mark}) and the lines under its
+    table: `UNDETERMINED_MARK` on those the start fit's rule leaves undetermined (``undetermined``),
+    `EDGE_SET_MARK` on the others whose draws pile up at a prior's or bound's edge (``set_by_edge``,
+    `PiledUp.set_by_prior_edge`), each group with its reason."""
     piled = [n for n in set_by_edge if n not in undetermined]
     lines = [f"← {', '.join(names)}: {why}" for names, why in ((list(undetermined), UNDETERMINED_ROWS), (piled, EDGE_SET_ROWS)) if names]
-    return {*undetermined, *piled}, lines
+    return {**{n: UNDETERMINED_MARK for n in undetermined}, **{n: EDGE_SET_MARK for n in piled}}, lines
+
+
+def _mark_columns(mark: str | None) -> dict[str, bool]:
+    """A table row's columns ``undetermined`` and ``at_prior_edge`` for the report's ``mark`` on it."""
+    return {"undetermined": mark == UNDETERMINED_MARK, "at_prior_edge": mark == EDGE_SET_MARK}
+
+
+def last_at_prior_edge(rows: Sequence[Mapping[str, object]]) -> list[dict[str, object]]:
+    """``rows`` with the column ``at_prior_edge`` last (false where a row has none: a fixed
+    parameter's): added after ``fixed``, the CSV's columns before it keep their places."""
+    return [{**{k: v for k, v in row.items() if k != "at_prior_edge"}, "at_prior_edge": bool(row.get("at_prior_edge", False))} for row in rows]
+
+
+def html_rows(table: Sequence[Mapping[str, object]]) -> list[dict[str, object]]:
+    """A notebook view's rows of ``table`` (`Posterior.to_table`'s): the unit as the report writes
+    it (Ω) and, in the column ``undetermined``, the report's mark on that row (``at_prior_edge``'s
+    folded in)."""
+    def mark(row) -> str:
+        return UNDETERMINED_MARK if row["undetermined"] else EDGE_SET_MARK if row.get("at_prior_edge") else ""
+
+    return [{**{k: v for k, v in row.items() if k != "at_prior_edge"}, "unit": unit_text(row["unit"]), "undetermined": mark(row)} for row in table]
+
+
 DERIVED_FROM_UNDETERMINED = "its interval shows where the priors take over, not a measurement; fix one of them at a value you know"
 
 
@@ -306,6 +333,7 @@ class Posterior(PiledUp, FrozenResult):
             "warnings": list(self.warnings),
             "undetermined": list(self.undetermined),
             "piled_up": self.piled_up,
+            "at_prior_edge": self.at_prior_edge,  # (added 2026-12-06: the rows the report marks AT PRIOR EDGE)
             "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01: the run's walkers left out of the draws; as the .nc's attribute)
             "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (added 2026-12-01: the correlation warnings' pairs and r)
             "log_evidence": self.log_evidence,
@@ -359,11 +387,11 @@ class Posterior(PiledUp, FrozenResult):
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  {'unit':<{unit_width}}  prior",
         ]
-        loose, footnotes = undetermined_rows(self.undetermined, self.set_by_prior_edge)
+        marks, footnotes = marked_rows(self.undetermined, self.set_by_prior_edge)
         for i, n in enumerate(self.names):
             lines.append(
                 f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  {units[i]:<{unit_width}}  {self.priors[n]}"
-                + (f"  {UNDETERMINED_MARK}" if n in loose else "")
+                + (f"  {marks[n]}" if n in marks else "")
             )
         for (n, value), unit in zip(self.fixed.items(), fixed_units):  # (derived quantities such as the force depend on them too)
             lines.append(f"{n:<{width}}  {exact_number(value):>11}  {'(fixed)':>11}  {'':>11}  {'':>9}  {'':>7}  {unit:<{unit_width}}".rstrip())
@@ -428,15 +456,16 @@ class Posterior(PiledUp, FrozenResult):
         (None, an empty cell, where unknown) (`impedax.io.write_result` .csv); with a
         reparametrization, the circuit parameters it replaces follow (derived from the draws;
         no τ or ESS of their own: empty). Last (added 2026-12-06, the name of `FitResult.to_table`'s
-        column) ``undetermined``: the row the text report marks NOT DETERMINED (`undetermined`, or
-        draws piled up at a prior's edge, `set_by_prior_edge`); a replaced parameter's by the one
-        that replaces it. Then (added 2026-12-06, as `FitResult.to_table`'s rows and column) a
+        column) ``undetermined``: the row the text report marks NOT DETERMINED (`undetermined`;
+        until 2026-12-06 also the rows piled up at a prior's edge); a replaced parameter's by the
+        one that replaces it. Then (added 2026-12-06, as `FitResult.to_table`'s rows and column) a
         row per fixed parameter, its value in every quantile column, and the column ``fixed``
-        (true on those rows), which the report lists and the CSV left out."""
+        (true on those rows), which the report lists and the CSV left out. Last (added
+        2026-12-06) ``at_prior_edge``: the row the report marks AT PRIOR EDGE (`at_prior_edge`)."""
         q = self.quantiles()
-        loose, _ = undetermined_rows(self.undetermined, self.set_by_prior_edge)
+        marks, _ = marked_rows(self.undetermined, self.set_by_prior_edge)
         rows = [
-            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), "undetermined": n in loose}
+            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), **_mark_columns(marks.get(n))}
             for n, u in zip(self.names, self.units)
         ]
         rp = self.reparametrization
@@ -444,9 +473,15 @@ class Posterior(PiledUp, FrozenResult):
             cq = self.quantiles(circuit=True)
             specs = self.circuit.parameter_specs(self.registry)
             replaced_by = dict(zip(rp.replaces, rp.names)) if len(rp.names) == len(rp.replaces) else {}
+
+            def mark_of(n):  # (the replacing parameter's; of several, NOT DETERMINED before AT PRIOR EDGE)
+                found = [marks[m] for m in ([replaced_by[n]] if n in replaced_by else rp.names) if m in marks]
+                return UNDETERMINED_MARK if UNDETERMINED_MARK in found else found[0] if found else None
+
             rows += [{"name": n, **{k: float(cq[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit, "autocorr": None, "ess": None,
-                      "undetermined": replaced_by[n] in loose if n in replaced_by else any(m in loose for m in rp.names)} for n in rp.replaces]
-        return [{**row, "fixed": False} for row in rows] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry))
+                      **_mark_columns(mark_of(n))} for n in rp.replaces]
+        rows = [{**row, "fixed": False} for row in rows] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry))
+        return last_at_prior_edge(rows)
 
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
@@ -456,12 +491,11 @@ class Posterior(PiledUp, FrozenResult):
             + (f"Laplace ln Z {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "Laplace ln Z undefined")
             + f", WAIC {self.waic:.2f}",
             *([self.waic_note] if self.waic_note else []),
-            *undetermined_rows(self.undetermined, self.set_by_prior_edge)[1],
+            *marked_rows(self.undetermined, self.set_by_prior_edge)[1],
             *self.warnings,
         ]
         # (the text report's mark on the rows, not a yes/no cell)
-        rows = [{**row, "unit": unit_text(row["unit"]), "undetermined": UNDETERMINED_MARK if row["undetermined"] else ""} for row in self.to_table()]  # (the unit as the report writes it: Ω)
-        return result_html(f"{self.model}: posterior", rows, lines=lines)
+        return result_html(f"{self.model}: posterior", html_rows(self.to_table()), lines=lines)
 
     # -- figures (drawn by impedax.plotting.bayes) -----------------------------------------
     def plot(self, *, title: str | None = None, n_lines: int = 40, figsize: tuple[float, float] | None = None):

@@ -45,7 +45,7 @@ from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain
 from ..stored import StoredProgram
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting, walkers_log_prob
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
-from .posterior import PREDICTIVE_COPIES, UNDETERMINED_MARK, Posterior, fixed_rows, undetermined_rows, chain_figures, checked_copies, sigma_between, with_noise
+from .posterior import PREDICTIVE_COPIES, Posterior, fixed_rows, html_rows, last_at_prior_edge, marked_rows, chain_figures, checked_copies, sigma_between, with_noise
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "spectrum_labels", "MAX_JOINT_PARAMETERS"]
@@ -308,6 +308,7 @@ class SharedPosterior(PiledUp, FrozenResult):
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
             "undetermined": list(self.undetermined),  # (added 2026-12-03, as `Posterior.summary`'s)
+            "at_prior_edge": self.at_prior_edge,  # (added 2026-12-06, as `Posterior.summary`'s)
             "piled_up": self.piled_up,
             "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01, as `Posterior.summary`'s)
             "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (added 2026-12-01, as `Posterior.summary`'s)
@@ -352,12 +353,12 @@ class SharedPosterior(PiledUp, FrozenResult):
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  unit",
         ]
-        loose, footnotes = undetermined_rows(self.undetermined, self.set_by_prior_edge)
+        marks, footnotes = marked_rows(self.undetermined, self.set_by_prior_edge)
         unit_width = max(4, *(len(unit_text(u)) for u in self.units))
         for i, n in enumerate(self.names):
             lines.append(
                 f"{n:<{width}}  {float(q['median'][i]):>11.5g}  {float(q['q05'][i]):>11.5g}  {float(q['q95'][i]):>11.5g}  {figure(self.autocorr[n], '9.3g'):>9}  {figure(self.ess[n], '7.0f'):>7}  "
-                + (f"{unit_text(self.units[i]):<{unit_width}}  {UNDETERMINED_MARK}" if n in loose else unit_text(self.units[i]))
+                + (f"{unit_text(self.units[i]):<{unit_width}}  {marks[n]}" if n in marks else unit_text(self.units[i]))
             )
         specs = self.circuit.parameter_specs(self.registry)
         for n, value in fixed.items():  # (as a single spectrum's report: the model's values need them too; added 2026-12-06)
@@ -376,11 +377,10 @@ class SharedPosterior(PiledUp, FrozenResult):
         lines = [
             f"sampler: {self._sampler_text()}",
             f"noise: {self.noise}: {NOISE_MODELS[self.noise]}",
-            *undetermined_rows(self.undetermined, self.set_by_prior_edge)[1],
+            *marked_rows(self.undetermined, self.set_by_prior_edge)[1],
             *self.warnings,
         ]
-        rows = [{**row, "unit": unit_text(row["unit"]), "undetermined": UNDETERMINED_MARK if row["undetermined"] else ""} for row in self.to_table()]  # (the unit as the report writes it: Ω)
-        return result_html(title, rows, lines=lines)
+        return result_html(title, html_rows(self.to_table()), lines=lines)  # (the unit as the report writes it: Ω; the report's marks)
 
     # -- the spectra, and the model over the draws ---------------------------------------
     @property
@@ -503,14 +503,16 @@ class SharedPosterior(PiledUp, FrozenResult):
     def to_table(self) -> list[dict[str, object]]:
         """One row per sampled parameter: name, the summary quantiles, unit, and (added
         2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``, None where unknown,
-        and (added 2026-12-06) ``undetermined``, as `Posterior.to_table`: the rows the report marks;
-        then the fixed parameters' rows and the column ``fixed`` (added 2026-12-06, `fixed_rows`)."""
+        and (added 2026-12-06) ``undetermined``, as `Posterior.to_table`: the rows the report marks
+        NOT DETERMINED; then the fixed parameters' rows and the column ``fixed`` (added 2026-12-06,
+        `fixed_rows`); last ``at_prior_edge`` (added 2026-12-06): the rows it marks AT PRIOR EDGE."""
         q = self.quantiles()
-        loose, _ = undetermined_rows(self.undetermined, self.set_by_prior_edge)
-        return [
-            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), "undetermined": n in loose, "fixed": False}
+        marks, _ = marked_rows(self.undetermined, self.set_by_prior_edge)
+        return last_at_prior_edge([
+            {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), "undetermined": n in marks and n in self.undetermined,
+             "fixed": False, "at_prior_edge": n in marks and n not in self.undetermined}
             for n, u in zip(self.names, self.units)
-        ] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry))
+        ] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry)))
 
     def derive(self, fn: Callable, freq=None, *, draws: bool = False, max_draws: int | None = None) -> xr.Dataset:
         """`Posterior.derive` over the joint draws: ``fn(params[, freq])`` gets every sampled
