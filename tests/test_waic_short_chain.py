@@ -57,3 +57,17 @@ def test_the_command_line_says_it_in_its_words(capsys, spectrum):
     doc = json.loads(_run(capsys, spectrum, 40, "--json"))
     assert doc["draws"] == 30 and doc["waic_note"].startswith("WAIC and p_waic are from a chain too short to trust") and "(--steps auto, the default" in doc["waic_note"]
     assert {"waic", "p_waic"} <= set(doc)  # (keys only added)
+
+
+def test_a_thinned_chain_too_short_for_tau_says_to_thin_less(capsys, spectrum):
+    """2000 steps thinned by 40 kept 37 draws per walker: too few to estimate τ, though long in
+    steps; the chain-length warning and the WAIC note said only "run more steps" and blamed draws
+    not yet spread (2026-12-06). Both now name the thinning and say to thin less. Here 400 steps,
+    burn 100, thin 10: (400 − 100) / 10 = 30 draws per walker."""
+    post = ix.sample("R0 + R1 || C1", ix.load(spectrum), steps=400, thin=10, walkers=16, progress=False)
+    assert post.n_draws == 30
+    warning = next(w for w in post.warnings if "too short to estimate τ" in w)
+    assert "(30 draws per walker after burn-in and thinning by 10;" in warning and warning.endswith("thin less (thin=) or run more steps")
+    assert "30 draws per walker after burn-in and thinning by 10, too few to estimate τ" in post.waic_note and "thin less (thin=) or run more steps" in post.waic_note
+    text = _run(capsys, spectrum, 400, "--thin", "10")
+    assert "thin less (--thin) or run more steps" in text and "thin=" not in text

@@ -1709,6 +1709,7 @@ _OPTION_OF_KEYWORD = {"max_steps": "--max-steps"}
 # the Python words (`impedax gap` has no --bound)
 _PHRASE_OF_CALL: dict[str, tuple[str, tuple[str, ...]]] = {
     "(bounds=)": ("(--bound)", ("--bound",)),
+    "thin less (thin=)": ("thin less (--thin)", ("--thin",)),  # (`fitting.bayes.diagnostics.more_draws_advice`)
     "leave them out (fmin/fmax)": ("leave them out (--fmin/--fmax)", ("--fmin", "--fmax")),
     "e.g. --noise 1% (noise=0.01)": ("e.g. --noise 1%", ("--noise",)),
     # (the validity tests and the DRT, in Python's words since 2026-12-06, where their notes had

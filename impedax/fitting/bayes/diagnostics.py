@@ -336,8 +336,8 @@ def chain_warnings(
     capped = f" (the automatic chain length stopped at its cap of {step_cap} steps)" if step_cap else ""
     if n_draws < CHAIN_TAU_MULTIPLE:
         out.append(
-            f"the chain is too short to estimate τ ({n_draws} draw{'s' if n_draws != 1 else ''} per walker after burn-in; emcee needs ≳ {CHAIN_TAU_MULTIPLE} τ, "
-            f"and τ is at least one draw){capped}: τ and ESS are unknown and the intervals are not to be trusted; run more steps"
+            f"the chain is too short to estimate τ ({kept_draws_text(n_draws, thin)}; emcee needs ≳ {CHAIN_TAU_MULTIPLE} τ, "
+            f"and τ is at least one draw){capped}: τ and ESS are unknown and the intervals are not to be trusted; {more_draws_advice(thin)}"
         )
     elif len(finite) < len(taus):
         stuck = int(np.sum(np.all(chain_y == chain_y[:, :1], axis=(1, 2))))
@@ -358,6 +358,18 @@ def chain_warnings(
     out.extend(acceptance_warnings(mean_acceptance, len(names)))
     out.extend(c.warning for c in strong_correlations(names, log_scale, chain_y))
     return out
+
+
+def kept_draws_text(n_draws: int, thin: int) -> str:
+    """"37 draws per walker after burn-in and thinning by 40" (", and thinning" only when ``thin`` > 1)."""
+    return f"{n_draws} draw{'s' if n_draws != 1 else ''} per walker after burn-in" + (f" and thinning by {thin}" if thin > 1 else "")
+
+
+def more_draws_advice(thin: int) -> str:
+    """What to run for more kept draws: more steps, or (``thin`` > 1) a smaller thin, which keeps
+    more of the steps already run (a thinned chain long in steps has few draws: REAL-sized
+    SYNTHETIC R0 + R1 ∥ C1, 2000 steps thinned by 40, kept 37 per walker, 2026-12-06)."""
+    return "run more steps" if thin <= 1 else "thin less (thin=) or run more steps"
 
 
 def steps_needed(steps: int, n_draws: int, tau_draws: float) -> int:

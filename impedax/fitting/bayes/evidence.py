@@ -14,6 +14,7 @@ import numpy as np
 
 from ...arguments import CHAIN_TAU_MULTIPLE
 from ...data import format_frequency
+from .diagnostics import kept_draws_text, more_draws_advice
 from .logprob import LogProbArgs, LogProbFunctions
 
 __all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "START_UNEVEN_NOISE", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS", "short_chain_waic_note"]
@@ -72,18 +73,19 @@ MODEL_COMPARISON_NOTE_LEADS = (EVIDENCE_NOTE_LEAD, WAIC_NOTE_LEAD)
 command that compares none (`impedax gap`) leaves them out of its warnings."""
 
 
-def short_chain_waic_note(n_draws: int) -> str:
-    """The note beside WAIC of a chain of ``n_draws`` kept draws per walker too short to estimate
-    τ (fewer than `CHAIN_TAU_MULTIPLE`, the rule of the chain-length warning and
-    `diagnostics.integrated_autocorr`), "" for a longer one. Such draws have not yet spread from
-    the start over the posterior: on SYNTHETIC R0 + R1 ∥ C1 (40 points, 1 % noise) p_waic read 1.9
-    after 8 steps and 4.7 after 2000 (P = 4), so WAIC is no score to compare models by (added
-    2026-12-06: the report printed it with nothing beside it)."""
+def short_chain_waic_note(n_draws: int, thin: int = 1) -> str:
+    """The note beside WAIC of a chain of ``n_draws`` kept draws per walker (after thinning by
+    ``thin``) too few to estimate τ (fewer than `CHAIN_TAU_MULTIPLE`, the rule of the chain-length
+    warning and `diagnostics.integrated_autocorr`), "" for more. Whether such draws have spread
+    from the start over the posterior is unknown, and until they have p_waic is off: on SYNTHETIC
+    R0 + R1 ∥ C1 (40 points, 1 % noise) it read 1.9 after 8 steps and 4.7 after 2000 (P = 4), so
+    WAIC is no score to compare models by (added 2026-12-06: the report printed it with nothing
+    beside it)."""
     if n_draws >= CHAIN_TAU_MULTIPLE:
         return ""
-    return (f"{WAIC_NOTE_LEAD}and p_waic are from a chain too short to trust ({n_draws} draw{'s' if n_draws != 1 else ''} per walker after burn-in, "
-            f"too few to estimate τ: emcee needs ≳ {CHAIN_TAU_MULTIPLE} τ): draws not yet spread from the start over the posterior put p_waic off the mark "
-            f"(low on the shortest chains), so do not compare models by this WAIC; run more steps (steps='auto', the default, runs until the chain is {CHAIN_TAU_MULTIPLE} τ long)")
+    return (f"{WAIC_NOTE_LEAD}and p_waic are from a chain too short to trust ({kept_draws_text(n_draws, thin)}, too few to estimate τ: emcee needs ≳ {CHAIN_TAU_MULTIPLE} τ): "
+            "whether its draws have spread from the start over the posterior is unknown, and until they have p_waic is off the mark (low on the shortest chains), "
+            f"so do not compare models by this WAIC; {more_draws_advice(thin)} (steps='auto', the default, runs until the chain is {CHAIN_TAU_MULTIPLE} τ long)")
 
 
 def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y, names: Sequence[str] | None = None, *, converged: bool | None = None) -> LaplaceEvidence:

@@ -238,7 +238,7 @@ class Posterior(PiledUp, FrozenResult):
     def waic_note(self) -> str:
         """What the report says beside WAIC and p_waic when the kept chain is too short to estimate
         τ (the chain-length warning's rule: `evidence.short_chain_waic_note`), "" otherwise."""
-        return short_chain_waic_note(self.n_draws)
+        return short_chain_waic_note(self.n_draws, self.settings.get("thin", 1))
 
     @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
