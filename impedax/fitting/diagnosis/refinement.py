@@ -582,7 +582,7 @@ def _after_simplifying(steps: list[RefinementStep], limit: int, diagnosed, say, 
     undetermined) and simplified again (``simplify``); each round adds an effect, so at most
     ``limit`` rounds. REAL Autolab under proportional weighting ended "MISSING_EFFECT — adding
     extra_relaxation (R_relax2 ∥ C_relax2) lowers AIC by 36.6" after CPE3 → C3 with 3 of its
-    4 effects unused (2026-12-06)."""
+    4 effects used (2026-12-06)."""
     for _ in range(limit):
         last = steps[-1]
         if len(steps) < 2 or last.effect is not None or last.diagnosis is None:
@@ -1354,14 +1354,11 @@ def refine(
     # model is simplified or pruned on them; conjugated SYNTHETIC finger data lost C_s, R_sc and
     # C_sc as "vanishing" before the verdict named the sign, 2026-12-02)
     if not (stop.verdict == Verdict.DATA_INVALID and stop.sign_hint):
-        steps = _second_path(steps, picked, limit, diagnosed, say, notes, finished)
-        steps = _simplified(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
-        steps = _pruned(steps, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
-
         def simplify(path):
             path = _simplified(path, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
             return _pruned(path, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
 
+        steps = simplify(_second_path(steps, picked, limit, diagnosed, say, notes, finished))
         steps = _after_simplifying(steps, limit, diagnosed, say, notes, finished, simplify)
     steps = _with_alternatives(steps)
     last = steps[-1].diagnosis
