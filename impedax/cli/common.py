@@ -24,7 +24,7 @@ __all__ = [
     "check_outputs", "save_outputs", "print_result", "each_spectrum_written", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "shown_path", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
-    "relative_noise", "fit_command", "exclude_points", "parse_bounds", "checked_bound_options", "command_provenance", "comma_names",
+    "relative_noise", "fit_command", "exclude_points", "exclude_items", "exclude_frequency", "parse_bounds", "checked_bound_options", "command_provenance", "comma_names",
 ]
 
 
@@ -288,6 +288,27 @@ def single_selects(select: Sequence[str], data) -> list[str]:
     return out
 
 
+def exclude_items(text: str) -> list[str]:
+    """The items of ``--exclude F,F,...`` (empty ones skipped); a `ParameterError` when it names
+    none."""
+    items = [t.strip() for t in text.split(",") if t.strip()]
+    if not items:
+        raise ParameterError(f"--exclude {text!r} names no frequency: give them in Hz, comma-separated (5.34,56.2,1.12M)")
+    return items
+
+
+def exclude_frequency(item: str) -> float:
+    """One item of ``--exclude`` in Hz (SI prefixes as `prefixed_number`), positive and finite;
+    a `ParameterError` otherwise."""
+    try:
+        value = prefixed_number(item)
+    except ValueError as error:
+        raise ParameterError(f"--exclude: {error}") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise ParameterError(f"--exclude: frequencies are positive and finite, got {item}")
+    return value
+
+
 def exclude_points(data, text: str | None):
     """``data`` without the frequencies of ``--exclude F,F,...`` (Hz, SI prefixes as
     `prefixed_number`: 5.34,1.12M): each names the nearest measured frequency, within
@@ -299,15 +320,8 @@ def exclude_points(data, text: str | None):
 
     measured = np.asarray(data["frequency"].values, float)
     drop: dict[int, str] = {}
-    for item in (t.strip() for t in text.split(",")):
-        if not item:
-            continue
-        try:
-            value = prefixed_number(item)
-        except ValueError as error:
-            raise ParameterError(f"--exclude: {error}") from None
-        if not (value > 0 and math.isfinite(value)):
-            raise ParameterError(f"--exclude: frequencies are positive and finite, got {item}")
+    for item in exclude_items(text):
+        value = exclude_frequency(item)
         distance = np.abs(np.log(measured / value))
         i = int(np.argmin(distance))
         if abs(measured[i] / value - 1) > EXCLUDE_RTOL:
@@ -319,8 +333,6 @@ def exclude_points(data, text: str | None):
         if i in drop:
             raise ParameterError(f"--exclude: {drop[i]} and {item} name the same measured frequency, {measured[i]:.6g} Hz")
         drop[i] = item
-    if not drop:
-        raise ParameterError(f"--exclude {text!r} names no frequency: give them in Hz, comma-separated (5.34,56.2,1.12M)")
     keep = np.setdiff1d(np.arange(measured.size), list(drop))
     if not keep.size:
         raise ParameterError(f"--exclude leaves out every frequency of the data ({measured.size})")

@@ -65,27 +65,16 @@ def files_without_points(datasets: list, paths: list[str], text: str | None) -> 
     beyond a file's measured band is left to the others (a file measured over a narrower band,
     met with --fmin/--fmax); one that names no point of a file whose band holds it, or of no
     file at all, is a `ParameterError` naming the file(s)."""
-    import math
-
     import numpy as np
 
     from ..arguments import EXCLUDE_RTOL
     from ..errors import ParameterError
-    from .common import exclude_points, prefixed_number
+    from .common import exclude_frequency, exclude_items, exclude_points
 
     if text is None:
         return datasets
-    items = [t.strip() for t in text.split(",") if t.strip()]
-    values = []
-    for item in items:
-        try:
-            values.append(prefixed_number(item))
-        except ValueError as error:
-            raise ParameterError(f"--exclude: {error}") from None
-        if not (values[-1] > 0 and math.isfinite(values[-1])):  # (an option's error, before any file's)
-            raise ParameterError(f"--exclude: frequencies are positive and finite, got {item}")
-    if not items:
-        exclude_points(next(d for d in datasets if d is not None), text)  # (its message: names no frequency)
+    items = exclude_items(text)
+    values = [exclude_frequency(item) for item in items]  # (an option's error, before any file's)
     out, named = [], set()
     for data, path in zip(datasets, paths):
         if data is None:
