@@ -226,7 +226,7 @@ def test_refinement_figure_of_a_steep_spectrum_puts_its_nyquist_panel_above_the_
 def test_comparison_overlapping_models_in_their_own_line_styles_and_plain_ticks():
     data = rc(1.0) * (1 + 0.05 * np.sin(np.log(F)))
     same = rc(1.0)
-    comparison = SimpleNamespace(fits=[fit("R0 + R1 || C1", same, data), fit("R0 + R1 || CPE1", same, data)], best="R0 + R1 || C1")
+    comparison = SimpleNamespace(fits=[fit("R0 + R1 || C1", same, data, weighting="modulus"), fit("R0 + R1 || CPE1", same, data, weighting="modulus")], best="R0 + R1 || C1")  # (every fit has a weighting: the title names it)
     fig = plot_comparison(comparison)
     styles = {line.get_linestyle() for line in fig.axes[1].get_lines() if not line.get_label().startswith("data")}
     assert len(styles) == 2
