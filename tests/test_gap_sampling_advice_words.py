@@ -9,9 +9,9 @@ from impedax.cli.common import command_line_words, command_options
 from impedax.models.gap import hierarchical_advice_of_gap
 
 DIVERGENT = ("2 divergent NUTS transitions of 2000 draws: the intervals may be biased; sample with a higher "
-             "target_accept (smaller steps: 0.95 or 0.99, the default 0.85) or a longer warmup")
+             "target_accept= (smaller steps: 0.95 or 0.99, the default 0.85) or a longer warmup= (the default 400)")
 RHAT = ("R-hat above 1.05 for u (1.08): the chains disagree, so the intervals are not yet the posterior's; "
-        "run more draws per chain (500 now; impedax gap: --steps) or more chains (4 now)")
+        "run more draws per chain (500 now): draws=1000, or more chains (4 now): chains=8")
 
 
 def test_the_python_words_name_what_gap_analysis_takes():

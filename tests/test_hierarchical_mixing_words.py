@@ -33,7 +33,7 @@ def test_mixing_warnings_use_the_reports_words_and_say_what_to_do():
     value = float(re.search(r"R1 \(population median\) \(([0-9.]+)\)", rhat).group(1))
     assert value > 1.05
     assert float(re.search(r"R1 \(spread\) \(([0-9.]+)\)", ess).group(1)) < 100
-    remedy = f"run more draws per chain ({DRAWS} now; impedax gap: --steps) or more chains ({CHAINS} now)"
+    remedy = f"run more draws per chain ({DRAWS} now): draws={2 * DRAWS}, or more chains ({CHAINS} now): chains={2 * CHAINS}"
     assert rhat.endswith(remedy) and ess.endswith(remedy) and f"of {CHAINS * DRAWS} draws" in ess
     assert "R0" not in rhat + ess and "C1" not in rhat + ess  # (iid shared draws mix)
 

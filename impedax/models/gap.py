@@ -1190,8 +1190,8 @@ the population median of R_EP), 20, 33 and 23 at 0.95, 7 and 2 at 0.99 (100 V an
 0.85 one (a shared, loaded machine); fully centred sampling was worse (410 divergent at 0.95)."""
 
 
-_TARGET_ACCEPT_ADVICE = re.compile(r"sample with a higher target_accept \(smaller steps: [^)]*\) or a longer warmup")
-_MORE_DRAWS_ADVICE = re.compile(r"run more draws per chain \((\d+) now; impedax gap: --steps\) or more chains \((\d+) now\)")
+_TARGET_ACCEPT_ADVICE = re.compile(r"sample with a higher target_accept= \(smaller steps: [^)]*\) or a longer warmup= \(the default \d+\)")
+_MORE_DRAWS_ADVICE = re.compile(r"run more draws per chain \((\d+) now\): draws=\d+, or more chains \((\d+) now\): chains=\d+")
 WARMUP_WORDS = ", unless warmup= is given"
 """Where the gap's sampling advice names ``warmup=``, which ``impedax gap`` has no option for
 (its --steps sets both): the command leaves these words out (`cli.common.command_line_words`)."""
@@ -1205,7 +1205,8 @@ def hierarchical_advice_of_gap(warning: str, steps: int) -> str:
     (`sampled_with_retry`); R-hat or ESS → more draws per chain, the same ``steps=``, or more
     chains, ``chains=`` twice theirs (Python only: ``impedax gap`` has no --chains). Until
     2026-12-06 ``impedax gap`` advised "a higher target_accept", which neither it nor
-    `gap_analysis` takes, and "more chains", and Python read "impedax gap: --steps"."""
+    `gap_analysis` takes, and "more chains", and Python read "impedax gap: --steps"; the
+    posterior's own warnings name `sample_hierarchical`'s keywords (``draws=``, ``warmup=``)."""
     longer = f"steps={2 * int(steps)}"
     warning = _TARGET_ACCEPT_ADVICE.sub(
         f"sample with a longer warm-up, {longer} (as many warm-up steps as draws per chain{WARMUP_WORDS}); the gap analysis itself samples again "

@@ -78,6 +78,8 @@ MU_PRIOR_SD = 2.0
 TARGET_ACCEPT = 0.85
 """NUTS's target acceptance rate in the warm-up's step-size adaptation (`sample_hierarchical`'s
 default): higher targets take smaller steps, fewer divergent transitions, longer trajectories."""
+DEFAULT_WARMUP = 400
+"""`sample_hierarchical`'s warm-up steps per chain by default (the divergence warning names it)."""
 CENTRED_RATIO = 3.0
 """``parameterisation="auto"`` samples a per-trial quantity centred when the median relative
 standard error of its per-trial fits is below 1/CENTRED_RATIO of their spread (sd of ln)."""
@@ -839,13 +841,17 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
 
     @property
     def warnings(self) -> tuple[str, ...]:
+        """The sampling's health and the prior edges, their remedies in the keywords of
+        `sample_hierarchical` (``target_accept=``, ``warmup=``, ``draws=``, ``chains=``); the gap
+        analysis puts them in its own words (`models.gap.hierarchical_advice_of_gap`) and
+        ``impedax gap`` in its options. Until 2026-12-06 Python read "impedax gap: --steps"."""
         notes = []
         if self.divergences:
             notes.append(f"{self.divergences} divergent NUTS transitions of {self.n_draws} draws: the intervals may be biased; sample with a higher "
-                         f"target_accept (smaller steps: 0.95 or 0.99, the default {TARGET_ACCEPT}) or a longer warmup")
+                         f"target_accept= (smaller steps: 0.95 or 0.99, the default {TARGET_ACCEPT}) or a longer warmup= (the default {DEFAULT_WARMUP})")
         other_rhat, other_ess = self._other_mixing()
         chains, per_chain = self.mu.shape[:2]
-        more = f"run more draws per chain ({per_chain} now; impedax gap: --steps) or more chains ({chains} now)"
+        more = f"run more draws per chain ({per_chain} now): draws={2 * per_chain}, or more chains ({chains} now): chains={2 * chains}"
         bad = {k: r for k, r in {**self.rhat(), **other_rhat}.items() if not r < 1.05}
         if bad:
             notes.append(f"R-hat above 1.05 for {', '.join(f'{mixing_name(k)} ({r:.3g})' for k, r in bad.items())}: the chains disagree, so the intervals are not yet the posterior's; {more}")
@@ -1293,7 +1299,7 @@ def sample_hierarchical(
     discrepancy: bool = True,
     session_spread_scale: float = 0.1,
     chains: int = 4,
-    warmup: int = 400,
+    warmup: int = DEFAULT_WARMUP,
     draws: int = 400,
     target_accept: float = TARGET_ACCEPT,
     parameterisation: str = "auto",
