@@ -71,3 +71,27 @@ def test_a_thinned_chain_too_short_for_tau_says_to_thin_less(capsys, spectrum):
     assert "30 draws per walker after burn-in and thinning by 10, too few to estimate τ" in post.waic_note and "thin less (thin=) or run more steps" in post.waic_note
     text = _run(capsys, spectrum, 400, "--thin", "10")
     assert "thin less (--thin) or run more steps" in text and "thin=" not in text
+
+
+def test_compare_says_which_waic_is_one_to_compare_models_by(spectrum):
+    """`impedax.compare` of posteriors reported ``log_evidence_reliable`` but nothing of WAIC, and
+    its table sent a model with an unreliable log evidence to "compare these models by WAIC" even
+    when that WAIC came from a chain too short to trust (2026-12-06). Each row now has
+    ``waic_reliable`` (added, also in the JSON): false for the 40-step chain (30 draws per walker,
+    below 50, the rule of the note beside WAIC), true for the 100-step one (75)."""
+    from impedax.io.export import to_jsonable
+
+    data = ix.load(spectrum)
+    short = ix.sample("R0 + R1 || C1", data, steps=40, walkers=16, progress=False)
+    long = ix.sample("R0 + R1 || C1", data, steps=100, walkers=16, progress=False)
+    assert (short.n_draws, long.n_draws) == (30, 75) and short.waic_note and not long.waic_note
+    assert not any(w.startswith("WAIC ") for w in long.warnings)  # (nor is the long one's flagged otherwise)
+    c = ix.compare([short, long])
+    assert [r["waic_reliable"] for r in c.rows] == [False, True]
+    doc = json.loads(json.dumps(to_jsonable(c.summary()), allow_nan=False))
+    assert [m["waic_reliable"] for m in doc["models"]] == [False, True] and "log_evidence_reliable" in doc["models"][0]  # (keys only added)
+    table = c.table().splitlines()
+    short_row = next(line for line in table if line.startswith(c.rows[0]["label"] + " "))
+    long_row = next(line for line in table if line.startswith(c.rows[1]["label"] + " "))
+    assert f"{short.waic:.2f}*" in short_row.split() and f"{long.waic:.2f}" in long_row.split()
+    assert any(line.startswith("* WAIC undefined, from a chain too short to estimate τ") and line.endswith(f"{c.rows[0]['label']}; do not compare models by it") for line in table)

@@ -19,7 +19,7 @@ from ..data import column_width, format_quantity, report_text
 from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
-from .bayes.evidence import EVIDENCE_NOTE_LEAD
+from .bayes.evidence import EVIDENCE_NOTE_LEAD, WAIC_NOTE_LEAD
 from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
 from .frozen import FrozenResult, freeze_fields
 from .problem import WEIGHTING_SCALES
@@ -485,8 +485,13 @@ class Comparison(FrozenResult):
         if hint is not None:
             lines.append(f"{self.rows[best]['label']} (the best): {hint}")
         unreliable = [r["label"] for r in self.rows if r.get("log_evidence_reliable") is False]
-        if unreliable:
-            lines.append(f"{UNRELIABLE_MARK} log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {', '.join(unreliable)}; compare these models by WAIC")
+        waic_doubts = [r["label"] for r in self.rows if r.get("waic_reliable") is False]
+        if unreliable:  # (WAIC named as the way out only where every model's is sound: 2026-12-06)
+            lines.append(f"{UNRELIABLE_MARK} log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {', '.join(unreliable)}"
+                         + ("; compare these models by WAIC" if not waic_doubts else ""))
+        if waic_doubts:
+            lines.append(f"{UNRELIABLE_MARK} WAIC undefined, from a chain too short to estimate τ, or unreliable by the posterior's own warnings (listed with the model's): "
+                         f"{', '.join(waic_doubts)}; do not compare models by it")
         lines += self._criteria_lines()
         for t in self.f_tests:
             test = (f"F = {t['f']:.3g}, p = {t['p_value']:.3g}" + (f" ({t['note']})" if t.get("note") else "")) if t.get("valid", True) else f"no test: {t['note']}"
@@ -496,9 +501,9 @@ class Comparison(FrozenResult):
     @staticmethod
     def _extra_cell(row: dict, column: str) -> str:
         """A posterior column's cell: the value, marked `UNRELIABLE_MARK` when it is a log
-        evidence the posterior's warnings call unreliable."""
+        evidence or a WAIC the row calls unreliable (``log_evidence_reliable``, ``waic_reliable``)."""
         value = f"{row.get(column, math.nan):.2f}"
-        return value + UNRELIABLE_MARK if column == "log_evidence" and row.get("log_evidence_reliable") is False else value
+        return value + UNRELIABLE_MARK if row.get(f"{column}_reliable") is False else value
 
     def _criteria_lines(self) -> list[str]:
         """What the table says of its criteria: the AIC of known noise under sigma weighting (and
@@ -669,6 +674,8 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
                 row[extra] = float(value() if callable(value) else value)
         if "log_evidence" in row:
             row["log_evidence_reliable"] = math.isfinite(row["log_evidence"]) and not any(w.startswith(EVIDENCE_NOTE_LEAD) for w in _own_warnings(item))
+        if "waic" in row:
+            row["waic_reliable"] = _waic_reliable(item, row["waic"])  # (added 2026-12-06)
         rows.append(row)
     for j, r in enumerate(results):  # a fit another model also gives: the data cannot tell them apart
         twin = next((rows[i]["label"] for i in range(len(results)) if i != j and _same_fit(results[i], r)), None)
@@ -701,6 +708,14 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
             tests.append(test)
     results = [_model_not_data(r, i, results, labels, tests, [row["aic"] for row in rows]) for i, r in enumerate(results)]
     return Comparison(tuple(rows), tuple(tests), tuple(results), ics[0]["aic_form"])
+
+
+def _waic_reliable(item, value: float) -> bool:
+    """Whether a posterior's WAIC is a score to compare models by: finite, not from a chain too
+    short to estimate τ (its ``waic_note``, the rule of the note `sample`'s report prints beside
+    WAIC: `evidence.short_chain_waic_note`) and not called unreliable by its own warnings (those
+    beginning "WAIC ", `evidence.WAIC_NOTE_LEAD`: p_waic over twice the parameters)."""
+    return math.isfinite(value) and not getattr(item, "waic_note", "") and not any(w.startswith(WAIC_NOTE_LEAD) for w in _own_warnings(item))
 
 
 def _own_warnings(item) -> list[str]:
