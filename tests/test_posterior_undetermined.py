@@ -89,12 +89,12 @@ def test_a_parameter_whose_draws_pile_up_at_its_prior_edge_is_marked_as_the_unde
     rows = {line.split()[0]: line for line in post.report().splitlines() if line.split() and line.split()[0] in post.names}
     assert rows["C_gap"].endswith("← AT PRIOR EDGE"), rows["C_gap"]
     assert "←" not in rows["CPE_EP.Q"] and "←" not in rows["sigma_rel"]
-    assert "← C_gap: their draws pile up against an edge of their prior or bound" in post.report()
+    assert "← C_gap: its draws pile up against an edge of its prior or bound" in post.report()
     assert post.summary()["piled_up"]["C_gap"] == "lower"
     table = {r["name"]: r["at_prior_edge"] for r in post.to_table()}  # (the CSV's column and the notebook view's mark, 2026-12-06)
     assert table["C_gap"] and not table["CPE_EP.Q"] and not table["sigma_rel"]
     assert post.summary()["at_prior_edge"] == ["C_gap"] and "C_gap" not in post.summary()["undetermined"]
-    assert "← C_gap: their draws pile up" in post._repr_html_()
+    assert "← C_gap: its draws pile up" in post._repr_html_()
 
 
 def test_the_table_and_the_notebook_view_mark_the_undetermined_rows(pad_posterior, tmp_path):
@@ -113,3 +113,22 @@ def test_the_table_and_the_notebook_view_mark_the_undetermined_rows(pad_posterio
     assert "NOT DETERMINED" in html_rows["C_EP"] and "NOT DETERMINED" in html_rows["u"]
     assert "NOT DETERMINED" not in html_rows["R_EP"] and "NOT DETERMINED" not in html_rows["sigma_rel"]
     assert "← C_EP, u: not determined by the data" in post._repr_html_()
+
+
+def test_an_undefined_waic_reads_undefined_in_text_and_null_in_json(pad_posterior):
+    """The evidence line printed "WAIC = nan (p_waic nan)" where the Laplace part beside it said
+    "undefined" (2026-12-06); the JSON keeps null for it (docs/bayesian.md, "Command line")."""
+    import dataclasses
+    import json
+    import math
+
+    from impedax.io.export import to_jsonable
+
+    post = dataclasses.replace(pad_posterior, waic=math.nan, p_waic=math.nan)
+    evidence = next(line for line in post.report().splitlines() if line.startswith("evidence"))
+    assert evidence.endswith("WAIC undefined (see the warnings)") and "nan" not in evidence
+    assert "WAIC undefined" in post._repr_html_() and "WAIC nan" not in post._repr_html_()
+    doc = json.loads(json.dumps(to_jsonable(post.summary()), allow_nan=False))
+    assert doc["waic"] is None and doc["p_waic"] is None  # (as before: an unknown figure is null)
+    finite = next(line for line in pad_posterior.report().splitlines() if line.startswith("evidence"))
+    assert f"WAIC = {pad_posterior.waic:.2f} (p_waic {pad_posterior.p_waic:.3g})" in finite

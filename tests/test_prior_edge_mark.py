@@ -55,7 +55,7 @@ def test_a_row_at_its_prior_edge_is_marked_so_not_undetermined(posterior, tmp_pa
     assert rows["R0"].endswith("← AT PRIOR EDGE"), rows["R0"]
     assert not [n for n, line in rows.items() if "←" in line and n != "R0"]
     assert "NOT DETERMINED" not in post.report()
-    assert "← R0: their draws pile up against an edge of their prior or bound" in post.report()
+    assert "← R0: its draws pile up against an edge of its prior or bound" in post.report()
     summary = post.summary()
     assert summary["at_prior_edge"] == ["R0"] and summary["undetermined"] == [] and summary["piled_up"] == {"R0": "lower"}
     table = {r["name"]: r for r in post.to_table()}

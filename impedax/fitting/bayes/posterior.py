@@ -76,13 +76,22 @@ def _quantiles_by_name(q: xr.Dataset, names) -> dict[str, dict[str, float]]:
 UNDETERMINED_MARK = "← NOT DETERMINED"
 UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule: an unidentified group, a relative standard error above 100 %, or a term that vanishes from Z, such as a resistor open at ∞); "
                      "their intervals show where the priors take over, not a measurement: fix one of a group from another measurement, or report what the data fix")
-"""The report's mark on a row of `Posterior.undetermined` and the line under its table."""
+"""The report's mark on a row of `Posterior.undetermined` and the line under its table (of
+several rows; one row's: `UNDETERMINED_ROW`)."""
+UNDETERMINED_ROW = ("not determined by the data (the least-squares start's rule: an unidentified group, a relative standard error above 100 %, or a term that vanishes from Z, such as a resistor open at ∞); "
+                    "its interval shows where the priors take over, not a measurement: fix it (or another of its group) from another measurement, or report what the data fix")
+"""`UNDETERMINED_ROWS` of a single row (2026-12-06: "their intervals" of one parameter)."""
 EDGE_SET_MARK = "← AT PRIOR EDGE"
 EDGE_SET_ROWS = ("their draws pile up against an edge of their prior or bound: that edge, not the data, sets one end of their intervals, "
                  "so their medians are no measurement either; the warnings say which end and what to do, or report only the end the data set")
 """The report's mark on a row of `PiledUp.set_by_prior_edge` the start fit's rule leaves out
 (until 2026-12-06 `UNDETERMINED_MARK`, under which this line explained a pile-up: REAL
-exampleDataGamry.DTA's R0) and the line under its table (added 2026-12-06)."""
+exampleDataGamry.DTA's R0) and the line under its table (added 2026-12-06), of several rows; one
+row's: `EDGE_SET_ROW`."""
+EDGE_SET_ROW = ("its draws pile up against an edge of its prior or bound: that edge, not the data, sets one end of its interval, "
+                "so its median is no measurement either; the warnings say which end and what to do, or report only the end the data set")
+"""`EDGE_SET_ROWS` of a single row (2026-12-06: REAL exampleDataGamry.DTA's R0 alone read "their
+draws … their intervals … their medians")."""
 
 
 def fixed_rows(fixed: Mapping[str, float], specs) -> list[dict[str, object]]:
@@ -98,7 +107,8 @@ def marked_rows(undetermined: Sequence[str], set_by_edge: Sequence[str]) -> tupl
     `EDGE_SET_MARK` on the others whose draws pile up at a prior's or bound's edge (``set_by_edge``,
     `PiledUp.set_by_prior_edge`), each group with its reason."""
     piled = [n for n in set_by_edge if n not in undetermined]
-    lines = [f"← {', '.join(names)}: {why}" for names, why in ((list(undetermined), UNDETERMINED_ROWS), (piled, EDGE_SET_ROWS)) if names]
+    groups = ((list(undetermined), UNDETERMINED_ROW, UNDETERMINED_ROWS), (piled, EDGE_SET_ROW, EDGE_SET_ROWS))
+    lines = [f"← {', '.join(names)}: {one if len(names) == 1 else several}" for names, one, several in groups if names]
     return {**{n: UNDETERMINED_MARK for n in undetermined}, **{n: EDGE_SET_MARK for n in piled}}, lines
 
 
@@ -382,7 +392,7 @@ class Posterior(PiledUp, FrozenResult):
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}" + (f"; here {self.settings['sigma_origin']}" if self.settings.get("sigma_origin") else ""),
             f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
             (f"evidence   Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "evidence   Laplace ln Z undefined (see the warnings)")
-            + f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})",
+            + (f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})" if math.isfinite(self.waic) else "    WAIC undefined (see the warnings)"),
             *([f"           {self.waic_note}"] if self.waic_note else []),
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  {'unit':<{unit_width}}  prior",
@@ -489,7 +499,7 @@ class Posterior(PiledUp, FrozenResult):
         lines = [
             f"emcee: {self.n_walkers} walkers × {self.n_draws} draws, acceptance {self.mean_acceptance:.3f}; "
             + (f"Laplace ln Z {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "Laplace ln Z undefined")
-            + f", WAIC {self.waic:.2f}",
+            + (f", WAIC {self.waic:.2f}" if math.isfinite(self.waic) else ", WAIC undefined"),
             *([self.waic_note] if self.waic_note else []),
             *marked_rows(self.undetermined, self.set_by_prior_edge)[1],
             *self.warnings,
