@@ -40,3 +40,18 @@ def test_mixing_warnings_use_the_reports_words_and_say_what_to_do():
 
 def test_the_names_are_the_reports():
     assert [mixing_name(k) for k in ("mu[R_EP]", "spread[CPE1.Q]", "delta", "R0")] == ["R_EP (population median)", "CPE1.Q (spread)", "discrepancy δ", "R0"]
+
+
+def test_one_quantity_of_low_ess_is_spoken_of_in_the_singular():
+    """"effective sample size below 100 for R1 (spread) (…): their medians are uncertain and their
+    90 % intervals' ends more so" spoke of one quantity in the plural (2026-12-06). SYNTHETIC: the
+    spread of R1 a slow random walk (ESS ≪ 100), everything else iid."""
+    rng = np.random.default_rng(0)
+    post = by_hand(1)
+    walk = 0.01 * np.cumsum(rng.standard_normal((CHAINS, DRAWS)), axis=1) / np.sqrt(DRAWS)
+    walk -= walk.mean(axis=1, keepdims=True)
+    mu = np.log(100.0) + 0.01 * rng.standard_normal((CHAINS, DRAWS))
+    shared = np.array(post.shared) * np.exp(0.001 * rng.standard_normal(post.shared.shape))
+    post = dataclasses.replace(post, mu=mu[..., None], spread=(0.1 * np.exp(walk))[..., None], shared=shared)
+    (ess,) = [w for w in post.warnings if w.startswith("effective sample size below 100 for")]
+    assert ess.startswith("effective sample size below 100 for R1 (spread) (") and ": its median is uncertain and its 90 % interval's ends more so; " in ess

@@ -857,8 +857,9 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             notes.append(f"R-hat above 1.05 for {', '.join(f'{mixing_name(k)} ({r:.3g})' for k, r in bad.items())}: the chains disagree, so the intervals are not yet the posterior's; {more}")
         low = {k: e for k, e in {**self.ess(), **other_ess}.items() if e < 100}
         if low:
+            whose = "their medians are uncertain and their 90 % intervals' ends" if len(low) > 1 else "its median is uncertain and its 90 % interval's ends"  # (one quantity: singular, 2026-12-06)
             notes.append(f"effective sample size below 100 for {', '.join(f'{mixing_name(k)} ({e:.0f})' for k, e in low.items())} of {self.n_draws} draws: "
-                         f"their medians are uncertain and their 90 % intervals' ends more so; {more}")
+                         f"{whose} more so; {more}")
         notes.extend(self._prior_edges.warnings)
         return tuple(notes)
 
