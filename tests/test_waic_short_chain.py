@@ -95,3 +95,20 @@ def test_compare_says_which_waic_is_one_to_compare_models_by(spectrum):
     long_row = next(line for line in table if line.startswith(c.rows[1]["label"] + " "))
     assert f"{short.waic:.2f}*" in short_row.split() and f"{long.waic:.2f}" in long_row.split()
     assert any(line.startswith("* WAIC undefined, from a chain too short to estimate τ") and line.endswith(f"{c.rows[0]['label']}; do not compare models by it") for line in table)
+
+
+def test_the_evidence_note_does_not_send_a_short_chain_to_its_waic():
+    """REAL exampleDataGamry.DTA with R0 + R1 || CPE1 and 40 steps (30 draws per walker): the
+    report said "do not compare models by this WAIC" beside WAIC and, in the Laplace evidence's
+    warning, "Compare models by WAIC" (2026-12-06). The note now sends a chain that short to a
+    longer chain; 300 steps (225 draws per walker) keep the WAIC remedy."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleDataGamry.DTA")
+    short = ix.sample("R0 + R1 || CPE1", data, steps=40, seed=1, progress=False)
+    (note,) = [w for w in short.warnings if w.startswith("Laplace log evidence is unreliable")]
+    assert short.waic_note and "Compare models by WAIC" not in note
+    assert note.endswith("WAIC, from a chain too short to estimate τ, is no score to compare models by either (see the note beside it): run a longer chain, or fix or bound that parameter")
+    longer = ix.sample("R0 + R1 || CPE1", data, steps=300, seed=1, progress=False)
+    (note,) = [w for w in longer.warnings if w.startswith("Laplace log evidence is unreliable")]
+    assert not longer.waic_note and note.endswith("Compare models by WAIC, or fix or bound that parameter")

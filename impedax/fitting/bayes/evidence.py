@@ -139,7 +139,8 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
     naming them with both widths. A Gaussian far wider than the draws is blamed on a parameter
     left to its prior or cut off by a prior's edge or a bound, and, unless the chain is known to
     have ``converged``, on draws not yet spread out (a converged REAL Gamry chain was sent to "see
-    its warning" of a chain too short, which it did not have, 2026-12-06)."""
+    its warning" of a chain too short, which it did not have, 2026-12-06). The remedy names WAIC
+    only where the chain is long enough for it (`short_chain_waic_note`'s rule)."""
     laplace_sd = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     draws_sd = chain_y.reshape(-1, chain_y.shape[-1]).std(axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -156,10 +157,12 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
         why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or one whose draws a prior's edge or a bound cuts off (see its pile-up warning, if any)"
     else:
         why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or draws that have not yet spread over the posterior (a chain too short: see its warning)"
-    return (
-        f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. "
-        "Compare models by WAIC, or fix or bound that parameter"
-    )
+    # (a chain too short to estimate τ has a WAIC `short_chain_waic_note` says not to compare
+    # models by: until 2026-12-06 this note sent the user to it in the same report, REAL
+    # exampleDataGamry.DTA with R0 + R1 || CPE1 and --steps 40)
+    remedy = ("Compare models by WAIC, or fix or bound that parameter" if chain_y.shape[1] >= CHAIN_TAU_MULTIPLE else
+              "WAIC, from a chain too short to estimate τ, is no score to compare models by either (see the note beside it): run a longer chain, or fix or bound that parameter")
+    return f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. {remedy}"
 
 
 START_BEYOND_SIGMA = "beyond sigma"
