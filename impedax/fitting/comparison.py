@@ -501,8 +501,12 @@ class Comparison(FrozenResult):
     @staticmethod
     def _extra_cell(row: dict, column: str) -> str:
         """A posterior column's cell: the value, marked `UNRELIABLE_MARK` when it is a log
-        evidence or a WAIC the row calls unreliable (``log_evidence_reliable``, ``waic_reliable``)."""
-        value = f"{row.get(column, math.nan):.2f}"
+        evidence or a WAIC the row calls unreliable (``log_evidence_reliable``, ``waic_reliable``);
+        "undefined" for a value that is not finite and "—" in a least-squares fit's row, which has
+        none (both read "nan" until 2026-12-06, where the AICc column writes "—")."""
+        if column not in row:
+            return "—"
+        value = f"{row[column]:.2f}" if math.isfinite(row[column]) else "undefined"
         return value + UNRELIABLE_MARK if row.get(f"{column}_reliable") is False else value
 
     def _criteria_lines(self) -> list[str]:
