@@ -17,7 +17,8 @@ from impedax.fitting.least_squares.result import UNEVEN_NOISE_NOTE
 def test_the_cause_is_the_noise_model_not_the_chain():
     chain = np.random.default_rng(0).normal(size=(8, 200, 3))
     text = waic_cause(chain, ["a", "b", "c"], start_y=np.zeros(3), model_misfit=START_UNEVEN_NOISE)
-    assert text.startswith("the noise model gives every point one relative σ") and "--noise sigma" in text and "run more steps" not in text
+    assert text.startswith("the noise model gives every point one relative σ") and "run more steps" not in text
+    assert "(a sigma column of the file or make_spectrum(sigma=...), and noise='sigma')" in text and "--" not in text  # (Python's words; both until 2026-12-06)
     # the start's note decides it, under proportional noise only
     start = SimpleNamespace(warnings=(f"the weighted residuals are over 4× larger (rms) at 1 Hz – 5.01 Hz ...: {UNEVEN_NOISE_NOTE} (modulus weighting), so ...",),
                             weighting="modulus", chi2_red=1.0)

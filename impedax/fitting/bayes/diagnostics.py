@@ -490,7 +490,7 @@ def prior_edges(
                 out.append(f"{n} follows its prior {prior} into the {side} tail ({where}): the data do not cut that tail off, so the prior, not the data, sets {interval}")
             elif end == bound and side in user_sides.get(n, ()):
                 out.append(
-                    f"{n} piles up against its {side} bound {at}, the bound you set (bounds=, --bound) ({where}): your bound, not the data, sets {interval}; "
+                    f"{n} piles up against its {side} bound {at}, the bound you set (bounds=) ({where}): your bound, not the data, sets {interval}; "  # (impedax sample: "(--bound)", `cli.common.command_line_words`; both, in Python too, until 2026-12-06)
                     f"the data want {beyond} values — widen {n}'s bound if they are plausible"
                 )
             elif end == bound and reductions.get(n, ("",))[0] == side:

@@ -207,7 +207,7 @@ def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), s
             0,
             "the noise model gives every point one relative σ, while the start fit's residuals are several times larger in one band (see its note): "
             "there σ is too small, and the draws' small moves change those points' log-likelihood by much more than one; give the data's σ "
-            "(a sigma column, --noise sigma) or leave that band out before comparing models by WAIC — more steps do not mend it"
+            "(a sigma column of the file or make_spectrum(sigma=...), and noise='sigma') or leave that band out before comparing models by WAIC — more steps do not mend it"  # (impedax sample: "--noise sigma", `cli.common.command_line_words`; "--noise sigma" in Python too until 2026-12-06)
         )
     elif model_misfit == START_BEYOND_SIGMA and not excluded and not away:
         causes.insert(
