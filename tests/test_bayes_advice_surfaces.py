@@ -44,3 +44,15 @@ def test_impedax_sample_names_its_options():
     assert "the bound you set (--bound) (" in bound and "bounds=" not in bound and "--bound" in options
     noise = command_line_words(_uneven_noise(), "sample")
     assert "(a sigma column of the file or a 'sigma' variable of a netCDF file, and --noise sigma)" in noise and "=" not in noise and "--noise" in options
+
+
+def test_the_evidence_note_leaves_waic_out_where_waic_has_a_note_of_its_own():
+    """(2026-12-06) "Compare models by WAIC" beside "Do not compare models by this WAIC"."""
+    from impedax.fitting.bayes.evidence import EVIDENCE_NOTE_LEAD, WAIC_REMEDY, evidence_note_beside_waic
+
+    note = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along R0. {WAIC_REMEDY}"
+    assert evidence_note_beside_waic(note, "") == note
+    kept = evidence_note_beside_waic(note, "WAIC is unreliable: … Do not compare models by this WAIC")
+    assert kept == f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along R0. WAIC is no score to compare models by either (see its warning): fix or bound that parameter"
+    other = f"{EVIDENCE_NOTE_LEAD}undefined: the Hessian at the MAP is not finite"
+    assert evidence_note_beside_waic(other, "WAIC undefined: non-finite likelihood at the draws") == other

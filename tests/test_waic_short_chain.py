@@ -112,3 +112,23 @@ def test_the_evidence_note_does_not_send_a_short_chain_to_its_waic():
     longer = ix.sample("R0 + R1 || CPE1", data, steps=300, seed=1, progress=False)
     (note,) = [w for w in longer.warnings if w.startswith("Laplace log evidence is unreliable")]
     assert not longer.waic_note and note.endswith("Compare models by WAIC, or fix or bound that parameter")
+
+
+def test_the_evidence_note_does_not_send_users_to_a_waic_its_own_warning_calls_unreliable(spectrum, monkeypatch):
+    """A posterior whose Laplace evidence is unreliable and whose WAIC is too carried both
+    "Compare models by WAIC" and "Do not compare models by this WAIC" (2026-12-06). Both notes are
+    forced here on a real run of SYNTHETIC data (the pair is rare on real files: REAL Gamry and
+    BioLogic runs gave one or the other); the posterior keeps the evidence's note without the
+    WAIC remedy."""
+    from impedax.fitting.bayes import sampler
+    from impedax.fitting.bayes.evidence import EVIDENCE_NOTE_LEAD, WAIC_REMEDY
+
+    evidence_note = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along R0. {WAIC_REMEDY}"
+    waic_note = "WAIC is unreliable: p_waic over 2 × the sampled parameters. Do not compare models by this WAIC"
+    real_evidence, real_waic = sampler.laplace_evidence, sampler.waic
+    monkeypatch.setattr(sampler, "laplace_evidence", lambda *a, **k: real_evidence(*a, **k)._replace(note=evidence_note))
+    monkeypatch.setattr(sampler, "waic", lambda *a, **k: real_waic(*a, **k)._replace(note=waic_note))
+    post = ix.sample("R0 + R1 || C1", ix.load(spectrum), steps=100, walkers=16, progress=False)
+    (note,) = [w for w in post.warnings if w.startswith(EVIDENCE_NOTE_LEAD)]
+    assert "Compare models by WAIC" not in note and note.endswith("WAIC is no score to compare models by either (see its warning): fix or bound that parameter")
+    assert waic_note in post.warnings

@@ -17,7 +17,7 @@ from ...data import format_frequency
 from .diagnostics import kept_draws_text, more_draws_advice
 from .logprob import LogProbArgs, LogProbFunctions
 
-__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "START_UNEVEN_NOISE", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS", "short_chain_waic_note"]
+__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "START_UNEVEN_NOISE", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS", "short_chain_waic_note", "WAIC_REMEDY", "evidence_note_beside_waic"]
 
 LAPLACE_WIDTH_RATIO = 2.0
 """The Laplace log evidence is flagged unreliable when, for some parameter, the Gaussian at the
@@ -133,6 +133,21 @@ def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFun
     return LaplaceEvidence(lp_map + 0.5 * d * math.log(2 * math.pi) - 0.5 * float(np.sum(np.log(eig))), y_map, note)
 
 
+WAIC_REMEDY = "Compare models by WAIC, or fix or bound that parameter"
+"""How a note of `laplace_evidence` on a posterior far from Gaussian ends (`_width_note`): the way
+out it names, unless `evidence_note_beside_waic` takes WAIC out of it."""
+
+
+def evidence_note_beside_waic(evidence_note: str, waic_note: str) -> str:
+    """The Laplace evidence's note as the posterior keeps it beside WAIC's: where WAIC has a note
+    of its own (unreliable or undefined, `waic`), not sending the user to compare models by it
+    (until 2026-12-06 one posterior's warnings could say "Compare models by WAIC" and "Do not
+    compare models by this WAIC")."""
+    if not waic_note or not evidence_note.endswith(WAIC_REMEDY):
+        return evidence_note
+    return evidence_note[: -len(WAIC_REMEDY)] + "WAIC is no score to compare models by either (see its warning): fix or bound that parameter"
+
+
 def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str] | None, converged: bool | None = None) -> str:
     """"" when every parameter's Laplace sd (from ``covariance``) is within
     `LAPLACE_WIDTH_RATIO` of its draws' sd in ``chain_y`` (walker, draw, param); else a note
@@ -160,7 +175,7 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
     # (a chain too short to estimate τ has a WAIC `short_chain_waic_note` says not to compare
     # models by: until 2026-12-06 this note sent the user to it in the same report, REAL
     # exampleDataGamry.DTA with R0 + R1 || CPE1 and --steps 40)
-    remedy = ("Compare models by WAIC, or fix or bound that parameter" if chain_y.shape[1] >= CHAIN_TAU_MULTIPLE else
+    remedy = (WAIC_REMEDY if chain_y.shape[1] >= CHAIN_TAU_MULTIPLE else
               "WAIC, from a chain too short to estimate τ, is no score to compare models by either (see the note beside it): run a longer chain, or fix or bound that parameter")
     return f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. {remedy}"
 

@@ -30,7 +30,7 @@ from .chain import (
     support_in_sampled_space, undetermined_span,
 )
 from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
-from .evidence import START_BEYOND_SIGMA, START_UNEVEN_NOISE, laplace_evidence, waic
+from .evidence import START_BEYOND_SIGMA, START_UNEVEN_NOISE, evidence_note_beside_waic, laplace_evidence, waic
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting, walkers_log_prob
 from .posterior import Posterior
 from ...progress import quiet_beneath
@@ -532,7 +532,7 @@ def sample(
     evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names, converged=converged)
     start_y = np.where(np.asarray(space.log_scale), np.log(np.maximum(np.asarray(fitted, float), np.finfo(float).tiny)), np.asarray(fitted, float))
     information = waic(chain.chain_y, args, functions, excluded, names=space.names, start_y=start_y, converged=converged, model_misfit=_start_misfit(init, noise))
-    notes += [note for note in (evidence.note, information.note) if note]
+    notes += [note for note in (evidence_note_beside_waic(evidence.note, information.note), information.note) if note]
     log_scale = np.asarray(space.log_scale)
     map_x = np.where(log_scale, np.exp(evidence.map_y), evidence.map_y)
     return Posterior(
