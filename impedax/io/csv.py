@@ -29,7 +29,7 @@ from ._common import CUT_SHORT, Skipped, decimal_comma, decode_text, finish, rea
 from .atomic import atomic_path
 from .export import table_cell
 from .table import (
-    NUMBER_CELL, PREAMBLE_ROWS_MAX, SWEEP_RTOL, Layout, NoLayout, detect_layout, find_header, header_layout, preamble_note, spectrum_from_rows,
+    NUMBER_CELL, PREAMBLE_ROWS_MAX, SWEEP_RTOL, Layout, NoLayout, RowBlock, detect_layout, find_header, header_layout, preamble_note, spectrum_from_rows,
     units_row_note,
 )
 
@@ -58,7 +58,9 @@ def split_line(line: str, delimiter: str | None) -> list[str]:
     if not delimiter:
         return line.split()
     if '"' not in line:
-        return [c.strip() for c in line.split(delimiter)]
+        cells = line.split(delimiter)
+        # (no space and nothing unprintable: no whitespace in the line, so no cell to strip; a long file's rows skip the strip)
+        return cells if " " not in line and line.isprintable() else [c.strip() for c in cells]
     try:
         return [c.strip() for c in next(_csv.reader([line], delimiter=delimiter, skipinitialspace=True))]
     except _csv.Error:  # (a quoted cell beyond the csv module's field limit): the cells as split
@@ -242,7 +244,7 @@ def read_csv(path: str | Path) -> xr.Dataset:
     except DataError:
         raise NoLayout("its bytes are not text (UTF-8, Latin-1 or UTF-16)", path=path) from None
     all_lines = text.splitlines()
-    lines = [(i + 1, ln) for i, ln in enumerate(all_lines) if ln.strip() and not ln.lstrip().startswith(COMMENT_MARKS)]
+    lines = [(i + 1, ln) for i, ln in enumerate(all_lines) if (bare := ln.lstrip()) and not bare.startswith(COMMENT_MARKS)]
     if not lines:
         raise NoLayout("file is empty (no header, no data)", path=path)
     header_no, header = lines[0]
@@ -287,12 +289,13 @@ def read_csv(path: str | Path) -> xr.Dataset:
         _check_last_row_complete(path, layout, rows, delimiter)
     skipped = Skipped()  # (a comment line inside the table, "# electrode re-seated here", is reported, not dropped unseen)
     last = rows[-1][0] if rows else header_no
-    for number, text_line in enumerate(all_lines[header_no:last], start=header_no + 1):
-        if text_line.lstrip().startswith(COMMENT_MARKS):
-            skipped.add(number, f"comment line ({text_line.strip()[:40]!r})")
+    if last - header_no > len(rows) + ("units_row" in attrs):  # (a line within the table that is no row: blank, or a comment)
+        for number, text_line in enumerate(all_lines[header_no:last], start=header_no + 1):
+            if text_line.lstrip().startswith(COMMENT_MARKS):
+                skipped.add(number, f"comment line ({text_line.strip()[:40]!r})")
     headerless = "interpretation" in attrs
     try:
-        ds = spectrum_from_rows(path, layout, [(n, split_line(ln, delimiter)) for n, ln in rows], attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True, skipped=skipped, delimited=True)
+        ds = spectrum_from_rows(path, layout, _split_rows(rows, delimiter), attrs, comma=comma, delimiter=delimiter, header_line=header_no, split_sweeps=True, skipped=skipped, delimited=True)
     except DataError:
         columns = _headerless_columns(rows, delimiter, comma) if headerless else None
         if columns is not None:  # (Z'', Z', f fails as 'frequency must be positive': the column order is the cause)
@@ -301,8 +304,29 @@ def read_csv(path: str | Path) -> xr.Dataset:
     if headerless and ds["Z"].ndim == 1:  # (the columns in file order, but for DC rows: `finish` never reorders)
         _check_headerless_order(path, rows[0][0], [ds["frequency"].values, ds["Z"].values.real, ds["Z"].values.imag])
     if not headerless:
-        ds.attrs.update(_written_provenance(list(layout.header), [split_line(ln, delimiter) for _, ln in rows], path))
+        ds.attrs.update(_written_provenance(list(layout.header), [ln for _, ln in rows], delimiter, path))
     return ds
+
+
+def _split_rows(rows: list[tuple[int, str]], delimiter: str | None) -> RowBlock | list[tuple[int, list[str]]]:
+    """``(line, split_line(text))`` of each row: a `RowBlock`, split at once, when no cell is
+    quoted and every row has as many cells as the first (a 200,000-row file split row by row
+    spent most of its second in the garbage collector); else a list, row by row."""
+    texts = [text for _, text in rows]
+    if not texts or any('"' in text for text in texts):
+        return [(n, split_line(text, delimiter)) for n, text in rows]
+    if delimiter is None:
+        counts = [len(text.split()) for text in texts]
+        cells = "\n".join(texts).split()
+    else:
+        counts = [text.count(delimiter) + 1 for text in texts]
+        cells = delimiter.join(texts).split(delimiter)
+        block = "".join(texts)
+        if " " in block or not block.isprintable():  # (as split_line strips them)
+            cells = [cell.strip() for cell in cells]
+    if counts.count(counts[0]) != len(counts) or counts[0] < 1:
+        return [(n, split_line(text, delimiter)) for n, text in rows]
+    return RowBlock([n for n, _ in rows], cells, counts[0])
 
 
 def _setting_value(cell: str):
@@ -320,7 +344,7 @@ def _setting_value(cell: str):
     return cell
 
 
-def _written_provenance(header: list[str], rows: list[list[str]], path: Path) -> dict[str, object]:
+def _written_provenance(header: list[str], rows: list[str], delimiter: str | None, path: Path) -> dict[str, object]:
     """The provenance of a CSV impedax wrote (`impedax.io.provenance.provenance_columns` after
     the spectrum's columns, the same on every row) as a netCDF file of it holds it: the attrs
     ``impedax_version``, ``written_utc``, ``provenance`` (the record as JSON text: command,
@@ -336,6 +360,7 @@ def _written_provenance(header: list[str], rows: list[list[str]], path: Path) ->
     keys = ("impedax_version", "written_utc", "command", "source", "data_files")
     if not rows or not all(k in names for k in keys):
         return {}
+    rows = [split_line(row, delimiter) for row in rows]  # (split only here: a table of other columns is not split again)
     at = {name: names.index(name) for name in names if name in keys or name.startswith("setting_")}
     cells = {name: {row[i] if i < len(row) else "" for row in rows} for name, i in at.items()}
     if any(len(values) != 1 for values in cells.values()):

@@ -26,7 +26,7 @@ from ..errors import DataError, SweepGridsDiffer
 from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, radians_beyond_turn_note, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
-           "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
+           "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "RowBlock", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
 
 
 _IMAG = {"z_imag", "z_im", "im_z", "im(z)", "imag(z)", "z''", "imag", "imaginary", "zi", "imagz", "zimg", "z''(b)", "zimaginary"}
@@ -616,6 +616,79 @@ def _first_decimal_comma(rows: Sequence[tuple[int, Sequence[str]]], delimiter: s
     return None
 
 
+class RowBlock:
+    """Rows of a table that all have ``width`` cells, held as one flat list, row after row, with
+    each row's line: a long table split at once, without a list per row (200,000 lists held at
+    once cost Python's garbage collector several times what splitting them does). Iterates as
+    the ``(line, cells)`` pairs `spectrum_from_rows` takes; `column` gives one column's cells."""
+
+    __slots__ = ("lines", "cells", "width")
+
+    def __init__(self, lines: Sequence[int], cells: Sequence[str], width: int):
+        if width < 1 or len(cells) != len(lines) * width:
+            raise ValueError(f"RowBlock: {len(cells)} cells are not {len(lines)} rows of {width}")
+        self.lines, self.cells, self.width = lines, cells, width
+
+    def __len__(self) -> int:
+        return len(self.lines)
+
+    def __getitem__(self, k: int) -> tuple[int, Sequence[str]]:
+        k = range(len(self.lines))[k]
+        return self.lines[k], self.cells[k * self.width:(k + 1) * self.width]
+
+    def __iter__(self):
+        width, cells = self.width, self.cells
+        return ((line, cells[k * width:(k + 1) * width]) for k, line in enumerate(self.lines))
+
+    def column(self, index: int) -> Sequence[str]:
+        """The cells of column ``index`` (0-based), one per row."""
+        return self.cells[index::self.width]
+
+
+#: A character no number cell of a column read at once (`_columns_at_once`) holds: a number in
+#: the file's decimal mark, with spaces or tabs either side, one a line. Letters (nan, inf), '_'
+#: (1_000, which float reads), quotes and the other decimal mark are left to the row-by-row loop.
+_FOREIGN_TO_POINT = re.compile(r"[^0-9eE+\-. \t\n]")
+_FOREIGN_TO_COMMA = re.compile(r"[^0-9eE+\-, \t\n]")
+
+
+def _columns_at_once(rows: Sequence[tuple[int, Sequence[str]]], n_fields: int, wanted: dict[str, tuple[int, float]],
+                     optional: dict[str, int], comma: bool) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]] | None:
+    """The columns of ``rows`` read at once, a column at a time, when every row has ``n_fields``
+    cells and every cell of the ``wanted`` columns is a number in the file's decimal mark that
+    reads finite: ``(values of each wanted role, unscaled; values of each ``optional`` column
+    whose every cell reads as a number)``, the numbers `spectrum_from_rows`'s loop reads row by
+    row (a 200,000-row table took seconds there). None for anything else (a repeated header, an
+    empty row or cell, text, a '.' beside decimal commas, a field too many or too few, NaN), which
+    the loop reads, or refuses naming the line and column."""
+    if not rows or (rows.width != n_fields if isinstance(rows, RowBlock) else any(len(cells) != n_fields for _, cells in rows)):
+        return None
+
+    def cells_of(index: int) -> Sequence[str]:
+        return rows.column(index) if isinstance(rows, RowBlock) else [cells[index] for _, cells in rows]
+
+    foreign = _FOREIGN_TO_COMMA if comma else _FOREIGN_TO_POINT
+    columns: dict[str, np.ndarray] = {}
+    for role, (index, _) in wanted.items():
+        text = "\n".join(cells_of(index))
+        if foreign.search(text) is not None:
+            return None
+        try:  # (float, as `_common.number` reads a cell; what it refuses, the loop names: an empty cell, '1e', '1,2,3')
+            column = np.array([float(c) for c in (text.replace(",", ".") if comma else text).split("\n")], dtype=np.float64)
+        except ValueError:
+            return None
+        if column.size != len(rows) or not np.isfinite(column).all():  # (a line break inside a sheet's cell; 1e999: the loop names it)
+            return None
+        columns[role] = column
+    extra: dict[str, np.ndarray] = {}
+    for name, index in optional.items():  # (as the loop: a column of text or gaps is just another column)
+        try:
+            extra[name] = np.array([float(cell.replace(",", ".") if comma else cell) for cell in cells_of(index)], dtype=np.float64)
+        except ValueError:
+            continue
+    return columns, extra
+
+
 def spectrum_from_rows(
     path: Path,
     layout: Layout,
@@ -631,7 +704,8 @@ def spectrum_from_rows(
     cut_line: int | None = None,
     delimited: bool = False,
 ) -> xr.Dataset:
-    """One spectrum from ``rows`` (line number, cells) laid out as ``layout``. ``cut_line``: the
+    """One spectrum from ``rows`` (line number, cells; or a `RowBlock`) laid out as ``layout``, read
+    a column at a time when every row is a row of numbers (`_columns_at_once`), else row by row. ``cut_line``: the
     file's last line when the file ends without a line end (`_common.cut_last_line`); a row
     there short of fields, or cut inside its last field (`check_last_field_digits`), is refused
     saying the file looks cut short (`check_field_count`). ``delimited``: the rows are
@@ -660,6 +734,15 @@ def spectrum_from_rows(
     optional = {name: index for name, index in (("time", time_col), ("cycle", cycle_col)) if index is not None}
     optional_values: dict[str, list[float]] = {name: [] for name in optional}
     last_fields: list[str] = []  # (the last cell of each data row, for `check_last_field_digits`)
+    at_once = _columns_at_once(rows, n_fields, wanted, optional, comma)
+    if at_once is not None:  # (every row a row of numbers: the loop below would read the same values, one by one)
+        if rows[-1][0] == cut_line:  # (as the loop checks the file's last line, cut without a line end)
+            last_column = rows.column(n_fields - 1) if isinstance(rows, RowBlock) else [cells[-1] for _, cells in rows]
+            check_last_field_digits([cell.strip() for cell in last_column], path, cut_line, name=header[-1])
+        values = {role: column * wanted[role][1] for role, column in at_once[0].items()}
+        optional, optional_values = {name: optional[name] for name in at_once[1]}, at_once[1]
+        lines = list(rows.lines) if isinstance(rows, RowBlock) else [line for line, _ in rows]
+        rows = ()
     for line, cells in rows:
         cells = [c.strip() for c in cells]
         while len(cells) > n_fields and not cells[-1]:
