@@ -177,6 +177,28 @@ def _save(result, path, source: str | None = None, provenance=None) -> None:
     per dimension first for several spectra; .json the summary, .nc the lossless dataset, each
     naming the data's ``source`` and ``provenance`` as ``--json`` does; the CSV with the
     provenance columns, docs/io.md "Provenance")."""
+    from pathlib import Path
+
     from ..io.export import write_result
 
+    if provenance is not None and Path(path).suffix.lower() == ".csv":
+        result = _WarningsLast(result, provenance)
     write_result(result, path, source=source, provenance=provenance)
+
+
+class _WarningsLast:
+    """``result`` whose table (`DRTResult.to_table`) has the provenance columns before its
+    ``warnings``, which stays the last column: the CSV's columns up to the provenance are where
+    they were before ``warnings`` was added (2026-12-06); every other attribute is the result's."""
+
+    def __init__(self, result, provenance):
+        self._result, self._provenance = result, provenance
+
+    def to_table(self) -> list[dict]:
+        from ..io.provenance import provenance_columns
+
+        columns = provenance_columns(self._provenance)
+        return [{**{k: v for k, v in row.items() if k != "warnings"}, **columns, "warnings": row["warnings"]} for row in self._result.to_table()]
+
+    def __getattr__(self, name: str):
+        return getattr(self._result, name)

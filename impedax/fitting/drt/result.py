@@ -353,9 +353,14 @@ class DRTResult(FrozenResult):
         return "\n".join(lines)
 
     def to_table(self) -> list[dict]:
-        """γ over τ as tidy rows ``tau_s, gamma_ohm, gamma_q05_ohm, gamma_q95_ohm`` (the ``.csv``
-        of `impedax.write_result` and of ``impedax drt --out``)."""
-        return [{"tau_s": t, "gamma_ohm": g, "gamma_q05_ohm": lo, "gamma_q95_ohm": hi} for t, g, lo, hi in zip(self.tau, self.gamma, self.gamma_q05, self.gamma_q95)]
+        """γ over τ as tidy rows ``tau_s, gamma_ohm, gamma_q05_ohm, gamma_q95_ohm``, then
+        ``warnings`` (`warnings` joined by "; ", "" if none, on every row, as a fit's table has
+        them; added 2026-12-06: the CSV lost REAL PowerSuite's "R_inf < 0" warning) (the ``.csv``
+        of `impedax.write_result` and of ``impedax drt --out``, whose provenance columns come
+        before ``warnings``: it stays the last column)."""
+        warned = "; ".join(self.warnings)
+        return [{"tau_s": t, "gamma_ohm": g, "gamma_q05_ohm": lo, "gamma_q95_ohm": hi, "warnings": warned}
+                for t, g, lo, hi in zip(self.tau, self.gamma, self.gamma_q05, self.gamma_q95)]
 
     def summary(self) -> dict:
         """The JSON of ``impedax drt --json`` (the keys are the public contract: keys are added,
