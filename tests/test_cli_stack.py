@@ -351,13 +351,16 @@ def test_inspect_shows_a_saved_files_provenance_as_text(tmp_path, capsys):
     assert json.loads(json.loads(text)["attrs"]["provenance"]) == record
 
 
-def test_inspect_says_a_file_was_saved_from_data_built_in_python(capsys):
-    """The REAL battery cycles (benchmarks/data/autoeis_battery_130.nc) were saved from data built
-    in Python: its stored source is impedax's in-memory marker 'memory' (read here with xarray),
-    which `impedax inspect` printed as "saved_from: memory" (walkthrough 2026-12-06)."""
+def test_inspect_says_a_file_was_saved_from_data_built_in_python(tmp_path, capsys):
+    """A file saved from data built in Python stores impedax's in-memory marker 'memory' as its
+    source (read here with xarray), which `impedax inspect` printed as "saved_from: memory"
+    (walkthrough 2026-12-06, on the REAL benchmarks/data/autoeis_battery_130.nc, which now names
+    the file it was built from: tests/test_shipped_data_source.py). SYNTHETIC R0 + R1 || C1."""
     import xarray as xr
 
-    path = Path(__file__).parent.parent / "benchmarks" / "data" / "autoeis_battery_130.nc"
+    f = np.logspace(4, -1, 21)
+    path = tmp_path / "built.nc"
+    ix.save(ix.make_spectrum(f, 10 + 100 / (1 + 1j * 2 * np.pi * f * 1e-4)), path)
     with xr.open_dataset(path, engine="scipy") as raw:
         assert raw.attrs["source"] == "memory"
     code, text, err = run(["inspect", path], capsys)
