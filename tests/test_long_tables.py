@@ -133,6 +133,8 @@ _CASES = {
     "plus and exponent": lambda r: [[f"+{float(c.replace(',', '.')):.4E}".replace(".", "," if "," in "".join(row) else ".") for c in row] for row in r],
     "bare mark": lambda r: [row if k != 400 else [row[0], ".", row[2]] for k, row in enumerate(r)],
     "sign alone": lambda r: [row if k != 400 else [row[0], "-", row[2]] for k, row in enumerate(r)],
+    "trailing delimiter": lambda r: [[*row, ""] for row in r],
+    "trailing delimiter and a cell": lambda r: [[*row, "" if k != 400 else "x"] for k, row in enumerate(r)],
 }
 
 

@@ -655,13 +655,20 @@ _FOREIGN_TO_COMMA = re.compile(r"[^0-9eE+\-, \t\n]")
 def _columns_at_once(rows: Sequence[tuple[int, Sequence[str]]], n_fields: int, wanted: dict[str, tuple[int, float]],
                      optional: dict[str, int], comma: bool) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]] | None:
     """The columns of ``rows`` read at once, a column at a time, when every row has ``n_fields``
-    cells and every cell of the ``wanted`` columns is a number in the file's decimal mark that
+    cells (a `RowBlock` may have more, empty on every row) and every cell of the ``wanted`` columns
+    is a number in the file's decimal mark that
     reads finite: ``(values of each wanted role, unscaled; values of each ``optional`` column
     whose every cell reads as a number)``, the numbers `spectrum_from_rows`'s loop reads row by
     row (a 200,000-row table took seconds there). None for anything else (a repeated header, an
     empty row or cell, text, a '.' beside decimal commas, a field too many or too few, NaN), which
     the loop reads, or refuses naming the line and column."""
-    if not rows or (rows.width != n_fields if isinstance(rows, RowBlock) else any(len(cells) != n_fields for _, cells in rows)):
+    if not rows:
+        return None
+    if isinstance(rows, RowBlock):
+        # (cells beyond the header's, empty on every row: a trailing delimiter, which the loop drops)
+        if rows.width < n_fields or any(any(c.strip() for c in rows.column(k)) for k in range(n_fields, rows.width)):
+            return None
+    elif any(len(cells) != n_fields for _, cells in rows):
         return None
 
     def cells_of(index: int) -> Sequence[str]:
