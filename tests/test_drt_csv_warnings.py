@@ -57,3 +57,22 @@ def test_python_writes_the_warnings_last_and_none_as_an_empty_cell(tmp_path):
     real = ix.drt(ix.load(POWERSUITE))
     ix.write_result(real, tmp_path / "real.csv")
     assert {row["warnings"] for row in _rows(tmp_path / "real.csv")} == {"; ".join(real.warnings)} and real.r_inf_ohm < 0
+
+
+def test_the_netcdf_holds_each_spectrums_warnings(tmp_path):
+    """The .nc (`to_xarray`) had none either: now the variable ``warnings`` per spectrum. SYNTHETIC
+    batch: an exact R0 + R1 || C1 (10 Ω, 100 Ω, 1 µF; no warning) and the same with R0 = −5 Ω,
+    which no passive cell has (the DRT's R_inf comes out at R0, below −1 % of |Z| at the top)."""
+    import xarray as xr
+
+    f = np.logspace(5, -2, 41)
+    arc = 100 / (1 + 1j * 2 * np.pi * f * 1e-4)
+    both = xr.concat([ix.make_spectrum(f, 10 + arc), ix.make_spectrum(f, -5 + arc)], dim="trial").assign_coords(trial=["clean", "negative"])
+    result = ix.drt(both)
+    ix.write_result(result, tmp_path / "batch.nc")
+    ds = ix.io.read_netcdf(tmp_path / "batch.nc")
+    assert ds["warnings"].dims == ("trial",) and ds["warnings"].sel(trial="clean").item() == ""
+    assert ds["warnings"].sel(trial="negative").item().startswith("R_inf = -5") and float(ds["r_inf"].sel(trial="negative")) < 0
+    one = result.results[1]
+    ix.write_result(one, tmp_path / "one.nc")
+    assert ix.io.read_netcdf(tmp_path / "one.nc")["warnings"].item() == "; ".join(one.warnings) != ""

@@ -185,6 +185,7 @@ class DRTResult(FrozenResult):
                 "difference_noise": ((), self.difference_noise, {"units": "1", "long_name": "first-difference noise estimate of the residuals (the KK test's)"}),
                 "dropped_r": ((), float(sum(p.r_ohm for p in self.dropped_peaks)), {"units": "ohm", "long_name": "R of the peaks dropped below the cut-off"}),
                 **_setting_variables((), (), [self]),
+                **_warnings_variable((), (), [self]),
             },
             coords={"tau": ("tau", self.tau, {"units": "s"}), "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
@@ -475,6 +476,14 @@ def _setting_variables(dims: tuple, shape: tuple, results) -> dict:
     }
 
 
+def _warnings_variable(dims: tuple, shape: tuple, results) -> dict:
+    """Each spectrum's `DRTResult.warnings` joined by "; " ("" for none), as the variable
+    ``warnings`` over ``dims`` (added 2026-12-06: the .nc, as the CSV, had lost them: REAL
+    PowerSuite's "R_inf … is negative")."""
+    text = np.asarray(["; ".join(r.warnings) for r in results], object).reshape(shape)
+    return {"warnings": (dims, text, {"long_name": "the DRT's warnings, joined by '; ' ('' when none)"})}
+
+
 OPEN_ARC_SHARE = 0.1
 """A negative L's warning says that the data end inside an arc when −Z'' at the top frequency
 is at least this share of |Z| there (a spectrum measured to its high-frequency limit ends near
@@ -506,7 +515,7 @@ model minus data: docs/physics.md), as their ``long_name``."""
 BATCH_RESULT_NAMES = frozenset({
     "tau", "frequency", "peak", "gamma", "gamma_q05", "gamma_q95", "Z", "Z_fit", "peak_tau", "peak_r", "peak_width", "peak_inside_window",
     "peak_resolved", "dropped_r", "r_inf", "inductance", "lam", "rms_rel", "z_ref", "lambda_choice", "band_lambda", "lambda_note",
-    "residuals", "peak_log10_tau_sd", "peak_r_sd", "capacitance", "residual_sigma", "difference_noise",
+    "residuals", "peak_log10_tau_sd", "peak_r_sd", "capacitance", "residual_sigma", "difference_noise", "warnings",
 })
 """The dimensions and variables of `DRTBatchResult.to_xarray`'s Dataset: `drt` refuses a batch
 dimension of one of these names (`grid.refuse_result_names`), where ``to_xarray`` had failed
@@ -697,6 +706,7 @@ class DRTBatchResult(ResultGrid):
                 "lam": (dims, stack(lambda r: r.lam)),
                 "rms_rel": (dims, stack(lambda r: r.rms_rel), {"units": "1"}),
                 **_setting_variables(dims, shape, self.results),
+                **_warnings_variable(dims, shape, self.results),
             },
             coords={"tau": ("tau", first.tau, {"units": "s"}), "frequency": ("frequency", first.frequency, {"units": "Hz"}), **{d: (d, np.asarray(v)) for d, v in self.coords.items()}},
         )
