@@ -801,15 +801,19 @@ def spectrum_from_rows(
     for i in np.flatnonzero(freq == 0):
         skipped.add(lines[i], "f = 0 (DC row, not an impedance point)")
     skipped.rows.sort()
-    spectra = [
-        _spectrum(path, freq[b], z[b], [lines[i] for i in b], attrs, skipped=Skipped(), extra={k: (v[b], u, d) for k, (v, u, d) in extra.items()},
-                  sigma=None if sigma is None else sigma[b], where=where)
-        for b in blocks
-    ]
-    if deviation is None:
-        raise _grids_differ(path, dim, labels, blocks, spectra, freq, lines, skipped, where)
-    grid = spectra[0]["frequency"]
-    ds = xr.concat([s.assign_coords(frequency=grid) for s in spectra], dim=dim, combine_attrs="override").assign_coords({dim: labels})
+
+    def one(b: np.ndarray) -> xr.Dataset:
+        return _spectrum(path, freq[b], z[b], [lines[i] for i in b], attrs, skipped=Skipped(), extra={k: (v[b], u, d) for k, (v, u, d) in extra.items()},
+                         sigma=None if sigma is None else sigma[b], where=where)
+
+    ds = None if deviation is None else _sweeps_at_once(one, blocks, dim, labels, freq, z, sigma, extra)
+    if ds is None:
+        spectra = [one(b) for b in blocks]
+        if deviation is None:
+            raise _grids_differ(path, dim, labels, blocks, spectra, freq, lines, skipped, where)
+        grid = spectra[0]["frequency"]
+        ds = xr.concat([s.assign_coords(frequency=grid) for s in spectra], dim=dim, combine_attrs="override").assign_coords({dim: labels})
+    grid = ds["frequency"]
     note = f"{len(blocks)} {dim}s of {grid.size} points ({_sweep_starts(dim, blocks, lines)})"
     if deviation > 0:
         note += f"; their frequencies differ from {dim} {labels[0]}'s by up to {deviation:.1e} relative, and the grid is {dim} {labels[0]}'s"
@@ -817,6 +821,24 @@ def spectrum_from_rows(
     if len(skipped):
         ds.attrs["skipped_rows"] = skipped.report()
     return ds
+
+
+def _sweeps_at_once(one: Callable[[np.ndarray], xr.Dataset], blocks: Sequence[np.ndarray], dim: str, labels: Sequence[str], freq: np.ndarray,
+                    z: np.ndarray, sigma: np.ndarray | None, extra: dict) -> xr.Dataset | None:
+    """Sweeps of one grid (``blocks`` of one size) stacked over ``dim`` as `xr.concat` of each
+    one's spectrum (``one(block)``, on the first's grid) gives them, from the first's Dataset and
+    the arrays of all: a Dataset per sweep cost ~1 ms in xarray (4,000 SYNTHETIC EC-Lab cycles
+    took 7 s). None when a sweep would not pass `_spectrum`'s checks (a frequency not positive, a
+    sigma not positive): the caller builds each, which names the line."""
+    index = np.stack(blocks)
+    if not np.all(freq[index] > 0) or (sigma is not None and not np.all(sigma[index] > 0)):
+        return None
+    first = one(blocks[0])
+    arrays = {"Z": z, **({} if sigma is None else {"sigma": sigma}), **{k: v for k, (v, _, _) in extra.items()}}
+    if set(first.data_vars) != set(arrays):
+        return None
+    variables = {name: ((dim, *first[name].dims), np.asarray(arrays[name], dtype=first[name].dtype)[index], first[name].attrs) for name in first.data_vars}
+    return xr.Dataset(variables, coords=first.coords, attrs=dict(first.attrs)).assign_coords({dim: labels})
 
 
 #: Header names (as `_key` gives them) of a column numbering the sweeps: EC-Lab's ``cycle number``.
