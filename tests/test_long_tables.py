@@ -159,3 +159,25 @@ def test_read_at_once_as_row_by_row(tmp_path, monkeypatch, case, delimiter, mark
     else:
         assert not isinstance(fast, str), fast
         assert fast.identical(slow)
+
+
+# EC-Lab's text export, split at once too (`RowBlock.split`): the numbers written, and a deep fault named as before
+@pytest.mark.parametrize("mark", [".", ","])
+def test_a_long_ec_lab_export_reads_the_numbers_written(tmp_path, mark):
+    rows = _rows(mark)
+    path = tmp_path / "eclab.txt"
+    _write(path, "freq/Hz\tRe(Z)/Ohm\t-Im(Z)/Ohm", rows, "\t")
+    ds = ix.load(path)
+    assert ds.attrs["format"] == "BioLogic EC-Lab text" and ds.attrs.get("decimal_mark") == ("comma" if mark == "," else None)
+    expected = _read(rows)
+    np.testing.assert_array_equal(ds["frequency"].values, expected[:, 0])
+    np.testing.assert_array_equal(ds["Z"].values, expected[:, 1] - 1j * expected[:, 2])
+
+
+def test_a_short_row_deep_in_a_long_ec_lab_export_names_its_line(tmp_path):
+    rows = _rows()
+    rows[4_321] = rows[4_321][:2]
+    path = tmp_path / "eclab.txt"
+    _write(path, "freq/Hz\tRe(Z)/Ohm\t-Im(Z)/Ohm", rows, "\t")
+    with pytest.raises(ix.DataError, match=rf"eclab\.txt, line {4_321 + 2}: 2 fields, but the header has 3"):
+        ix.load(path)

@@ -610,6 +610,8 @@ EMPTY_ROW = "empty row (delimiters only)"
 def _first_decimal_comma(rows: Sequence[tuple[int, Sequence[str]]], delimiter: str | None) -> int | None:
     """The line of the first row holding a number written with a decimal comma (`decimal_comma`),
     over the whole table; None when none does."""
+    if isinstance(rows, RowBlock) and "," not in "".join(rows.cells):  # (a long table without a ',': no row to look at)
+        return None
     for line, cells in rows:
         if "," in "".join(cells) and decimal_comma(cells, delimiter):  # (one join a row: rows without a ',' cost next to nothing)
             return line
@@ -643,6 +645,16 @@ class RowBlock:
     def column(self, index: int) -> Sequence[str]:
         """The cells of column ``index`` (0-based), one per row."""
         return self.cells[index::self.width]
+
+    @classmethod
+    def split(cls, numbered: Sequence[tuple[int, str]], delimiter: str) -> "RowBlock | list[tuple[int, list[str]]]":
+        """``(line, text.split(delimiter))`` of each row of ``numbered``: a `RowBlock`, split at
+        once, when every row has as many cells as the first; else a list, row by row."""
+        texts = [text for _, text in numbered]
+        counts = [text.count(delimiter) for text in texts]
+        if not texts or counts.count(counts[0]) != len(counts):
+            return [(n, text.split(delimiter)) for n, text in numbered]
+        return cls([n for n, _ in numbered], delimiter.join(texts).split(delimiter), counts[0] + 1)
 
 
 #: A character no number cell of a column read at once (`_columns_at_once`) holds: a number in

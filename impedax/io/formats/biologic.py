@@ -21,7 +21,7 @@ from ...errors import DataError
 from .._common import cut_last_line, cut_short_note, head_text, read_text
 from ..dates import record_date
 from ..registry import Reader
-from ..table import NoLayout, detect_layout, spectrum_from_rows
+from ..table import NoLayout, RowBlock, detect_layout, spectrum_from_rows
 
 __all__ = ["read_biologic", "read_biologic_text", "READER", "TEXT_READER"]
 
@@ -129,7 +129,7 @@ def _columns(path: Path, lines: list[str], header_index: int, attrs: dict, *, cu
         layout = detect_layout(names, path, header_index + 1)
     except NoLayout as exc:
         raise DataError(exc.reason, path=path, line=header_index + 1) from None
-    rows = [(k + 1, lines[k].split("\t")) for k in range(header_index + 1, len(lines)) if lines[k].strip()]
+    rows = RowBlock.split([(k + 1, lines[k]) for k in range(header_index + 1, len(lines)) if lines[k].strip()], "\t")  # (at once: a long file's rows)
     return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t", split_sweeps=True, cut_line=cut_line)
 
 
