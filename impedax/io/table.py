@@ -239,6 +239,15 @@ class Layout:
     def name(self, role: str) -> str:
         return self.header[self.columns[role][0]]
 
+    def other_columns(self) -> tuple[str, ...]:
+        """The named columns not read, in the header's order: `ignored`, and those of a role Z is
+        not read from (|Z| and the phase beside Z' and Z'': EC-Lab's ``|Z|/Ohm`` and
+        ``Phase(Z)/deg``, left out of ``attrs["other_columns"]`` until 2026-12-06)."""
+        read = {"frequency", "sigma", *(("real", "imag", "neg_imag") if self.cartesian else ("modulus", "phase", "neg_phase"))}
+        unread = {index for role, (index, _) in self.columns.items() if role not in read}
+        ignored = set(self.ignored)
+        return tuple(cell.strip() for index, cell in enumerate(self.header) if index in unread or (cell.strip() and cell.strip() in ignored))
+
     def notes(self) -> dict[str, str]:
         """``sign_convention`` and ``units`` attrs saying how the columns were read."""
         if self.cartesian:
@@ -796,8 +805,8 @@ def spectrum_from_rows(
         z = col["modulus"] * np.exp(1j * np.deg2rad(phase))
         attrs = {**attrs, **_radians_note(layout, phase, col["frequency"], col["modulus"], path, header_line), **_degrees_note(layout, phase)}
     attrs = {**attrs, **layout.notes()}
-    if layout.ignored:
-        attrs.setdefault("other_columns", ", ".join(layout.ignored))
+    if layout.other_columns():
+        attrs.setdefault("other_columns", ", ".join(layout.other_columns()))
     extra = {}
     if "time" in optional:
         extra["time"] = (np.array(optional_values["time"]), "s", "time of the measurement")
