@@ -181,3 +181,12 @@ def test_a_short_row_deep_in_a_long_ec_lab_export_names_its_line(tmp_path):
     _write(path, "freq/Hz\tRe(Z)/Ohm\t-Im(Z)/Ohm", rows, "\t")
     with pytest.raises(ix.DataError, match=rf"eclab\.txt, line {4_321 + 2}: 2 fields, but the header has 3"):
         ix.load(path)
+
+
+@pytest.mark.parametrize("header", ["", "Freq (Hz),Z' (Ohm),-Z'' (Ohm)\n", "Frequency,Z',-Z''\nHz,Ohm,Ohm\n"], ids=["no header", "header", "units row"])
+def test_a_comment_line_inside_a_table_is_reported(tmp_path, header):
+    # (the look for comment lines is skipped when every line below the header is a row: not when one is a comment)
+    path = tmp_path / "commented.csv"
+    path.write_text(header + "1000,10,1\n100,12,3\n# electrode moved\n10,15,5\n1,20,2\n")
+    line = header.count("\n") + 3
+    assert ix.load(path).attrs["skipped_rows"] == [f"line {line}: comment line ('# electrode moved')"]

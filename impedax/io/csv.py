@@ -289,7 +289,8 @@ def read_csv(path: str | Path) -> xr.Dataset:
         _check_last_row_complete(path, layout, rows, delimiter)
     skipped = Skipped()  # (a comment line inside the table, "# electrode re-seated here", is reported, not dropped unseen)
     last = rows[-1][0] if rows else header_no
-    if last - header_no > len(rows) + ("units_row" in attrs):  # (a line within the table that is no row: blank, or a comment)
+    below = len(rows) - (1 if rows and rows[0][0] == header_no else 0) + ("units_row" in attrs)  # (the lines below the header that are rows; a file without header's first row is its line header_no)
+    if last - header_no > below:  # (a line within the table that is no row: blank, or a comment)
         for number, text_line in enumerate(all_lines[header_no:last], start=header_no + 1):
             if text_line.lstrip().startswith(COMMENT_MARKS):
                 skipped.add(number, f"comment line ({text_line.strip()[:40]!r})")
