@@ -190,3 +190,32 @@ def test_a_comment_line_inside_a_table_is_reported(tmp_path, header):
     path.write_text(header + "1000,10,1\n100,12,3\n# electrode moved\n10,15,5\n1,20,2\n")
     line = header.count("\n") + 3
     assert ix.load(path).attrs["skipped_rows"] == [f"line {line}: comment line ('# electrode moved')"]
+
+
+# quoted cells, unquoted at once when plain (`impedax.io.csv._unquoted_cells`): the oracle is
+# `split_line`, which reads a row with the csv module
+_QUOTED_ROWS = ['"1.5","2","3"', ' "1.5", "2" ,"3"  ', '"1,5";"2";"3"', '"a,b",2,3', '"a""b",2,3', 'a"b,2,3', '\t"1",2,3', '"1" x,2,3',
+                '"",2,3', '"1",2,"', '"1.5"\t"2"\t"3"', "1,'2',3"]
+
+
+@pytest.mark.parametrize("text", _QUOTED_ROWS)
+@pytest.mark.parametrize("delimiter", [",", ";", "\t"])
+def test_quoted_rows_split_at_once_as_row_by_row(text, delimiter):
+    from impedax.io.csv import _split_rows, split_line
+
+    rows = [(k + 2, text) for k in range(3)] + [(5, '"7","8","9"'.replace(",", delimiter))]
+    assert [(n, list(cells)) for n, cells in _split_rows(rows, delimiter)] == [(n, split_line(t, delimiter)) for n, t in rows]
+
+
+def test_a_long_quoted_table_is_read_at_once(tmp_path, monkeypatch):
+    from impedax.io import csv as delimited
+
+    rows = [[f'"{c}"' for c in r] for r in _rows()]
+    path = tmp_path / "quoted.csv"
+    _write(path, '"Freq (Hz)","Z\' (Ohm)","-Z\'\' (Ohm)"', rows, ",")
+    calls = []
+    split_line = delimited.split_line
+    monkeypatch.setattr(delimited, "split_line", lambda *args: calls.append(args) or split_line(*args))
+    expected = _read([[c.strip('"') for c in r] for r in rows])
+    np.testing.assert_array_equal(ix.load(path)["Z"].values, expected[:, 1] - 1j * expected[:, 2])
+    assert len(calls) < 25  # (the header, the row under it, the first 20 rows' look for decimal commas: not each of 5,000 rows)

@@ -119,6 +119,9 @@ def _decimal_mark(path: Path, rows: list[tuple[int, str]], delimiter: str | None
     be a thousand (a US export quotes its thousands separators), so a file whose every such cell
     has that shape is refused as ambiguous, naming the first."""
     if delimiter == ",":
+        with_quotes = [ln for _, ln in rows if '"' in ln]
+        if with_quotes and _unquoted_cells(with_quotes, delimiter) is not None:
+            return False  # (every quoted cell plain: none holds a ',', as each would have been split in two)
         quoted = [(n, c.strip()) for n, ln in rows if '"' in ln for c in split_line(ln, delimiter) if "," in c]
         numeric = [(n, c) for n, c in quoted if _QUOTED_DECIMAL_COMMA.fullmatch(c)]
         if numeric and all(_THOUSANDS_SHAPE.fullmatch(c) for _, c in numeric):
@@ -314,9 +317,14 @@ def _split_rows(rows: list[tuple[int, str]], delimiter: str | None) -> RowBlock 
     quoted and every row has as many cells as the first (a 200,000-row file split row by row
     spent most of its second in the garbage collector); else a list, row by row."""
     texts = [text for _, text in rows]
-    if not texts or any('"' in text for text in texts):
-        return [(n, split_line(text, delimiter)) for n, text in rows]
-    if delimiter is None:
+    if not texts:
+        return []
+    if any('"' in text for text in texts):
+        cells = _unquoted_cells(texts, delimiter)
+        if cells is None:
+            return [(n, split_line(text, delimiter)) for n, text in rows]
+        counts = [text.count(delimiter) + 1 for text in texts]
+    elif delimiter is None:
         counts = [len(text.split()) for text in texts]
         cells = "\n".join(texts).split()
     else:
@@ -328,6 +336,27 @@ def _split_rows(rows: list[tuple[int, str]], delimiter: str | None) -> RowBlock 
     if counts.count(counts[0]) != len(counts) or counts[0] < 1:
         return [(n, split_line(text, delimiter)) for n, text in rows]
     return RowBlock([n for n, _ in rows], cells, counts[0])
+
+
+def _unquoted_cells(texts: list[str], delimiter: str | None) -> list[str] | None:
+    """The cells of ``texts`` (rows holding double quotes), one flat list, as `split_line` gives
+    them, when every cell is plain: no quote, or one value in quotes with nothing but spaces
+    before the opening one and whitespace after the closing one (``"1.5"``, a whole file quoted,
+    as some programs write it); None for anything else (a delimiter or a quote inside quotes, a
+    quote inside a cell), which `split_line` splits row by row with the csv module."""
+    if delimiter is None or any(len(text) >= _csv.field_size_limit() or "\x00" in text for text in texts):
+        return None  # (a cell beyond the csv module's limit, or a NUL: `split_line` splits such a row as it is)
+    cells = delimiter.join(texts).split(delimiter)
+    out = []
+    for cell in cells:
+        if '"' not in cell:
+            out.append(cell.strip())
+            continue
+        quoted = cell.lstrip(" ").rstrip()
+        if len(quoted) < 2 or quoted[0] != '"' or quoted[-1] != '"' or '"' in quoted[1:-1]:
+            return None
+        out.append(quoted[1:-1].strip())
+    return out
 
 
 def _setting_value(cell: str):
