@@ -124,7 +124,7 @@ def test_gaps_fit_line_says_what_the_sigma_holds(parts):
     trials = ix.make_spectrum(FREQ, total, dims=("trial",))
     fitted = SimpleNamespace(weighting="sigma", chi2_red=0.9)
     mixed = remaining_impedance(trials, ix.make_spectrum(FREQ, skin, sigma=s_skin), ix.make_spectrum(FREQ, screen, sigma=s_screen))
-    assert "against the remainder's sigma (the total trials' SEM with the stated sigma of the files of one spectrum)" in _edl_chi2_text(fitted, mixed)
+    assert "against the remainder's sigma (the SEM of the trial means of total with the stated sigma of skin and touchscreen, one spectrum each)" in _edl_chi2_text(fitted, mixed)
     assert "against the trial means' SEM" in _edl_chi2_text(fitted, remaining_impedance(trials, trials, trials))
 
 

@@ -46,6 +46,23 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
+def sigma_phrase(remaining) -> str:
+    """The end of the line on stderr: what the remainder's sigma is made of, read from its
+    ``sigma_sources`` (input → "trial scatter" or "own sigma", `sirin.remaining_impedance`) and said
+    in `sirin.sigma_words`' words when an input gave its own stated sigma; or why there is none
+    (``sigma_method``, which then names the input). The remainder is made here, so it has the
+    sources whenever it has a sigma; until 2026-12-06 the choice searched ``sigma_method``'s words
+    for "stated sigma", and before that said "no sigma (an input has one spectrum or no scatter)"."""
+    from ..fitting.least_squares.result import SIGMA_FROM_OWN, sigma_sources
+    from ..models.sirin import sigma_words
+
+    if "sigma" not in remaining:
+        return f", no sigma: {str(remaining.attrs.get('sigma_method', '')).removeprefix('not available: ')}"
+    sources = sigma_sources(remaining.attrs) or {}
+    made = f", sigma: {sigma_words(sources)}" if SIGMA_FROM_OWN in sources.values() else ", sigma from their standard errors"
+    return made + ": fit with --weighting sigma to use it"
+
+
 def run(args) -> int:
     from pathlib import Path
 
@@ -89,13 +106,7 @@ def run(args) -> int:
     n_trials = {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}
     averaged = any(n > 1 for n in n_trials.values())  # (one sweep each: "from 1 total spectra (their trial mean…)" until 2026-12-06)
     counts = ", ".join(f"{n} {k}" for k, n in n_trials.items()) + (" spectra" if averaged else " spectrum")
-    # (what sigma is made of, or why there is none, naming the input: remaining_impedance's sigma_method;
-    # until 2026-12-06 "no sigma (an input has one spectrum or no scatter)", and a single spectrum's own sigma was dropped)
-    method = str(remaining.attrs.get("sigma_method", ""))
-    if "sigma" in remaining:
-        sigma = (f", sigma: {method.split('; sigma =')[0]}" if "stated sigma" in method else ", sigma from their standard errors") + ": fit with --weighting sigma to use it"
-    else:
-        sigma = f", no sigma: {method.removeprefix('not available: ')}"
+    sigma = sigma_phrase(remaining)
     if len(paths) == 1:
         what = "the total's trials, nothing subtracted" if args.trials else ("their trial mean" if averaged else "one spectrum, nothing averaged") + sigma
         print(f"impedax remaining: a single contact, Z_total at {remaining.sizes['frequency']} frequencies from {counts} ({what})", file=sys.stderr)

@@ -49,7 +49,7 @@ from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.bayes.evidence import MODEL_COMPARISON_NOTE_LEADS
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.kk import KKChains
-from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies
+from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_FROM_OWN, SIGMA_FROM_TRIALS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies, names_in_words, sigma_sources
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_spectra, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
@@ -1565,12 +1565,20 @@ def _edl_fit_warnings(edl, remaining: xr.Dataset) -> list[str]:
 
 def _edl_chi2_text(fitted, remaining: xr.Dataset) -> str:
     """The EDL fit's χ²_red against the trial means' SEM, and why it lies below 1 (`_edl_fit_warnings`);
-    a sigma that also holds the stated sigma of a file of one spectrum (`sirin.remaining_impedance`)
-    is said so (2026-12-06: "against the trial means' SEM" was said of it)."""
+    a sigma that also holds the stated sigma of a file of one spectrum is said so, naming the
+    files, as the remainder's ``sigma_sources`` record them (`sirin.remaining_impedance`; 2026-12-06:
+    "against the trial means' SEM" was said of it, then the choice searched ``sigma_method``'s
+    words for "stated sigma"; `gap_analysis` makes its remainder, so it always has the sources)."""
     if not _sem_of_varying_trials(fitted, remaining):
         return ""
-    stated = "stated sigma" in str(remaining.attrs.get("sigma_method", ""))
-    against = "the remainder's sigma (the total trials' SEM with the stated sigma of the files of one spectrum)" if stated else "the trial means' SEM"
+    sources = sigma_sources(remaining.attrs) or {}
+    means = [name for name, source in sources.items() if source == SIGMA_FROM_TRIALS]
+    stated = [name for name, source in sources.items() if source == SIGMA_FROM_OWN]
+    if stated:
+        against = (f"the remainder's sigma (the SEM of the trial means of {names_in_words(means)} with the stated sigma of {names_in_words(stated)}, "
+                   f"one spectrum{' each' if len(stated) > 1 else ''})")
+    else:
+        against = "the trial means' SEM" if sources else "the remainder's sigma"
     return (f" (χ²_red {fitted.chi2_red:.3g} against {against}"
             + (", below 1 as expected: the SEM holds the contact's variation between trials, which the fit of the mean absorbs)" if fitted.chi2_red < 1 else ")"))
 

@@ -43,6 +43,7 @@ __all__ = [
     "SINGLE_CONTACT_QUANTITY",
     "trial_mean",
     "remaining_impedance",
+    "sigma_words",
     "trial_remainders",
     "admittance_spectrum",
     "gap_capacitance_paper",
@@ -227,23 +228,31 @@ def _sigma_method(sources: Mapping[str, str], sigma: np.ndarray) -> tuple[str, b
     `trial_mean` ``sigma_from``), and whether it has one: the SEM of an input's trials, the own
     sigma of an input of one spectrum, added in quadrature; else why not, naming the inputs (a
     single spectrum without sigma, trials that do not scatter)."""
-    unknown = [name for name, source in sources.items() if source == "none"]
+    unknown = [name for name, source in sources.items() if source == SIGMA_FROM_NONE]
     if unknown:
         return (f"not available: {joined_names(unknown)} {'is one spectrum' if len(unknown) == 1 else 'are one spectrum each'} without a sigma of "
                 f"{'its' if len(unknown) == 1 else 'their'} own, so {'its' if len(unknown) == 1 else 'their'} error is unknown; a sigma column or variable "
                 "gives it, or trials as an extra dimension their standard error", False)
     if not np.all(sigma > 0):
         return "not available: the trials do not scatter at some frequency (a zero standard error cannot weight a fit)", False
-    sem = [name for name, source in sources.items() if source == "trial scatter"]
-    own = [name for name, source in sources.items() if source == "own sigma"]
+    return sigma_words(sources) + "; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)", True
+
+
+def sigma_words(sources: Mapping[str, str]) -> str:
+    """What a remainder's sigma is made of, in words, from its ``sigma_sources`` (input →
+    `SIGMA_FROM_TRIALS` or `SIGMA_FROM_OWN`, as `remaining_impedance` records them): "SEM of Re
+    and Im of each measurement over its trials, added in quadrature", or naming the inputs that
+    gave their own stated sigma ("SEM of Re and Im over the trials of total; the stated sigma of
+    skin and touchscreen (one spectrum each), added in quadrature"). The start of
+    ``sigma_method``; `impedax remaining`'s line takes it from the sources, not from those words."""
+    sem = [name for name, source in sources.items() if source == SIGMA_FROM_TRIALS]
+    own = [name for name, source in sources.items() if source == SIGMA_FROM_OWN]
     if len(sources) == 1:
-        made = "SEM of Re and Im over the trials" if sem else "the stated sigma of the one spectrum"
-    elif not own:
-        made = "SEM of Re and Im of each measurement over its trials, added in quadrature"
-    else:
-        parts = ([f"SEM of Re and Im over the trials of {joined_names(sem)}"] if sem else []) + [f"the stated sigma of {joined_names(own)} (one spectrum{'' if len(own) == 1 else ' each'})"]
-        made = "; ".join(parts) + ", added in quadrature"
-    return made + "; sigma = sqrt((sigma_real^2 + sigma_imag^2)/2)", True
+        return "SEM of Re and Im over the trials" if sem else "the stated sigma of the one spectrum"
+    if not own:
+        return "SEM of Re and Im of each measurement over its trials, added in quadrature"
+    parts = ([f"SEM of Re and Im over the trials of {joined_names(sem)}"] if sem else []) + [f"the stated sigma of {joined_names(own)} (one spectrum{'' if len(own) == 1 else ' each'})"]
+    return "; ".join(parts) + ", added in quadrature"
 
 
 def joined_names(names: Sequence[str]) -> str:
