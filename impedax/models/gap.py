@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field, replace
-from typing import Callable, Mapping
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 import xarray as xr
@@ -1084,18 +1084,20 @@ def gap_analysis(
         bands.append(_band_dataset(q, v, freq))
     force = _branches(bands)
     u_draws = posterior.parameter_draws()["u"]
-    notes += _bound_notes(u_draws, reparametrization, area, single)
-    notes += _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
-    sampled = _sampling_notes(posterior.warnings)
+    restating = _bound_notes(u_draws, reparametrization, area, single)  # (left out under the alarm NO AIR GAP, which says them: `_no_air_gap_said_once`)
+    notes += restating + _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
+    sampled = _sampling_notes(posterior.warnings, reparametrization, posterior.parameter_draws()["u"])
     notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
-    notes += _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_gap_range(u_draws.min(), u_draws.max(), 3)}")
+    comparison = _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_gap_range(u_draws.min(), u_draws.max(), 3)}")
+    notes += comparison
+    restating += comparison
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
     notes = _area_advice(notes, paper, lower is None and withheld is None, _single(remaining))
     misfit = _misfit_text(edl, remaining, known_kk)
     used = {"eps_gap": eps_gap, "cutoff_hz": cutoff_hz, "seed": seed, "steps": posterior.settings.get("steps"), "steps_requested": steps, "walkers": posterior.settings.get("walkers", posterior.n_walkers)}
-    return GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used, force_upper_bound=bound_force, drive=drive, single_contact=single)
+    return _no_air_gap_said_once(GapAnalysis(remaining, paper, naive, edl, posterior, force, area, v0, ep, tuple(notes), model_requested=str(requested), trials=trials, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=misfit, settings=used, force_upper_bound=bound_force, drive=drive, single_contact=single), restating)
 
 
 def _series_impedances(skin: xr.Dataset | None, touchscreen: xr.Dataset | None) -> tuple:
@@ -1106,12 +1108,22 @@ def _series_impedances(skin: xr.Dataset | None, touchscreen: xr.Dataset | None) 
     return trial_mean(skin)["Z"].values, trial_mean(touchscreen)["Z"].values
 
 
-def _sampling_notes(warnings) -> list[str]:
+def _sampling_notes(warnings, reparametrization=None, u_draws=None) -> list[str]:
     """The pooled sampling's warnings the gap analysis passes on: not the least-squares start's
     (the EDL fit's own are), nor the Laplace evidence's and WAIC's (`MODEL_COMPARISON_NOTE_LEADS`),
     which speak to comparing models, and the gap analysis compares none (a walkthrough's
-    ``impedax gap`` said "Do not compare models by this WAIC"; 2026-12-02)."""
-    return [w for w in warnings if not w.startswith(("least-squares start", *MODEL_COMPARISON_NOTE_LEADS))]
+    ``impedax gap`` said "Do not compare models by this WAIC"; 2026-12-02). With the sampling's
+    ``reparametrization`` and ``u_draws`` [m]: nor its note that u is no air gap
+    (`implausible_gap_notes`), which the alarm NO AIR GAP always says then (the same median, the
+    same `PLAUSIBLE_GAP_M`; 2026-12-06)."""
+    kept = [w for w in warnings if not w.startswith(("least-squares start", *MODEL_COMPARISON_NOTE_LEADS))]
+    if reparametrization is None:
+        return kept
+    from ..fitting.bayes.reparam import implausible_gap_notes
+
+    name = reparametrization.names[0]
+    said = set(implausible_gap_notes(reparametrization, {name: float(np.median(np.asarray(u_draws, float)))}))
+    return [w for w in kept if w not in said]
 
 
 U_CORRELATION_MATTERS = 0.25
@@ -1311,6 +1323,26 @@ def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> lis
 GAP_METHODS_RATIO_MAX = 10.0
 
 
+METHODS_DISAGREE = "the two methods disagree"
+"""The words of the warnings that set the Bayesian u against the paper method's (`_estimate_bound_notes`)."""
+
+
+def _no_air_gap_said_once(result: "GapAnalysis", restating: Sequence[str]) -> "GapAnalysis":
+    """``result`` without the warnings of ``restating`` when the alarm NO AIR GAP holds of its
+    Bayesian u (`GapAnalysis.gap_implausible`): the alarm says that u is no measurement, why (at a
+    bound of its prior, outside the air gaps a contact holds) and what to check, and those
+    warnings only said it again — u piled up at its prior's bound (`_bound_notes`, the alarm's own
+    rule `_piled_bounds`), and the Bayesian u set against the paper method's (`_estimate_bound_notes`,
+    `METHODS_DISAGREE`: "check that the spectrum is of an air-gap contact and that the model fits
+    it", beside NO AIR GAP and MODEL DOES NOT FIT on the REAL exampleData.csv as a single contact,
+    2026-12-06). Kept without the alarm: where only the paper's u is no air gap, the comparison
+    questions the Bayesian u, which no alarm does. The JSON keeps every key (``warnings`` holds fewer)."""
+    if result.gap_implausible is None:
+        return result
+    dropped = set(restating)
+    return replace(result, warnings=tuple(w for w in result.warnings if w not in dropped))
+
+
 def _estimate_bound_notes(what: str, u: float, paper: PaperGapEstimate, remaining: xr.Dataset, detail: str = "") -> list[str]:
     """A warning when a Bayesian u [m] lies far outside the paper method's bounds, by the rule of
     `_far_outside`: those bounds come from two extreme trials and need not contain even the
@@ -1320,7 +1352,7 @@ def _estimate_bound_notes(what: str, u: float, paper: PaperGapEstimate, remainin
         return _estimate_ratio_notes(what, u, paper, detail, single=_single(remaining))
     if not _far_outside(u, paper.gap_lower, paper.gap_upper):
         return []
-    return [f"the {what} {_gap_length(u, 3)} lies far outside the paper method's bounds ({_gap_range(paper.gap_lower, paper.gap_upper, 3)}{detail}): the two methods disagree (the figure's air-gap thickness panel shows both)"]
+    return [f"the {what} {_gap_length(u, 3)} lies far outside the paper method's bounds ({_gap_range(paper.gap_lower, paper.gap_upper, 3)}{detail}): {METHODS_DISAGREE} (the figure's air-gap thickness panel shows both)"]
 
 
 def _estimate_ratio_notes(what: str, u: float, paper: PaperGapEstimate, detail: str = "", *, single: bool = True) -> list[str]:
@@ -1331,7 +1363,7 @@ def _estimate_ratio_notes(what: str, u: float, paper: PaperGapEstimate, detail: 
         return []
     return [
         f"the {what} {_gap_length(u, 3)} and the paper method's u = {_gap_length(paper.gap, 3)} differ {high / low:.3g}× "
-        f"(over {GAP_METHODS_RATIO_MAX:g}×; one spectrum{'' if single else ' per file'}, so the paper method has no bounds{detail}): the two methods disagree — the paper's u reads C_gap as "
+        f"(over {GAP_METHODS_RATIO_MAX:g}×; one spectrum{'' if single else ' per file'}, so the paper method has no bounds{detail}): {METHODS_DISAGREE} — the paper's u reads C_gap as "
         f"mean |Y_R|/ω above {format_frequency(paper.cutoff_hz)}, which holds only where C_gap carries the current, and the Bayesian u is the EDL model's "
         f"C_gap over the whole band: check that {'the spectrum is' if single else 'the spectra are'} of an air-gap contact and that the model fits it (the figure's air-gap thickness panel shows both)"
     ]
@@ -1886,15 +1918,19 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     pop = post.population_parameters()
     step = max(1, post.n_draws // 1000)
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
-    notes += _bound_notes(pop["u"], reparametrization, area, _single(remaining))
-    notes += _gap_breakdown_notes(force, float(np.median(pop["u"])), area, eps_gap)
+    restating = _bound_notes(pop["u"], reparametrization, area, _single(remaining))  # (left out under the alarm NO AIR GAP: `_no_air_gap_said_once`)
+    notes += restating + _gap_breakdown_notes(force, float(np.median(pop["u"])), area, eps_gap)
     notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {hierarchical_advice_of_gap(w, steps)}" for w in post.warnings]
-    notes += _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
+    comparison = _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
+    notes += comparison
+    restating += comparison
     known_kk = KKChains()
     lower, withheld, merged = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
     notes = _area_advice(notes, paper, lower is None and withheld is None, _single(remaining))
-    return GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower, gap_bound_withheld=withheld, edl_misfit=_misfit_text(edl, remaining, known_kk), force_upper_bound=bound_force)
+    analysis = GapAnalysis(remaining, paper, naive, edl, None, force, area, v0, ep, tuple(notes), method="hierarchical", hierarchical=post, model_requested=model_requested, gap_lower_bound=lower, gap_bound_withheld=withheld,
+                           edl_misfit=_misfit_text(edl, remaining, known_kk), force_upper_bound=bound_force, settings={"eps_gap": eps_gap})  # (gap_analysis sets the whole settings)
+    return _no_air_gap_said_once(analysis, restating)
 
 
 def _misfit_text(fitted, remaining: xr.Dataset, known_kk: KKChains) -> str | None:
