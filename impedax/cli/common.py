@@ -1737,6 +1737,8 @@ _PHRASE_OF_CALL: dict[str, tuple[str, tuple[str, ...]]] = {
     "leave them out (data.drop_sel(frequency=[...]) of each input spectrum, or a narrower band of all)":
         ("leave them out (--exclude F,F or --fmin/--fmax, which impedax gap, remaining and fit take)", ("--exclude", "--fmin", "--fmax")),
     "(gap_remainder(..., kind='mean'))": ("(impedax remaining without --trials)", ("--trials",)),  # (a remainder of trials: impedax remaining --trials)
+    # (`models.gap._gap_bound_cause`: u at a bound of its prior; the gap analysis has no option for u's bounds)
+    "(area= in m²;": ("(--area in m²;", ("--area",)),
     # (`kk.BAND_CUT_AT_END`: the points from an end of the data through a band there)
     "(data.where(data.frequency >= f, drop=True) and data.where(data.frequency <= f, drop=True))": ("(--fmin/--fmax)", ("--fmin", "--fmax")),
     "(data.where(data.frequency >= f, drop=True))": ("(--fmin)", ("--fmin",)),

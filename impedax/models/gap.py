@@ -1115,7 +1115,10 @@ def _sampling_notes(warnings, reparametrization=None, u_draws=None) -> list[str]
     ``impedax gap`` said "Do not compare models by this WAIC"; 2026-12-02). With the sampling's
     ``reparametrization`` and ``u_draws`` [m]: nor its note that u is no air gap
     (`implausible_gap_notes`), which the alarm NO AIR GAP always says then (the same median, the
-    same `PLAUSIBLE_GAP_M`; 2026-12-06)."""
+    same `PLAUSIBLE_GAP_M`); and the cause it gives of u piled up at a bound is the gap analysis's
+    (`_gap_bound_cause`), not `gap_thickness_reparametrization`'s, whose "then the bounds
+    (lower=, upper=)" named keywords neither `gap_analysis` nor ``impedax gap`` takes (REAL
+    exampleDataBioLogic.mpt and exampleData.csv as single contacts, 2026-12-06)."""
     kept = [w for w in warnings if not w.startswith(("least-squares start", *MODEL_COMPARISON_NOTE_LEADS))]
     if reparametrization is None:
         return kept
@@ -1123,7 +1126,28 @@ def _sampling_notes(warnings, reparametrization=None, u_draws=None) -> list[str]
 
     name = reparametrization.names[0]
     said = set(implausible_gap_notes(reparametrization, {name: float(np.median(np.asarray(u_draws, float)))}))
-    return [w for w in kept if w not in said]
+    cause = dict(reparametrization.bound_causes).get(name)
+    ours = _gap_bound_cause(dict(reparametrization.constants))
+    return [w.replace(cause, ours) if cause else w for w in kept if w not in said]
+
+
+def _gap_bound_cause(constants: Mapping[str, float]) -> str:
+    """What u at a bound of its prior means in the gap analysis, in Python's words (``impedax
+    gap`` reads "--area" for "area="): C_gap at an end of `C_GAP_BOUNDS_F`, the range every gap
+    analysis gives it at any area and that no option widens (`gap_bounds`), so the area's unit
+    is the first suspect (`AREA_UNIT_ADVICE`), then the data."""
+    area, eps = constants["area"], constants["eps_r"]
+    low, high = C_GAP_BOUNDS_F
+    return (
+        f"C_gap = ε0·ε_gap·A/u with A = {area:g} m² ({area * 1e6:g} mm²) and ε_gap = {eps:g}: u at a bound means C_gap at {format_quantity(high, 'F')} or "
+        f"{format_quantity(low, 'F')}, the ends of the range the gap analysis allows C_gap at any area (no option widens it); "
+        f"{AREA_UNIT_ADVICE} ({GAP_AREA_KEYWORD} in m²; 200 mm² is 200e-6), then the data"
+    )
+
+
+GAP_AREA_KEYWORD = "area="
+"""How `_gap_bound_cause` names the area: `gap_analysis`'s keyword; ``impedax gap`` says its
+option, --area (`cli.common.command_line_words`)."""
 
 
 U_CORRELATION_MATTERS = 0.25
