@@ -49,7 +49,8 @@ from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.bayes.evidence import MODEL_COMPARISON_NOTE_LEADS
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.kk import KKChains
-from ..fitting.least_squares.result import MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_FROM_OWN, SIGMA_FROM_TRIALS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies, names_in_words, sigma_sources
+from ..fitting.least_squares.branches import undetermined_names
+from ..fitting.least_squares.result import DATA_LIMIT_NOTE, GROSS_MISFIT_FROM, MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_FROM_OWN, SIGMA_FROM_TRIALS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, gross_misfits, known_kk_misfits, listed_frequencies, names_in_words, sigma_sources, within_stated_noise
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_spectra, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
@@ -1087,11 +1088,11 @@ def gap_analysis(
     restating = _bound_notes(u_draws, reparametrization, area, single)  # (left out under the alarm NO AIR GAP, which says them: `_no_air_gap_said_once`)
     notes += restating + _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = _sampling_notes(posterior.warnings, reparametrization, posterior.parameter_draws()["u"])
-    notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
+    known_kk = KKChains()
+    notes += _edl_fit_warnings(edl, remaining, known_kk) + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
     comparison = _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_gap_range(u_draws.min(), u_draws.max(), 3)}")
     notes += comparison
     restating += comparison
-    known_kk = KKChains()
     lower, withheld, merged = _identification(ep, str(requested), circuit, posterior.parameter_draws(), edl, posterior.piled_up, notes, remaining, area, eps_gap, known_kk)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
     notes = _area_advice(notes, paper, lower is None and withheld is None, _single(remaining))
@@ -1606,7 +1607,7 @@ def _sem_of_varying_trials(fitted, remaining: xr.Dataset) -> bool:
     return fitted.weighting == "sigma" and "sigma" in remaining and int(remaining.attrs.get("n_trials_total", 0)) >= 2
 
 
-def _edl_fit_warnings(edl, remaining: xr.Dataset) -> list[str]:
+def _edl_fit_warnings(edl, remaining: xr.Dataset, known_kk: KKChains | None = None) -> list[str]:
     """The EDL fit's warnings for the gap analysis, each as ``EDL fit: …``, without those that
     read residuals below the trial means' SEM as a σ misstating the noise (`SIGMA_OVERSTATES_WORDS`,
     and the uneven-band warning under sigma weighting, `SIGMA_BAND_WORDS`) when that sigma is the
@@ -1614,9 +1615,57 @@ def _edl_fit_warnings(edl, remaining: xr.Dataset) -> list[str]:
     smallest where the variation dominates the SEM (SYNTHETIC Sirin example, seed 1, drawn from
     the model itself: residuals 0.36× the SEM, "σ overstates the noise" warned; since 2026-12-06
     the fit itself says what such a σ is, `SIGMA_OF_TRIAL_MEANS_WORDS`, left out too). The report's
-    fits line states the χ²_red and why instead (`GapAnalysis.report`)."""
+    fits line states the χ²_red and why instead (`GapAnalysis.report`). With the remainder's KK chains
+    ``known_kk``: the note of a misfit near the alarm's (`_near_misfit_note`) in place of the fit's
+    own note that the data limit it (`DATA_LIMIT_NOTE`), when it holds."""
     expected = _sem_of_varying_trials(edl, remaining)
-    return [f"EDL fit: {w}" for w in edl.warnings if not (expected and any(words in w for words in (SIGMA_OVERSTATES_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_BAND_WORDS)))]
+    near = _near_misfit_note(edl, remaining, known_kk) if known_kk is not None else None
+    kept = [f"EDL fit: {w}" for w in edl.warnings if not (expected and any(words in w for words in (SIGMA_OVERSTATES_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_BAND_WORDS)))]
+    if near is None:
+        return kept
+    return [w for w in kept if DATA_LIMIT_NOTE not in w] + [near]  # (the note gives the data's KK figure: said once)
+
+
+NEAR_MISFIT_RATIO = MISFIT_RATIO_MAX / 2
+"""The EDL fit's rms_rel (at least `GROSS_MISFIT_FROM`) over this multiple of what a
+Kramers–Kronig-consistent model reaches, but not over `MISFIT_RATIO_MAX` (MODEL DOES NOT FIT), is
+named in a note (`_near_misfit_note`): informational, no alarm, `gap_identified` unchanged. On
+SYNTHETIC single contacts (numpy, tests' formulas; 2026-12-06) no spectrum of R_EP ∥ CPE_EP ∥ C_gap
+(80 + 60, noise 0.2–5 %) nor of that contact with C_gap a CPE of α 0.97–1 and a series resistance
+of 0.1–5 % of |Z| (60) reached it at rms_rel ≥ 5 % (largest ratio there 1.23); 11 of 80 ionic
+conductors between blocking electrodes, R_b ∥ C_b + CPE_dl in series (the REAL Gamry file's shape),
+fell between it and `MISFIT_RATIO_MAX`; the Gamry file itself at 4.96× (23.8 % against 4.8 %)."""
+
+
+def _near_misfit_note(fitted, remaining: xr.Dataset, known_kk: KKChains) -> str | None:
+    """A note when the EDL fit misses the remainder by rms_rel ≥ `GROSS_MISFIT_FROM` and over
+    `NEAR_MISFIT_RATIO` × what a Kramers–Kronig-consistent model reaches, short of the alarm's
+    `MISFIT_RATIO_MAX` (`_misfit_text`), naming the misfit, the share of its square the data's own
+    distance from such a model leaves to the model (1 − (kk/rms)²) and the parameters the fit
+    leaves undetermined (`undetermined_names`). REAL exampleDataGamry.DTA as a single contact:
+    23.8 % against 4.8 % (4.96×), R_EP not determined, u = 2.19 µm reported with no alarm and
+    ``gap_identified`` true, the EDL fit's one note saying the data's noise limits the fit
+    (2026-12-06); that note (`DATA_LIMIT_NOTE`) gives way to this one. None otherwise, and where
+    the fit weighted by the remainder's sigma stays within its stated noise."""
+    freq, z = remaining["frequency"].values, remaining["Z"].values
+    rms = float(fitted.rms_rel)
+    if not rms >= GROSS_MISFIT_FROM or _misfit_text(fitted, remaining, known_kk) is not None:
+        return None
+    sigma = remaining["sigma"].values if "sigma" in remaining else None
+    if within_stated_noise(z[None], np.asarray(fitted.z_model)[None], None if sigma is None else sigma[None], fitted.weighting, len(fitted.free_names))[0]:
+        return None
+    kk = float(known_kk_misfits(freq, z[None], np.array([0]), known_kk)[0])
+    if not (kk > 0 and rms > NEAR_MISFIT_RATIO * kk):
+        return None
+    loose = [n for n in undetermined_names(fitted) if n != "C_gap"]  # (their standard errors: the fit's own warnings)
+    loose_text = f", and the fit leaves {names_in_words(loose)} undetermined" if loose else ""
+    what = "the spectrum" if _single(remaining) else "the remainder"
+    return (
+        f"{fitted.model} misses {what} by {format_percent(rms)} (rms_rel), {rms / kk:.3g}× the {format_percent(kk)} a Kramers–Kronig-consistent model reaches: "
+        f"under the {MISFIT_RATIO_MAX:g}× at which the gap analysis says MODEL DOES NOT FIT, but the data's own distance from such a model accounts for only "
+        f"{(kk / rms) ** 2:.0%} of the misfit's square{loose_text}; u, C_gap and the force rest on that fit "
+        f"(no alarm; impedax diagnose on {what} shows where the model misses it)"
+    )
 
 
 def _edl_chi2_text(fitted, remaining: xr.Dataset) -> str:
@@ -1944,11 +1993,11 @@ def _hierarchical(total, skin, touchscreen, remaining, paper, naive, edl, circui
     force = _force_bands({k: v[::step] for k, v in pop.items()}, freq, z_skin, z_ts, circuit, area=area, v0=v0, eps_gap=eps_gap)
     restating = _bound_notes(pop["u"], reparametrization, area, _single(remaining))  # (left out under the alarm NO AIR GAP: `_no_air_gap_said_once`)
     notes += restating + _gap_breakdown_notes(force, float(np.median(pop["u"])), area, eps_gap)
-    notes += _edl_fit_warnings(edl, remaining) + [f"sampling: {hierarchical_advice_of_gap(w, steps)}" for w in post.warnings]
+    known_kk = KKChains()
+    notes += _edl_fit_warnings(edl, remaining, known_kk) + [f"sampling: {hierarchical_advice_of_gap(w, steps)}" for w in post.warnings]
     comparison = _estimate_bound_notes("population gap thickness", float(np.median(pop["u"])), paper, remaining)
     notes += comparison
     restating += comparison
-    known_kk = KKChains()
     lower, withheld, merged = _identification(ep, model_requested, circuit, pop, edl, {}, notes, remaining, area, eps_gap, known_kk)  # (the rule reads a single posterior's pile-up; the hierarchical one's, `HierarchicalPosterior.piled_up`, is of population medians, and only its warnings are passed on)
     bound_force = _force_upper_bound(merged, lower, freq, z_skin, z_ts, area=area, v0=v0, eps_gap=eps_gap)
     notes = _area_advice(notes, paper, lower is None and withheld is None, _single(remaining))
