@@ -1089,6 +1089,7 @@ def gap_analysis(
     notes += restating + _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
     sampled = _sampling_notes(posterior.warnings, reparametrization, posterior.parameter_draws()["u"])
     known_kk = KKChains()
+    sampled = _prior_edge_advice(sampled, posterior.piled_up, posterior.parameter_draws())
     notes += _edl_fit_warnings(edl, remaining, known_kk) + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
     comparison = _estimate_bound_notes("Bayesian gap thickness", float(np.median(u_draws)), paper, remaining, f"; draws span {_gap_range(u_draws.min(), u_draws.max(), 3)}")
     notes += comparison
@@ -1149,6 +1150,36 @@ def _gap_bound_cause(constants: Mapping[str, float]) -> str:
 GAP_AREA_KEYWORD = "area="
 """How `_gap_bound_cause` names the area: `gap_analysis`'s keyword; ``impedax gap`` says its
 option, --area (`cli.common.command_line_words`)."""
+
+
+def _prior_edge_advice(warnings, piled_up: Mapping[str, str], draws: Mapping[str, np.ndarray]) -> list[str]:
+    """``warnings`` of the pooled sampling with the advice of each prior-edge warning of an EDL
+    parameter ("— give R_EP a prior that says how large it can be", `diagnostics.prior_edges`),
+    which neither ``impedax gap`` nor `gap_analysis` can follow (they take no prior), replaced by
+    what the pile-up means for u: u's correlation r with the parameter (log space, as
+    `_correlation_advice`) and how much knowing it would narrow u's interval at most,
+    1 − √(1 − r²). The warnings are known by ``piled_up`` (`Posterior.piled_up`: name → side), each
+    advice built as the sampler words it. REAL exampleDataGamry.DTA as a single contact, R_EP
+    piled up at its prior's upper end (2026-12-06)."""
+    u = np.log(np.asarray(draws["u"], float))
+    out = []
+    for w in warnings:
+        for name, side in piled_up.items():
+            if name == "u" or name not in draws:
+                continue
+            sides = ("lower", "upper") if side == "both" else (side,)
+            for one in sides:
+                advice = f" — give {name} a prior that says how {'small' if one == 'lower' else 'large'} it can be"
+                if not w.endswith(advice):
+                    continue
+                x = np.asarray(draws[name], float)
+                x = np.log(x) if np.all(x > 0) else x
+                r = float(np.corrcoef(u, x)[0, 1]) if np.std(x) > 0 and np.std(u) > 0 else 0.0
+                narrowing = 1.0 - math.sqrt(1.0 - min(1.0, r * r))
+                w = (w[: -len(advice)] + f"; the gap analysis takes no prior, and u's interval already carries this: u's correlation with {name} (log space) is "
+                     f"{r:+.2f}, so bounding {name} would narrow it by at most {narrowing:.0%} (√(1 − r²))")
+        out.append(w)
+    return out
 
 
 U_CORRELATION_MATTERS = 0.25
