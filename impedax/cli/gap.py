@@ -211,6 +211,12 @@ def run(args) -> int:
     outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, source, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths), record, args.remaining)})
     if not outputs.uses_stdout:
         print_result(result, args.json, provenance=record, command="gap")
+    if args.remaining:  # (as impedax remaining says of its --out: 2026-12-06, gap --remaining FILE.csv said nothing)
+        from .remaining import csv_sigma_note
+
+        note = csv_sigma_note(result.remaining, None if args.remaining == "-" else args.remaining, "--remaining")
+        if note:
+            print(f"impedax gap: note: {note}", file=sys.stderr)
     if args.json and (result.warnings or getattr(result, "alarms", ())):
         print(f"impedax gap: {_json_pointer(result.warnings, getattr(result, 'alarms', ()))}", file=sys.stderr)
     return 0
