@@ -24,8 +24,8 @@ def test_the_advice_becomes_what_the_pile_up_means_for_u():
     draws = _draws(0.6)
     r = float(np.corrcoef(np.log(draws["u"]), np.log(draws["R_EP"]))[0, 1])
     (said,) = _prior_edge_advice([LEAD + " — give R_EP a prior that says how large it can be"], {"R_EP": "upper"}, draws)
-    assert "give R_EP a prior" not in said and said.startswith(LEAD + "; the gap analysis takes no prior"), said
-    assert f"u's correlation with R_EP (log space) is {r:+.2f}, so bounding R_EP would narrow it by at most {1 - math.sqrt(1 - r * r):.0%}" in said, said
+    assert "give R_EP a prior" not in said and said.startswith(LEAD + "; the gap analysis takes no prior: "), said
+    assert f"u's correlation with R_EP in the draws (log space) is {r:+.2f}, so bounding R_EP would narrow u's interval by at most {1 - math.sqrt(1 - r * r):.0%}" in said, said
 
 
 def test_other_warnings_and_a_parameter_not_piled_up_are_left_as_they_are():
@@ -35,3 +35,12 @@ def test_other_warnings_and_a_parameter_not_piled_up_are_left_as_they_are():
     assert _prior_edge_advice([other, warning], {}, draws) == [other, warning]
     (both,) = _prior_edge_advice([LEAD.replace("upper end", "lower end") + " — give R_EP a prior that says how small it can be"], {"R_EP": "both"}, draws)
     assert "the gap analysis takes no prior" in both
+
+
+def test_the_ep_cpe_vanishing_points_to_u_not_determined():
+    """CPE_EP.Q at its prior's lower end is the gap analysis's reason that u is not determined
+    (SYNTHETIC shipped example, stationary total, --pooled): no correlation is offered as comfort."""
+    draws = {**_draws(0.0), "CPE_EP.Q": np.exp(np.random.default_rng(1).standard_normal(4000))}
+    lead = "CPE_EP.Q piles up against the lower end of its prior loguniform:5.8e-12,36.6 (12 % …): the prior, not the data, sets the lower end of its 90 % interval; the data allow smaller values"
+    (said,) = _prior_edge_advice([lead + " — give CPE_EP.Q a prior that says how small it can be"], {"CPE_EP.Q": "lower"}, draws)
+    assert said == lead + "; the gap analysis takes no prior: the EP CPE vanishing leaves C_gap and the EP branch not told apart (the warning 'u is NOT determined')"

@@ -1158,7 +1158,8 @@ def _prior_edge_advice(warnings, piled_up: Mapping[str, str], draws: Mapping[str
     which neither ``impedax gap`` nor `gap_analysis` can follow (they take no prior), replaced by
     what the pile-up means for u: u's correlation r with the parameter (log space, as
     `_correlation_advice`) and how much knowing it would narrow u's interval at most,
-    1 − √(1 − r²). The warnings are known by ``piled_up`` (`Posterior.piled_up`: name → side), each
+    1 − √(1 − r²); for the EP CPE's Q at its lower end, that u is then not determined
+    (`_gap_identification`'s reason, which the warning "u is NOT determined" gives). The warnings are known by ``piled_up`` (`Posterior.piled_up`: name → side), each
     advice built as the sampler words it. REAL exampleDataGamry.DTA as a single contact, R_EP
     piled up at its prior's upper end (2026-12-06)."""
     u = np.log(np.asarray(draws["u"], float))
@@ -1176,8 +1177,11 @@ def _prior_edge_advice(warnings, piled_up: Mapping[str, str], draws: Mapping[str
                 x = np.log(x) if np.all(x > 0) else x
                 r = float(np.corrcoef(u, x)[0, 1]) if np.std(x) > 0 and np.std(u) > 0 else 0.0
                 narrowing = 1.0 - math.sqrt(1.0 - min(1.0, r * r))
-                w = (w[: -len(advice)] + f"; the gap analysis takes no prior, and u's interval already carries this: u's correlation with {name} (log space) is "
-                     f"{r:+.2f}, so bounding {name} would narrow it by at most {narrowing:.0%} (√(1 − r²))")
+                if one == "lower" and name.endswith(".Q") and "EP" in name:  # (`_gap_identification`'s reason: the EP CPE vanishes)
+                    w = w[: -len(advice)] + "; the gap analysis takes no prior: the EP CPE vanishing leaves C_gap and the EP branch not told apart (the warning 'u is NOT determined')"
+                    continue
+                w = (w[: -len(advice)] + f"; the gap analysis takes no prior: u's correlation with {name} in the draws (log space) is "
+                     f"{r:+.2f}, so bounding {name} would narrow u's interval by at most {narrowing:.0%} (√(1 − r²))")
         out.append(w)
     return out
 
