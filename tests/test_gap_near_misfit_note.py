@@ -68,3 +68,18 @@ def test_real_gamry_single_contact_names_its_misfit_without_an_alarm(capsys):
     assert note.startswith("R_EP || CPE_EP || C_gap misses the spectrum by 23.8 % (rms_rel)") and "the fit leaves R_EP undetermined" in note, note
     assert not [w for w in doc["warnings"] if "limit the fit, not only the model" in w]  # (the fit's own reading of the same figure: said once)
     assert doc["gap_identified"] is True and doc["alarms"] == []  # (the decision is unchanged)
+
+
+def test_the_fits_own_misfit_note_gives_way_to_the_alarm():
+    """Under MODEL DOES NOT FIT (5.2× at 25 %) the EDL fit's note "the model misses structure the data
+    hold" said the same below it (SYNTHETIC shipped example, stationary total, --pooled); without the
+    alarm (2.3×) the fit's notes stay as they are."""
+    from impedax.models.gap import _edl_fit_warnings
+
+    own = "the model misses structure the data hold: its rms_rel is over 5× the 4.8% a Kramers–Kronig-consistent model (…) reaches; a diagnosis (…)"
+    fitted = _fit(0.25)
+    fitted.warnings = (own, "R_EP is at its lower bound 0")
+    assert _edl_fit_warnings(fitted, REMAINDER, _KK(0.048)) == ["EDL fit: R_EP is at its lower bound 0"]
+    fitted = _fit(0.11)
+    fitted.warnings = (own, "R_EP is at its lower bound 0")
+    assert _edl_fit_warnings(fitted, REMAINDER, _KK(0.048)) == [f"EDL fit: {w}" for w in fitted.warnings]
