@@ -83,3 +83,13 @@ def test_the_fits_own_misfit_note_gives_way_to_the_alarm():
     fitted = _fit(0.11)
     fitted.warnings = (own, "R_EP is at its lower bound 0")
     assert _edl_fit_warnings(fitted, REMAINDER, _KK(0.048)) == [f"EDL fit: {w}" for w in fitted.warnings]
+
+
+def test_the_alarm_says_spectrum_of_a_single_contact_and_remainder_of_three_files():
+    """MODEL DOES NOT FIT read "misses the remainder" of a single contact, where nothing was
+    subtracted (REAL data.dfr as a single contact, 2026-12-06)."""
+    from impedax.models.gap import _misfit_text
+
+    three = ix.make_spectrum(FREQ, Z, attrs={"n_trials_total": 3, "n_trials_skin": 3, "n_trials_touchscreen": 3})
+    assert _misfit_text(_fit(0.25), REMAINDER, _KK(0.048)).startswith("R_EP || CPE_EP || C_gap misses the spectrum (rms_rel 25 %, over 5× the 4.8 %")
+    assert _misfit_text(_fit(0.25), three, _KK(0.048)).startswith("R_EP || CPE_EP || C_gap misses the remainder (rms_rel 25 %")

@@ -2050,13 +2050,15 @@ def _misfit_text(fitted, remaining: xr.Dataset, known_kk: KKChains) -> str | Non
     """How a least-squares fit of the trial-mean remainder misses it grossly, by the rule of its
     misfit warning (`gross_misfits`: rms_rel ≥ `GROSS_MISFIT_FROM` and over `MISFIT_RATIO_MAX` ×
     what a Kramers–Kronig-consistent model reaches, ``known_kk`` its memory, and, for a fit
-    weighted by the remainder's sigma, χ²_red beyond what that noise gives), else None."""
+    weighted by the remainder's sigma, χ²_red beyond what that noise gives), else None. A single
+    contact's is "the spectrum", nothing having been subtracted (2026-12-06: "the remainder" was
+    said of the REAL data.dfr and Gamry files as single contacts too)."""
     freq, z = remaining["frequency"].values, remaining["Z"].values
     sigma = remaining["sigma"].values if "sigma" in remaining else None
     if gross_misfits(freq, z, fitted.z_model, known_kk, sigma=sigma, weighting=fitted.weighting, n_free=len(fitted.free_names)).size == 0:
         return None
     kk = float(known_kk_misfits(freq, z[None], np.array([0]), known_kk)[0])
-    return f"{fitted.model} misses the remainder (rms_rel {format_percent(fitted.rms_rel)}, over {MISFIT_RATIO_MAX:g}× the {format_percent(kk)} a Kramers–Kronig-consistent model reaches)"
+    return f"{fitted.model} misses {'the spectrum' if _single(remaining) else 'the remainder'} (rms_rel {format_percent(fitted.rms_rel)}, over {MISFIT_RATIO_MAX:g}× the {format_percent(kk)} a Kramers–Kronig-consistent model reaches)"
 
 
 def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaining, area, eps_gap, known_kk=None) -> tuple[float | None, str | None, dict | None]:
