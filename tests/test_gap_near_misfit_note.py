@@ -93,3 +93,13 @@ def test_the_alarm_says_spectrum_of_a_single_contact_and_remainder_of_three_file
     three = ix.make_spectrum(FREQ, Z, attrs={"n_trials_total": 3, "n_trials_skin": 3, "n_trials_touchscreen": 3})
     assert _misfit_text(_fit(0.25), REMAINDER, _KK(0.048)).startswith("R_EP || CPE_EP || C_gap misses the spectrum (rms_rel 25 %, over 5× the 4.8 %")
     assert _misfit_text(_fit(0.25), three, _KK(0.048)).startswith("R_EP || CPE_EP || C_gap misses the remainder (rms_rel 25 %")
+
+
+def test_the_naive_runaway_says_spectrum_of_a_single_contact():
+    """"a lone capacitor cannot describe this remainder" was said of REAL data.dfr read alone."""
+    from impedax.models.gap import _naive_runaway_notes
+
+    naive = SimpleNamespace(values={"C_gap": 8.29e-4}, rms_rel=0.997)  # (data.dfr's naive fit: 0.000829 F, 99.7 %)
+    (alone,) = _naive_runaway_notes(naive, single=True)
+    assert "a lone capacitor cannot describe this spectrum at all" in alone
+    assert "a lone capacitor cannot describe this remainder at all" in _naive_runaway_notes(naive)[0]

@@ -1053,7 +1053,7 @@ def gap_analysis(
     notes += _paper_bound_notes(paper, remaining) + _paper_interval_notes(paper, remaining)
     announce("gap: fitting the naive model (C_gap alone) to the trial mean …", progress)
     naive = fit(remainder_circuit(None), remaining, weighting=weighting)
-    notes += _naive_runaway_notes(naive)
+    notes += _naive_runaway_notes(naive, single)
     if edl_fit is None:
         announce(f"gap: fitting the EDL model {circuit} to the trial mean …", progress)
     edl = edl_fit if edl_fit is not None else fit(circuit, remaining, weighting=weighting)
@@ -1429,16 +1429,17 @@ def _estimate_ratio_notes(what: str, u: float, paper: PaperGapEstimate, detail: 
     ]
 
 
-def _naive_runaway_notes(naive) -> list[str]:
+def _naive_runaway_notes(naive, single: bool = False) -> list[str]:
     """A warning when the naive fit (C_gap alone) ran away: rms_rel ≥ `NAIVE_RUNAWAY_RMS_REL`
-    or C_gap outside `C_GAP_BOUNDS_F`."""
+    or C_gap outside `C_GAP_BOUNDS_F`. ``single``: a single contact, whose data are the spectrum
+    itself, not a remainder (2026-12-06: "this remainder" was said of REAL data.dfr read alone)."""
     c = float(naive.values["C_gap"])
     low, high = C_GAP_BOUNDS_F
     if naive.rms_rel < NAIVE_RUNAWAY_RMS_REL and low <= c <= high:
         return []
     return [
         f"the naive fit (C_gap alone) ran away: C_gap = {c:.3g} F (physical range {low:g}–{high:g} F), rms_rel {naive.rms_rel:.0%}: "
-        "a lone capacitor cannot describe this remainder at all, so that fit and its C_gap mean nothing (the EDL model's fit is the one to read)"
+        f"a lone capacitor cannot describe this {'spectrum' if single else 'remainder'} at all, so that fit and its C_gap mean nothing (the EDL model's fit is the one to read)"
     ]
 
 
