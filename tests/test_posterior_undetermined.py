@@ -132,3 +132,17 @@ def test_an_undefined_waic_reads_undefined_in_text_and_null_in_json(pad_posterio
     assert doc["waic"] is None and doc["p_waic"] is None  # (as before: an unknown figure is null)
     finite = next(line for line in pad_posterior.report().splitlines() if line.startswith("evidence"))
     assert f"WAIC = {pad_posterior.waic:.2f} (p_waic {pad_posterior.p_waic:.3g})" in finite
+
+
+def test_both_figures_undefined_send_to_the_warnings_once(pad_posterior):
+    """With Laplace ln Z and WAIC both undefined the evidence line said "(see the warnings)" twice
+    (2026-12-06); it names both figures and says it once. One undefined figure keeps its own words."""
+    import dataclasses
+    import math
+
+    both = dataclasses.replace(pad_posterior, waic=math.nan, p_waic=math.nan, log_evidence=math.nan)
+    evidence = next(line for line in both.report().splitlines() if line.startswith("evidence"))
+    assert evidence == "evidence   Laplace ln Z and WAIC undefined (see the warnings)"
+    only_laplace = dataclasses.replace(pad_posterior, log_evidence=math.nan)
+    evidence = next(line for line in only_laplace.report().splitlines() if line.startswith("evidence"))
+    assert evidence.startswith("evidence   Laplace ln Z undefined (see the warnings)    WAIC = ") and evidence.count("see the warnings") == 1

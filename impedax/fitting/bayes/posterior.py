@@ -391,8 +391,7 @@ class Posterior(PiledUp, FrozenResult):
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}" + (f"; here {self.settings['sigma_origin']}" if self.settings.get("sigma_origin") else ""),
             f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
-            (f"evidence   Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else "evidence   Laplace ln Z undefined (see the warnings)")
-            + (f"    WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})" if math.isfinite(self.waic) else "    WAIC undefined (see the warnings)"),
+            self._evidence_line(),
             *([f"           {self.waic_note}"] if self.waic_note else []),
             "",
             f"{'parameter':<{width}}  {'median':>11}  {'q05':>11}  {'q95':>11}  {'τ [steps]':>9}  {'ESS':>7}  {'unit':<{unit_width}}  prior",
@@ -492,6 +491,16 @@ class Posterior(PiledUp, FrozenResult):
                       **_mark_columns(mark_of(n))} for n in rp.replaces]
         rows = [{**row, "fixed": False} for row in rows] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry))
         return last_at_prior_edge(rows)
+
+    def _evidence_line(self) -> str:
+        """The report's line of Laplace ln Z and WAIC, "undefined" for a figure that is not
+        finite and "(see the warnings)" said once (twice when both were undefined, until
+        2026-12-06)."""
+        laplace = f"Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else None
+        waic = f"WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})" if math.isfinite(self.waic) else None
+        if laplace is None and waic is None:
+            return "evidence   Laplace ln Z and WAIC undefined (see the warnings)"
+        return f"evidence   {laplace or 'Laplace ln Z undefined (see the warnings)'}    {waic or 'WAIC undefined (see the warnings)'}"
 
     def _repr_html_(self) -> str:
         from ...plotting.html import result_html
