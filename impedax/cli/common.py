@@ -24,7 +24,7 @@ __all__ = [
     "check_outputs", "save_outputs", "print_result", "each_spectrum_written", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "shown_path", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
-    "relative_noise", "fit_command", "exclude_points", "exclude_items", "exclude_frequency", "parse_bounds", "checked_bound_options", "command_provenance", "comma_names",
+    "relative_noise", "fit_command", "exclude_points", "exclude_items", "exclude_frequency", "parse_bounds", "checked_bound_options", "command_provenance", "comma_names", "csv_sigma_note",
 ]
 
 
@@ -2007,3 +2007,19 @@ def remainder_with_paths(remaining, paths: dict[str, str]):
     from ..fitting.least_squares.result import REMAINDER_ATTRS
 
     return remaining.assign_attrs({k: str(paths[k]) for k in REMAINDER_ATTRS if k in paths})
+
+
+def csv_sigma_note(remaining, out: str | None, option: str) -> str | None:
+    """The note of a trial-mean remainder written as CSV (``out``; None: standard output) by
+    ``option`` (``impedax remaining --out``, ``impedax gap --remaining``): a CSV keeps no attrs, so a
+    fit of it by sigma cannot tell that sigma is the trial means' SEM (`trial_means_of_sigma`) and
+    warns that it overstates the noise, as impedax fit did of every remainder until 2026-12-06; None
+    for a netCDF file, which keeps them, or a sigma of another kind."""
+    from pathlib import Path
+
+    from ..fitting.least_squares.result import trial_means_of_sigma
+
+    if not trial_means_of_sigma(remaining.attrs) or (out is not None and Path(out).suffix.lower() in (".nc", ".nc4", ".cdf")):
+        return None
+    return (f"{'the CSV' if out is None else out} keeps no attributes, so impedax fit of it cannot tell that its sigma is the standard error of trial means "
+            f"and may warn that σ overstates the noise; write .nc ({option} FILE.nc) to keep what sigma is")

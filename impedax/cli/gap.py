@@ -212,7 +212,7 @@ def run(args) -> int:
     if not outputs.uses_stdout:
         print_result(result, args.json, provenance=record, command="gap")
     if args.remaining:  # (as impedax remaining says of its --out: 2026-12-06, gap --remaining FILE.csv said nothing)
-        from .remaining import csv_sigma_note
+        from .common import csv_sigma_note
 
         note = csv_sigma_note(result.remaining, None if args.remaining == "-" else args.remaining, "--remaining")
         if note:

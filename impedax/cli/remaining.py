@@ -46,22 +46,6 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
-def csv_sigma_note(remaining, out: str | None, option: str) -> str | None:
-    """The note of a trial-mean remainder written as CSV (``out``; None: standard output) by
-    ``option`` (``impedax remaining --out``, ``impedax gap --remaining``): a CSV keeps no attrs, so a
-    fit of it by sigma cannot tell that sigma is the trial means' SEM (`trial_means_of_sigma`) and
-    warns that it overstates the noise, as impedax fit did of every remainder until 2026-12-06; None
-    for a netCDF file, which keeps them, or a sigma of another kind."""
-    from pathlib import Path
-
-    from ..fitting.least_squares.result import trial_means_of_sigma
-
-    if not trial_means_of_sigma(remaining.attrs) or (out is not None and Path(out).suffix.lower() in (".nc", ".nc4", ".cdf")):
-        return None
-    return (f"{'the CSV' if out is None else out} keeps no attributes, so impedax fit of it cannot tell that its sigma is the standard error of trial means "
-            f"and may warn that σ overstates the noise; write .nc ({option} FILE.nc) to keep what sigma is")
-
-
 def sigma_phrase(remaining) -> str:
     """The end of the line on stderr: what the remainder's sigma is made of, read from its
     ``sigma_sources`` (input → "trial scatter" or "own sigma", `sirin.remaining_impedance`) and said
@@ -87,7 +71,7 @@ def run(args) -> int:
     from ..fitting.least_squares.result import sigma_sources
     from ..models.gap import gap_remainder
     from .gap import files_in_band, files_without_points
-    from .common import check_band_options, check_distinct_paths, command_line_words, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
+    from .common import check_band_options, csv_sigma_note, check_distinct_paths, command_line_words, check_json_with_spectrum_out, command_provenance, contact_paths, emit_json, load_selected_files, plan_outputs, remainder_with_paths, spectrum_summary, spectrum_writer
 
     paths = contact_paths(args, "remaining")
     out = None if args.out == "-" else args.out
