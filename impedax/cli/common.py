@@ -888,7 +888,7 @@ def _extra_dims(data) -> list[str]:
 
 #: Notes of a reader (``attrs``) that a command prints as warnings: what was read may not be
 #: what the file meant.
-LOAD_WARNINGS = ("phase_unit_note", "stdin_note")  # (stdin_note: standard input your --plugin readers did not claim)
+LOAD_WARNINGS = ("phase_unit_note", "stdin_note", "polar_columns_note")  # (stdin_note: standard input your --plugin readers did not claim; polar_columns_note: |Z| or the phase beside Z', Z'' disagreeing, io.consistency)
 
 
 def _load_noting(path: str, warn: bool = True, select: Sequence[str] | None = None, readers=None):

@@ -10,7 +10,7 @@ from __future__ import annotations
 # showed "saved_from: memory")
 _SAVED_IN_SESSION = "data built in a Python session (impedax.make_spectrum), not read from a file"
 
-_HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit_note", "decimal_mark", "point_count_note")
+_HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit_note", "polar_columns_note", "decimal_mark", "point_count_note")
 
 
 def register(sub) -> None:

@@ -717,6 +717,58 @@ def _columns_at_once(rows: Sequence[tuple[int, Sequence[str]]], n_fields: int, w
     return columns, extra
 
 
+def _polar_note(layout: Layout, z: np.ndarray, lines: Sequence[int], rows, path: Path, comma: bool) -> dict:
+    """``polar_columns_note`` when the |Z| or phase column beside Z' and Z'' disagrees with Z
+    (read from ``lines`` of ``rows``) beyond the rounding of its digits
+    (`consistency.polar_columns_note`); ``{}`` otherwise, or when such a column holds text. A
+    table of more than `consistency.CHECK_ALL_ROWS` rows is checked on `consistency.SAMPLE_ROWS`
+    rows spread through it, and on every row when one of them disagrees: reading a long table
+    costs no more than before."""
+    from .consistency import CHECK_ALL_ROWS, SAMPLE_ROWS, polar_columns_note
+
+    imag = "imag" if "imag" in layout.columns else "neg_imag"
+    ph = next((role for role in ("phase", "neg_phase") if role in layout.columns), None)
+    index = {"real": layout.columns["real"][0], "imag": layout.columns[imag][0]}
+    index.update({role: layout.columns[key][0] for role, key in (("modulus", "modulus"), ("phase", ph)) if key in layout.columns})
+    scales = {"real": layout.columns["real"][1], "imag": layout.columns[imag][1]}
+    scales.update({role: layout.columns[key][1] for role, key in (("modulus", "modulus"), ("phase", ph)) if key in layout.columns})
+    sign = {"modulus": 1.0, "phase": -1.0 if ph == "neg_phase" else 1.0}
+    names = {role: layout.header[i].strip() for role, i in index.items()}
+    if isinstance(rows, RowBlock) and list(rows.lines[:1]) == list(lines[:1]) and len(rows) == len(lines):
+        def cells_at(at: np.ndarray) -> dict[str, list[str]]:  # (read at once: the rows are the lines)
+            flat, width, at = rows.cells, rows.width, at.tolist()
+            return {role: [flat[i * width + k] for i in at] for role, k in index.items()}
+    else:
+        by_line = {line: cells for line, cells in rows}
+
+        def cells_at(at: np.ndarray) -> dict[str, list[str]]:
+            at_lines = [by_line[lines[i]] for i in at.tolist()]
+            return {role: [cells[k] for cells in at_lines] for role, k in index.items()}
+
+    def check(at: np.ndarray) -> str | None:
+        cells = cells_at(at)
+        values = {}
+        for role in ("modulus", "phase"):
+            if role in index:
+                try:
+                    values[role] = np.array([float(c.replace(",", ".") if comma else c) for c in cells[role]]) * scales[role] * sign[role]
+                except ValueError:  # (a column of text or gaps: nothing to compare)
+                    continue
+        if not values:
+            return None
+
+        def printed(k: np.ndarray) -> dict[str, list[str]]:
+            return {role: [column[i] for i in k] for role, column in cells.items()}
+
+        return polar_columns_note(z[at], values.get("modulus"), values.get("phase"), [lines[i] for i in at], names, scales, printed, path.name)
+
+    if len(lines) <= CHECK_ALL_ROWS:
+        note = check(np.arange(len(lines)))
+    else:
+        note = check(np.unique(np.linspace(0, len(lines) - 1, SAMPLE_ROWS).round().astype(int))) and check(np.arange(len(lines)))
+    return {"polar_columns_note": note} if note else {}
+
+
 def spectrum_from_rows(
     path: Path,
     layout: Layout,
@@ -760,6 +812,7 @@ def spectrum_from_rows(
     cycle_col = next((i for i, h in enumerate(header) if _key(h) in _CYCLE_NAMES), None) if split_sweeps else None
     # optional columns: read while every cell is a number; one of text or gaps is just another column
     optional = {name: index for name, index in (("time", time_col), ("cycle", cycle_col)) if index is not None}
+    source_rows = rows  # (|Z| and the phase beside Z', Z'' are read from them: `_polar_note`)
     optional_values: dict[str, list[float]] = {name: [] for name in optional}
     last_fields: list[str] = []  # (the last cell of each data row, for `check_last_field_digits`)
     at_once = _columns_at_once(rows, n_fields, wanted, optional, comma)
@@ -804,6 +857,8 @@ def spectrum_from_rows(
         phase = col["phase"] if "phase" in col else -col["neg_phase"]
         z = col["modulus"] * np.exp(1j * np.deg2rad(phase))
         attrs = {**attrs, **_radians_note(layout, phase, col["frequency"], col["modulus"], path, header_line), **_degrees_note(layout, phase)}
+    if layout.cartesian and any(role in layout.columns for role in polar):
+        attrs = {**attrs, **_polar_note(layout, z, lines, source_rows, path, comma)}
     attrs = {**attrs, **layout.notes()}
     if layout.other_columns():
         attrs.setdefault("other_columns", ", ".join(layout.other_columns()))

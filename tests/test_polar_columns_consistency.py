@@ -1,0 +1,172 @@
+"""|Z| and the phase beside Z' and Z'' (EC-Lab, CH Instruments, Gamry …) are compared with
+|Z'+jZ''| and atan2(Z'', Z') on reading: a |Z| column 1000× off (kΩ beside Ω) or a phase of
+the other sign went unnoticed until 2026-12-06. Where they disagree beyond the rounding of the
+printed digits, ``attrs["polar_columns_note"]`` says so; Z read stays as before. Every REAL file
+must give no note; SYNTHETIC files written here (an R + R‖C spectrum from its formula, numpy
+alone) give the expected one, with the line and factor found by numpy on the written numbers."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from tests.cli_run import run
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+SPECTRA = sorted(p for p in REAL.iterdir() if p.suffix.lower() not in (".md", ".json", ".py", ".npz") and not p.name.startswith("LICENSE"))
+
+F = np.logspace(5, -2, 36)
+Z = 20.0 + 1000.0 / (1 + 2j * np.pi * F * 1000.0 * 1e-5)  # R + R‖C: |Z| 20–1020 Ω, phase 0 to −65°
+
+
+@pytest.mark.parametrize("path", SPECTRA, ids=lambda p: p.name)
+def test_real_files_give_no_note(path):
+    ds = ix.load(path)
+    assert "polar_columns_note" not in ds.attrs, ds.attrs["polar_columns_note"]
+
+
+def test_real_biologic_columns_do_agree_by_numpy():
+    """The oracle behind 'no note' on REAL test_data.txt: its own |Z| and phase columns against
+    its Re(Z) and -Im(Z) columns (numpy), within 1e-6 relative and 1e-4°."""
+    cols = np.loadtxt(REAL / "test_data.txt", skiprows=1, usecols=(1, 2, 3, 4))
+    z = cols[:, 0] - 1j * cols[:, 1]
+    assert np.max(np.abs(cols[:, 2] / np.abs(z) - 1)) < 1e-6
+    assert np.max(np.abs(cols[:, 3] - np.degrees(np.angle(z)))) < 1e-4
+    assert "|Z|/Ohm" in ix.load(REAL / "test_data.txt").attrs["other_columns"]  # (the columns are there, and were checked)
+
+
+def _write(path, modulus, phase, header="frequency,Z' (Ohm),Z'' (Ohm),|Z| (Ohm),Phase (deg)", digits=7, z=Z):
+    rows = [header] + [",".join(f"{v:.{digits}g}" for v in row) for row in zip(F, z.real, z.imag, modulus, phase)]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def _printed(path, column):
+    """The numbers of ``column`` as the file holds them (numpy, not impedax)."""
+    return np.loadtxt(path, delimiter=",", skiprows=1, usecols=column)
+
+
+def test_consistent_synthetic_file_gives_no_note(tmp_path):
+    ds = ix.load(_write(tmp_path / "ok.csv", np.abs(Z), np.degrees(np.angle(Z))))
+    assert "polar_columns_note" not in ds.attrs
+
+
+def test_four_digits_agree_within_their_rounding(tmp_path):
+    """Printed to 4 significant digits (as CH Instruments does), the columns differ by up to a
+    few 1e-4 relative: rounding, no note."""
+    path = _write(tmp_path / "chi.csv", np.abs(Z), np.degrees(np.angle(Z)), digits=4)
+    zz = _printed(path, 1) + 1j * _printed(path, 2)
+    assert np.max(np.abs(_printed(path, 3) / np.abs(zz) - 1)) > 1e-5  # (they do differ, by rounding)
+    assert "polar_columns_note" not in ix.load(path).attrs
+
+
+def test_modulus_1000_times_gives_the_note(tmp_path):
+    path = _write(tmp_path / "kohm.csv", 1000 * np.abs(Z), np.degrees(np.angle(Z)))
+    ds = ix.load(path)
+    note = ds.attrs["polar_columns_note"]
+    ratio = np.median(_printed(path, 3) / np.abs(_printed(path, 1) + 1j * _printed(path, 2)))
+    assert ratio == pytest.approx(1000, rel=1e-5)
+    assert "'|Z| (Ohm)'" in note and "1000× |Z'+jZ''|" in note and f"on {F.size} of {F.size} rows" in note and "first on line 2 of kohm.csv" in note, note
+    np.testing.assert_allclose(ds["Z"].values, _printed(path, 1) + 1j * _printed(path, 2), rtol=1e-15)  # (Z as before)
+
+
+def test_phase_of_flipped_sign_gives_the_note(tmp_path):
+    path = _write(tmp_path / "flip.csv", np.abs(Z), -np.degrees(np.angle(Z)))
+    note = ix.load(path).attrs["polar_columns_note"]
+    phase, zz = _printed(path, 4), _printed(path, 1) + 1j * _printed(path, 2)
+    first = int(np.flatnonzero(np.abs(phase - np.degrees(np.angle(zz))) > 1e-3)[0]) + 2  # (line: header on line 1)
+    assert "'Phase (deg)'" in note and "opposite sign" in note and f"first on line {first} of flip.csv" in note, note
+
+
+def test_radians_labelled_as_such_agree(tmp_path):
+    path = _write(tmp_path / "rad.csv", np.abs(Z), np.angle(Z), header="frequency,Z' (Ohm),Z'' (Ohm),|Z| (Ohm),Phase (rad)")
+    assert "polar_columns_note" not in ix.load(path).attrs
+
+
+def test_radians_labelled_degrees_give_the_note(tmp_path):
+    path = _write(tmp_path / "rad_as_deg.csv", np.abs(Z), np.angle(Z))
+    note = ix.load(path).attrs["polar_columns_note"]
+    assert "radians read as degrees" in note and "Phase (rad)" in note, note
+
+
+def test_negated_columns_are_compared_in_the_data_model_sign(tmp_path):
+    """-Z'' and -Phase columns, each holding the negated quantity as its name says: no note."""
+    rows = ["frequency,Z' (Ohm),-Z'' (Ohm),|Z| (Ohm),-Phase (deg)"] + [
+        f"{f:.7g},{z.real:.7g},{-z.imag:.7g},{abs(z):.7g},{-np.degrees(np.angle(z)):.7g}" for f, z in zip(F, Z)]
+    (tmp_path / "neg.csv").write_text("\n".join(rows) + "\n")
+    assert "polar_columns_note" not in ix.load(tmp_path / "neg.csv").attrs
+
+
+def test_a_few_rows_off_name_the_first_and_count(tmp_path):
+    """|Z| off by 1 % from row 10 on (a 1 % error is 1e4× the 7-digit rounding): the count and
+    first line found by numpy on the written numbers."""
+    modulus = np.abs(Z) * np.where(np.arange(F.size) >= 10, 1.01, 1.0)
+    path = _write(tmp_path / "some.csv", modulus, np.degrees(np.angle(Z)))
+    off = np.flatnonzero(np.abs(_printed(path, 3) / np.abs(_printed(path, 1) + 1j * _printed(path, 2)) - 1) > 1e-3)
+    note = ix.load(path).attrs["polar_columns_note"]
+    assert f"on {off.size} of {F.size} rows, first on line {off[0] + 2} " in note and "1.01× |Z'+jZ''|" in note and "mix-up" not in note, note
+
+
+def test_long_table_checked_on_a_sample_then_in_full(tmp_path):
+    """25,000 rows (above CHECK_ALL_ROWS): a |Z| 1000× off is found, counted on every row."""
+    f = np.logspace(5, -2, 25_000)
+    z = 20.0 + 1000.0 / (1 + 2j * np.pi * f * 1e-2)
+    rows = ["frequency,Z' (Ohm),Z'' (Ohm),|Z| (Ohm),Phase (deg)"] + [
+        f"{a:.9g},{b:.9g},{c:.9g},{d:.9g},{e:.9g}" for a, b, c, d, e in zip(f, z.real, z.imag, 1000 * np.abs(z), np.degrees(np.angle(z)))]
+    (tmp_path / "long.csv").write_text("\n".join(rows) + "\n")
+    note = ix.load(tmp_path / "long.csv").attrs["polar_columns_note"]
+    assert "on 25000 of 25000 rows, first on line 2 " in note and "1000×" in note, note
+
+
+def _gamry(tmp_path, column, change):
+    """REAL exampleDataGamry.DTA with one ZCURVE column changed by ``change``."""
+    lines = (REAL / "exampleDataGamry.DTA").read_bytes().decode("latin-1").split("\n")
+    start = next(k for k, line in enumerate(lines) if line.startswith("ZCURVE"))
+    names = lines[start + 1].split("\t")
+    k = names.index(column)
+    first = None
+    for n in range(start + 3, len(lines)):
+        if not lines[n].startswith("\t"):
+            break
+        cells = lines[n].split("\t")
+        cells[k] = repr(change(float(cells[k])))
+        lines[n] = "\t".join(cells)
+        first = first or n + 1
+    path = tmp_path / "gamry.DTA"
+    path.write_bytes("\n".join(lines).encode("latin-1"))
+    return path, first
+
+
+def test_gamry_zmod_1000_times_gives_the_note(tmp_path):
+    path, first = _gamry(tmp_path, "Zmod", lambda v: v * 1000)
+    note = ix.load(path).attrs["polar_columns_note"]
+    assert "'Zmod'" in note and "1000×" in note and f"first on line {first} of gamry.DTA" in note, note
+
+
+def test_gamry_zphz_flipped_gives_the_note(tmp_path):
+    path, first = _gamry(tmp_path, "Zphz", lambda v: -v)
+    note = ix.load(path).attrs["polar_columns_note"]
+    assert "'Zphz'" in note and "opposite sign" in note and f"first on line {first} of gamry.DTA" in note, note
+
+
+def test_cli_warns_and_inspect_shows_it(tmp_path, capsys):
+    path = _write(tmp_path / "kohm.csv", 1000 * np.abs(Z), np.degrees(np.angle(Z)))
+    code, out, err = run(["inspect", path], capsys)
+    assert code == 0 and "polar columns note: column '|Z| (Ohm)'" in out, out
+    code, out, err = run(["inspect", "--json", path], capsys)
+    assert code == 0 and "1000× |Z'+jZ''|" in json.loads(out)["attrs"]["polar_columns_note"]
+    code, out, err = run(["kk", path], capsys)
+    assert code == 0 and "impedax: warning:" in err and "1000× |Z'+jZ''|" in err, err
+
+
+def test_spreadsheet_modulus_1000_times_gives_the_note(tmp_path):
+    openpyxl = pytest.importorskip("openpyxl")
+    book = openpyxl.Workbook()
+    book.active.append(["frequency", "Z' (Ohm)", "Z'' (Ohm)", "|Z| (Ohm)", "Phase (deg)"])
+    for f, z in zip(F.tolist(), Z.tolist()):
+        book.active.append([f, z.real, z.imag, 1000 * abs(z), float(np.degrees(np.angle(z)))])
+    book.save(tmp_path / "kohm.xlsx")
+    note = ix.load(tmp_path / "kohm.xlsx").attrs["polar_columns_note"]
+    assert "'|Z| (Ohm)'" in note and "1000× |Z'+jZ''|" in note and f"on {F.size} of {F.size} rows" in note, note
