@@ -170,3 +170,24 @@ def test_spreadsheet_modulus_1000_times_gives_the_note(tmp_path):
     book.save(tmp_path / "kohm.xlsx")
     note = ix.load(tmp_path / "kohm.xlsx").attrs["polar_columns_note"]
     assert "'|Z| (Ohm)'" in note and "1000× |Z'+jZ''|" in note and f"on {F.size} of {F.size} rows" in note, note
+
+
+def test_sign_hint_cites_the_files_phase_column(tmp_path, capsys):
+    """Z'' written as -Z'' under the header Z'' (Z'' > 0 while |Z| falls), the phase column
+    right: the sign hint says the file's own phase column agrees (numpy: the column's sign is
+    the opposite of atan2 of the written Z', Z'' on every row not resistive)."""
+    from impedax.io.sign_check import values_sign_hint
+
+    path = _write(tmp_path / "flipped_z.csv", np.abs(Z), np.degrees(np.angle(Z)), z=Z.conj())
+    written = np.degrees(np.angle(_printed(path, 1) + 1j * _printed(path, 2)))
+    telling = np.abs(written) > 1
+    assert np.all(np.sign(_printed(path, 4)[telling]) == -np.sign(written[telling]))
+    ds = ix.load(path)
+    hint = values_sign_hint(ds["frequency"].values, ds["Z"].values, ds.attrs)
+    assert "the file's own phase column 'Phase (deg)' says so too" in hint, hint
+    code, out, err = run(["inspect", path], capsys)
+    assert code == 0 and "hint:" in out and "'Phase (deg)' says so too" in out, out
+    plain = _write(tmp_path / "plain.csv", np.abs(Z), -np.degrees(np.angle(Z)), z=Z.conj())  # (both flipped: they agree)
+    ds = ix.load(plain)
+    assert "polar_columns_note" not in ds.attrs
+    assert "says so too" not in values_sign_hint(ds["frequency"].values, ds["Z"].values, ds.attrs)

@@ -165,7 +165,20 @@ def opposite_sign_hint(evidence: str | None, attrs=None) -> str | None:
     with the fix that fits how the reader took the column (``attrs``: the data's attributes)."""
     if not evidence:
         return None
-    return f"the imaginary part may be stored with the opposite sign (−Z''): {evidence}; {_fix(attrs or {})}, or in Python take data.assign(Z=data['Z'].conj())"
+    return f"the imaginary part may be stored with the opposite sign (−Z''): {evidence}{_phase_column_agrees(attrs or {})}; {_fix(attrs or {})}, or in Python take data.assign(Z=data['Z'].conj())"
+
+
+_FLIPPED_PHASE = re.compile(r"column (['\"])(?P<name>.+?)\1 disagrees with atan2\(Z'', Z'\)[^;]*?: it holds the opposite sign")
+
+
+def _phase_column_agrees(attrs) -> str:
+    """``; the file's own phase column 'Phase (deg)' says so too …`` when the reader found the
+    file's phase column of the other sign than Z read (``attrs["polar_columns_note"]``,
+    `consistency.polar_columns_note`); ``""`` otherwise."""
+    match = _FLIPPED_PHASE.search(str(attrs.get("polar_columns_note", "")))
+    if match is None:
+        return ""
+    return f"; the file's own phase column {match.group('name')!r} says so too: it holds the opposite sign of atan2(Z'', Z') of Z as read"
 
 
 _SIGN_NOTES = (  # how `io.table.Layout.notes` writes which column held Z'' (or the phase)
