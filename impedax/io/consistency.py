@@ -110,7 +110,7 @@ def polar_columns_note(
                          f"atan2 {angle[first]:.6g}°): {why}")
     if not notes:
         return None
-    return "; ".join(notes) + ". Z is read from Z' and Z'' alone, as before."
+    return "; ".join(notes) + ". Z is read from Z' and Z'' alone."
 
 
 def _disagreement(candidate: np.ndarray, z, printed, scales, lines, role: str, value: np.ndarray) -> tuple[np.ndarray, int] | None:
