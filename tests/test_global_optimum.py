@@ -243,6 +243,8 @@ def test_a_gerischer_reaches_its_warburg_limit_on_real_cycle_64():
     assert with_g.values["G1.tau"] * 2 * np.pi * float(one.frequency.min()) > 100  # (at the limit)
     # G1 at its W limit says so, and names W1 with the W model's own σ (its fit: the oracle)
     note = next(w for w in with_g.warnings if "acts as a semi-infinite Warburg" in w)
-    sigma = float(note.split("σ = R/√(2τ) = ")[1].split(" Ω")[0])
+    # (the quantity as the report writes it, an SI prefix before Ω: "146 mΩ s^-1/2")
+    number, unit = note.split("σ = R/√(2τ) = ")[1].split(" ")[:2]
+    sigma = float(number) * {"Ω": 1.0, "mΩ": 1e-3, "µΩ": 1e-6, "kΩ": 1e3}[unit]
     assert "the model with W1 in its place" in note and sigma == pytest.approx(with_w.values["W1.sigma"], rel=0.02)
     assert not any("acts as a semi-infinite Warburg" in w for w in with_w.warnings)
