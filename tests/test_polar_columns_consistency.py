@@ -191,3 +191,61 @@ def test_sign_hint_cites_the_files_phase_column(tmp_path, capsys):
     ds = ix.load(plain)
     assert "polar_columns_note" not in ds.attrs
     assert "says so too" not in values_sign_hint(ds["frequency"].values, ds["Z"].values, ds.attrs)
+
+
+def test_sign_hint_reads_the_flipped_phase_column_not_the_notes_words(tmp_path, monkeypatch):
+    """`sign_check` found the flipped phase column by a regex over the note's prose: reworded,
+    the hint lost the column. The reader records the column's name in its own attribute,
+    ``polar_columns_flipped_phase`` (a string: netCDF keeps it), which the hint reads. SYNTHETIC
+    Z'' written as -Z'' beside a right phase column (as above); the note is reworded twice: by the
+    words `consistency` writes, and by replacing the whole note after reading."""
+    from impedax.io import consistency
+    from impedax.io.sign_check import values_sign_hint
+
+    path = _write(tmp_path / "flipped_z.csv", np.abs(Z), np.degrees(np.angle(Z)), z=Z.conj())
+    cited = "the file's own phase column 'Phase (deg)' says so too"
+    ds = ix.load(path)
+    ds.attrs["polar_columns_note"] = "Phase (deg) and Z'' point opposite ways."
+    assert cited in values_sign_hint(ds["frequency"].values, ds["Z"].values, ds.attrs)
+    monkeypatch.setattr(consistency, "OPPOSITE_SIGN_WORDS", "its sign is reversed")
+    ds = ix.load(path)
+    assert "its sign is reversed" in ds.attrs["polar_columns_note"] and "opposite sign" not in ds.attrs["polar_columns_note"]
+    assert ds.attrs["polar_columns_flipped_phase"] == "Phase (deg)"
+    assert cited in values_sign_hint(ds["frequency"].values, ds["Z"].values, ds.attrs)
+    ix.save(ds, tmp_path / "flipped_z.nc")
+    back = ix.load(tmp_path / "flipped_z.nc")
+    assert back.attrs["polar_columns_flipped_phase"] == "Phase (deg)"
+    assert cited in values_sign_hint(back["frequency"].values, back["Z"].values, back.attrs)
+
+
+def test_flipped_phase_attribute_only_for_a_phase_of_the_other_sign(tmp_path):
+    """Set beside the note for a phase of the other sign only: not for |Z| 1000× off, radians
+    labelled degrees, or columns that agree (SYNTHETIC, as above)."""
+    cases = {"kohm": (1000 * np.abs(Z), np.degrees(np.angle(Z))), "rad": (np.abs(Z), np.angle(Z)), "ok": (np.abs(Z), np.degrees(np.angle(Z))),
+             "flip": (np.abs(Z), -np.degrees(np.angle(Z)))}
+    attrs = {name: ix.load(_write(tmp_path / f"{name}.csv", *columns)).attrs for name, columns in cases.items()}
+    assert [name for name, a in attrs.items() if "polar_columns_note" in a] == ["kohm", "rad", "flip"]
+    assert [name for name, a in attrs.items() if "polar_columns_flipped_phase" in a] == ["flip"]
+    assert attrs["flip"]["polar_columns_flipped_phase"] == "Phase (deg)"
+
+
+def test_flipped_phase_of_some_sheets_names_no_column_for_the_whole_file(tmp_path):
+    """Two sheets (SYNTHETIC): the attribute names the column when every sheet's phase is
+    flipped, and is left out when one sheet's only (a batch's hint cannot tell which sheet its
+    spectrum came from; the note, labelled by sheet, says which)."""
+    openpyxl = pytest.importorskip("openpyxl")
+
+    def book(flips, name):
+        wb = openpyxl.Workbook()
+        wb.remove(wb.active)
+        for k, flip in enumerate(flips):
+            ws = wb.create_sheet(f"s{k}")
+            ws.append(["frequency", "Z' (Ohm)", "Z'' (Ohm)", "|Z| (Ohm)", "Phase (deg)"])
+            for f, z in zip(F.tolist(), Z.tolist()):
+                ws.append([f, z.real, z.imag, abs(z), (-1 if flip else 1) * float(np.degrees(np.angle(z)))])
+        wb.save(tmp_path / name)
+        return ix.load(tmp_path / name).attrs
+
+    both, one = book([True, True], "both.xlsx"), book([True, False], "one.xlsx")
+    assert both["polar_columns_flipped_phase"] == "Phase (deg)"
+    assert "polar_columns_flipped_phase" not in one and one["polar_columns_note"].startswith("sheet s0: column 'Phase (deg)'"), one

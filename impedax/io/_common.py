@@ -23,6 +23,7 @@ import xarray as xr
 
 from ..data import make_spectrum
 from ..errors import DataError, SweepGridsDiffer
+from .consistency import FLIPPED_PHASE_KEY
 
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
@@ -535,16 +536,24 @@ def _grids_differ(path: Path, spectra: Sequence[tuple[str, xr.Dataset]], dim: st
     return SweepGridsDiffer(message, path=path, line=None, dim=dim, spectra=alone, found=found)
 
 
+#: Attributes whose value is a name, not prose (`consistency.FLIPPED_PHASE_KEY`: a column's):
+#: `merged_attrs` keeps one only when every spectrum has the same, since a labelled join
+#: ("sheet 1: Phase") names no column; the labelled note beside it says which spectra.
+NAME_ATTRS = frozenset({FLIPPED_PHASE_KEY})
+
+
 def merged_attrs(parts: Sequence[tuple[str, Mapping]], dim: str) -> dict:
     """The attributes ``parts`` (label, attrs) of spectra read from one file: those they share,
-    each one's own text labelled with its ``dim`` (a sheet's sign convention, a note), every
-    skipped row's report."""
+    each one's own text labelled with its ``dim`` (a sheet's sign convention, a note; a
+    `NAME_ATTRS` one only when they share it), every skipped row's report."""
     attrs = {}
     keys = list(dict.fromkeys(key for _, own in parts for key in own))  # every spectrum's, in order
     for key in keys:
         values = [own.get(key) for _, own in parts]
         if all(v == values[0] for v in values):
             attrs[key] = values[0]
+        elif key in NAME_ATTRS:
+            continue
         elif all(isinstance(v, str) or v is None for v in values):
             attrs[key] = "; ".join(f"{dim} {label}: {v}" for (label, _), v in zip(parts, values) if v is not None)
     reports = [f"{dim} {label}: {r}" for label, own in parts for r in own.get("skipped_rows", [])]

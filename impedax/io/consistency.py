@@ -6,7 +6,9 @@ Z' and Z''; the other two then say the same, up to the rounding of the printed d
 |Z| = |Z' + jZ''| and φ = atan2(Z'', Z') (in the data model, Z'' < 0 for a capacitor). A |Z|
 1000× off (kΩ beside Ω) or a phase of the other sign (Z'' or the phase stored with the other
 sign than the header says) means one of the columns is not what its name says, and so maybe Z
-itself: `polar_columns_note` says so. Nothing read changes."""
+itself: `polar_columns_note` says so, and `polar_columns_flipped_phase` names a phase column of
+the other sign (for `sign_check`, which reads it rather than the note's words). Nothing read
+changes."""
 
 from __future__ import annotations
 
@@ -14,7 +16,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-__all__ = ["CHECK_ALL_ROWS", "SAMPLE_ROWS", "MISMATCH_FLOOR", "PHASE_FLOOR_DEG", "polar_columns_note", "printed_resolution"]
+__all__ = ["CHECK_ALL_ROWS", "SAMPLE_ROWS", "MISMATCH_FLOOR", "PHASE_FLOOR_DEG", "FLIPPED_PHASE_KEY", "OPPOSITE_SIGN_WORDS", "polar_columns_attrs",
+           "polar_columns_note", "printed_resolution"]
 
 #: Relative |Z| disagreement below which no row is looked at (a float32 instrument's 6e-8 and
 #: any rounding beyond 6 significant digits: immaterial to a fit).
@@ -28,6 +31,13 @@ CHECK_ALL_ROWS = 20_000
 SAMPLE_ROWS = 2_000
 #: Margin on the rounding bound (half a unit of each cell's last printed digit).
 ROUNDING_MARGIN = 1.5
+#: ``attrs[FLIPPED_PHASE_KEY]``: the header name of a phase column that holds the opposite sign
+#: of atan2(Z'', Z') of Z as read (a string: netCDF keeps it), set only then. `sign_check` cites
+#: the column from it, not from the note's words.
+FLIPPED_PHASE_KEY = "polar_columns_flipped_phase"
+#: Why the note says a phase column disagrees when it holds the opposite sign.
+OPPOSITE_SIGN_WORDS = ("it holds the opposite sign of atan2(Z'', Z') (the phase stored as -phase, or Z'' with the other sign "
+                       "than its header says: check which, since Z is read from Z' and Z'')")
 
 
 def printed_resolution(cell: str) -> float:
@@ -68,14 +78,31 @@ def polar_columns_note(
     printed: Callable[[np.ndarray], dict[str, Sequence[str]]],
     file_name: str,
 ) -> str | None:
-    """``attrs["polar_columns_note"]``: where the |Z| column (``modulus`` [Ω]) or the phase
-    column (``phase_deg``, in degrees and in the data model's sign) disagrees with Z = Z' + jZ''
-    beyond the rounding of the file's printed digits; ``None`` when they agree. ``names``: the
-    columns' header names by role (real, imag, modulus, phase); ``scales``: each one's factor to
-    Ω or degrees; ``printed(rows)``: the printed cells of those rows by role, asked only for rows
-    that differ by more than `MISMATCH_FLOOR` (|Z|) or `PHASE_FLOOR_DEG`."""
+    """``attrs["polar_columns_note"]`` of `polar_columns_attrs` (the same arguments), or ``None``
+    when the columns agree."""
+    return polar_columns_attrs(z, modulus, phase_deg, lines, names, scales, printed, file_name).get("polar_columns_note")
+
+
+def polar_columns_attrs(
+    z: np.ndarray,
+    modulus: np.ndarray | None,
+    phase_deg: np.ndarray | None,
+    lines: Sequence[int],
+    names: dict[str, str],
+    scales: dict[str, float],
+    printed: Callable[[np.ndarray], dict[str, Sequence[str]]],
+    file_name: str,
+) -> dict[str, str]:
+    """``{"polar_columns_note": …}``: where the |Z| column (``modulus`` [Ω]) or the phase column
+    (``phase_deg``, in degrees and in the data model's sign) disagrees with Z = Z' + jZ'' beyond
+    the rounding of the file's printed digits, and ``{FLIPPED_PHASE_KEY: phase column's name}``
+    beside it when the phase column holds the opposite sign; ``{}`` when they agree. ``names``:
+    the columns' header names by role (real, imag, modulus, phase); ``scales``: each one's factor
+    to Ω or degrees; ``printed(rows)``: the printed cells of those rows by role, asked only for
+    rows that differ by more than `MISMATCH_FLOOR` (|Z|) or `PHASE_FLOOR_DEG`."""
     z = np.asarray(z)
     notes = []
+    attrs: dict[str, str] = {}
     abs_z = np.abs(z)
     if modulus is not None:
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -97,8 +124,8 @@ def polar_columns_note(
             as_radians = float(np.median(np.abs(_wrapped(phase_deg[rows] - np.radians(angle[rows])))))
             as_degrees_in_rad = float(np.median(np.abs(_wrapped(phase_deg[rows] - np.degrees(angle[rows]) * 180 / np.pi))))
             if flipped < 0.01 * max(float(np.median(off[rows])), 1e-12) or flipped < 0.05:
-                why = ("it holds the opposite sign of atan2(Z'', Z') (the phase stored as -phase, or Z'' with the other sign "
-                       "than its header says: check which, since Z is read from Z' and Z'')")
+                why = OPPOSITE_SIGN_WORDS
+                attrs[FLIPPED_PHASE_KEY] = names["phase"]
             elif as_radians < 0.05:
                 why = "its values are radians read as degrees: name the column 'Phase (rad)'"
             elif as_degrees_in_rad < 0.05 * 180 / np.pi:
@@ -109,8 +136,8 @@ def polar_columns_note(
                          f"{rows.size} of {z.size} rows, first on line {lines[first]} of {file_name} ({phase_deg[first]:.6g}° there as read, "
                          f"atan2 {angle[first]:.6g}°): {why}")
     if not notes:
-        return None
-    return "; ".join(notes) + ". Z is read from Z' and Z'' alone."
+        return {}
+    return {"polar_columns_note": "; ".join(notes) + ". Z is read from Z' and Z'' alone.", **attrs}
 
 
 def _disagreement(candidate: np.ndarray, z, printed, scales, lines, role: str, value: np.ndarray) -> tuple[np.ndarray, int] | None:

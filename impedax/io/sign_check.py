@@ -18,6 +18,8 @@ from typing import Callable
 
 import numpy as np
 
+from .consistency import FLIPPED_PHASE_KEY
+
 __all__ = [
     "POSITIVE_SHARE", "FAILED_SHARE", "positive_imaginary_evidence", "negative_real_evidence", "conjugate_evidence", "opposite_sign_hint",
     "negative_real_hint", "imaginary_flipped_too", "swapped_evidence", "bode_misfit", "sign_hint", "values_sign_hint",
@@ -168,17 +170,15 @@ def opposite_sign_hint(evidence: str | None, attrs=None) -> str | None:
     return f"the imaginary part may be stored with the opposite sign (−Z''): {evidence}{_phase_column_agrees(attrs or {})}; {_fix(attrs or {})}, or in Python take data.assign(Z=data['Z'].conj())"
 
 
-_FLIPPED_PHASE = re.compile(r"column (['\"])(?P<name>.+?)\1 disagrees with atan2\(Z'', Z'\)[^;]*?: it holds the opposite sign")
-
-
 def _phase_column_agrees(attrs) -> str:
     """``; the file's own phase column 'Phase (deg)' says so too …`` when the reader found the
-    file's phase column of the other sign than Z read (``attrs["polar_columns_note"]``,
-    `consistency.polar_columns_note`); ``""`` otherwise."""
-    match = _FLIPPED_PHASE.search(str(attrs.get("polar_columns_note", "")))
-    if match is None:
+    file's phase column of the other sign than Z read (``attrs["polar_columns_flipped_phase"]``,
+    its name: `consistency.polar_columns_attrs`; read from that, not from the words of
+    ``polar_columns_note``, which may change); ``""`` otherwise."""
+    name = attrs.get(FLIPPED_PHASE_KEY)
+    if not isinstance(name, str) or not name:
         return ""
-    return f"; the file's own phase column {match.group('name')!r} says so too: it holds the opposite sign of atan2(Z'', Z') of Z as read"
+    return f"; the file's own phase column {name!r} says so too: it holds the opposite sign of atan2(Z'', Z') of Z as read"
 
 
 _SIGN_NOTES = (  # how `io.table.Layout.notes` writes which column held Z'' (or the phase)

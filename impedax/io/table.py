@@ -718,13 +718,13 @@ def _columns_at_once(rows: Sequence[tuple[int, Sequence[str]]], n_fields: int, w
 
 
 def _polar_note(layout: Layout, z: np.ndarray, lines: Sequence[int], rows, path: Path, comma: bool) -> dict:
-    """``polar_columns_note`` when the |Z| or phase column beside Z' and Z'' disagrees with Z
-    (read from ``lines`` of ``rows``) beyond the rounding of its digits
-    (`consistency.polar_columns_note`); ``{}`` otherwise, or when such a column holds text. A
+    """``polar_columns_note`` (and ``polar_columns_flipped_phase``) when the |Z| or phase column
+    beside Z' and Z'' disagrees with Z (read from ``lines`` of ``rows``) beyond the rounding of
+    its digits (`consistency.polar_columns_attrs`); ``{}`` otherwise, or when such a column holds text. A
     table of more than `consistency.CHECK_ALL_ROWS` rows is checked on `consistency.SAMPLE_ROWS`
     rows spread through it, and on every row when one of them disagrees: reading a long table
     costs no more than before."""
-    from .consistency import CHECK_ALL_ROWS, SAMPLE_ROWS, polar_columns_note
+    from .consistency import CHECK_ALL_ROWS, SAMPLE_ROWS, polar_columns_attrs
 
     imag = "imag" if "imag" in layout.columns else "neg_imag"
     ph = next((role for role in ("phase", "neg_phase") if role in layout.columns), None)
@@ -745,7 +745,7 @@ def _polar_note(layout: Layout, z: np.ndarray, lines: Sequence[int], rows, path:
             at_lines = [by_line[lines[i]] for i in at.tolist()]
             return {role: [cells[k] for cells in at_lines] for role, k in index.items()}
 
-    def check(at: np.ndarray) -> str | None:
+    def check(at: np.ndarray) -> dict[str, str]:
         cells = cells_at(at)
         values = {}
         for role in ("modulus", "phase"):
@@ -755,18 +755,16 @@ def _polar_note(layout: Layout, z: np.ndarray, lines: Sequence[int], rows, path:
                 except ValueError:  # (a column of text or gaps: nothing to compare)
                     continue
         if not values:
-            return None
+            return {}
 
         def printed(k: np.ndarray) -> dict[str, list[str]]:
             return {role: [column[i] for i in k] for role, column in cells.items()}
 
-        return polar_columns_note(z[at], values.get("modulus"), values.get("phase"), [lines[i] for i in at], names, scales, printed, path.name)
+        return polar_columns_attrs(z[at], values.get("modulus"), values.get("phase"), [lines[i] for i in at], names, scales, printed, path.name)
 
     if len(lines) <= CHECK_ALL_ROWS:
-        note = check(np.arange(len(lines)))
-    else:
-        note = check(np.unique(np.linspace(0, len(lines) - 1, SAMPLE_ROWS).round().astype(int))) and check(np.arange(len(lines)))
-    return {"polar_columns_note": note} if note else {}
+        return check(np.arange(len(lines)))
+    return check(np.unique(np.linspace(0, len(lines) - 1, SAMPLE_ROWS).round().astype(int))) and check(np.arange(len(lines)))
 
 
 def spectrum_from_rows(

@@ -22,7 +22,7 @@ from ...errors import DataError
 from .._common import Skipped, check_field_count, check_last_field_digits, column_entry, cut_short_note, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
 from ..dates import record_date
 from ..registry import Reader
-from ..consistency import polar_columns_note
+from ..consistency import polar_columns_attrs
 from ..table import NUMBER_CELL
 
 __all__ = ["read_gamry", "READER"]
@@ -157,16 +157,15 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
     if not rows:
         raise DataError("the ZCURVE table has no data rows", path=path, line=start + 1)
     z = arr["Zreal"] + 1j * arr["Zimag"]
-    note = _polar_note(path, z, rows, index, units, scales, comma)
-    if note:
-        attrs["polar_columns_note"] = note
+    attrs.update(_polar_attrs(path, z, rows, index, units, scales, comma))
     return finish(path, arr["Freq"], z, [n for n, _ in rows], attrs, skipped=Skipped(), extra=extra)
 
 
-def _polar_note(path: Path, z: np.ndarray, rows: list, index: dict[str, int], units: list[str], scales: dict[str, float], comma: bool) -> str | None:
-    """``attrs["polar_columns_note"]`` when the table's ``Zmod`` [Ω] or ``Zphz`` [deg] disagrees
-    with Zreal + j·Zimag beyond the rounding of their digits (`consistency.polar_columns_note`);
-    ``None`` when they agree, or a column is missing, not numbers or in a unit not Ω."""
+def _polar_attrs(path: Path, z: np.ndarray, rows: list, index: dict[str, int], units: list[str], scales: dict[str, float], comma: bool) -> dict[str, str]:
+    """``attrs["polar_columns_note"]`` (and ``polar_columns_flipped_phase``) when the table's
+    ``Zmod`` [Ω] or ``Zphz`` [deg] disagrees with Zreal + j·Zimag beyond the rounding of their
+    digits (`consistency.polar_columns_attrs`); ``{}`` when they agree, or a column is missing,
+    not numbers or in a unit not Ω."""
     values, polar_scales = {}, {}
     for name, role in (("Zmod", "modulus"), ("Zphz", "phase")):
         if name not in index:
@@ -180,14 +179,14 @@ def _polar_note(path: Path, z: np.ndarray, rows: list, index: dict[str, int], un
         if column is not None:
             values[role], polar_scales[role] = column, scale
     if not values:
-        return None
+        return {}
     cell_index = {"real": index["Zreal"], "imag": index["Zimag"], **{role: index[name] for name, role in (("Zmod", "modulus"), ("Zphz", "phase")) if role in values}}
 
     def printed(at: np.ndarray) -> dict[str, list[str]]:
         return {role: [rows[i][1][k] for i in at] for role, k in cell_index.items()}
 
     names = {"real": "Zreal", "imag": "Zimag", "modulus": "Zmod", "phase": "Zphz"}
-    return polar_columns_note(z, values.get("modulus"), values.get("phase"), [line for line, _ in rows], names,
+    return polar_columns_attrs(z, values.get("modulus"), values.get("phase"), [line for line, _ in rows], names,
                               {"real": scales["Zreal"], "imag": scales["Zimag"], **polar_scales}, printed, path.name)
 
 
