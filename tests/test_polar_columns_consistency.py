@@ -249,3 +249,66 @@ def test_flipped_phase_of_some_sheets_names_no_column_for_the_whole_file(tmp_pat
     both, one = book([True, True], "both.xlsx"), book([True, False], "one.xlsx")
     assert both["polar_columns_flipped_phase"] == "Phase (deg)"
     assert "polar_columns_flipped_phase" not in one and one["polar_columns_note"].startswith("sheet s0: column 'Phase (deg)'"), one
+
+
+def _first_row_1000_times(cells_by_row):
+    """The spreadsheet row (as its program numbers them) of the first data row whose |Z| cell is
+    over 100× |Z'+jZ''| of its cells: ``cells_by_row`` maps row number → the row's cell values."""
+    for row, cells in sorted(cells_by_row.items()):
+        try:
+            real, imag, modulus = (float(c) for c in cells[1:4])
+        except (TypeError, ValueError, IndexError):
+            continue
+        if modulus > 100 * abs(complex(real, imag)):
+            return row
+    raise AssertionError("no row found")
+
+
+def test_spreadsheet_note_names_the_row_the_program_shows(tmp_path):
+    """In a spreadsheet the note says 'row N', N as the spreadsheet program numbers the rows (it
+    said 'line N'). SYNTHETIC sheet: two empty rows, a note, the header, a units row, then the
+    data, |Z| 1000× off from the third data row on; the row found by openpyxl's own cell.row."""
+    openpyxl = pytest.importorskip("openpyxl")
+    book = openpyxl.Workbook()
+    sheet = book.active
+    sheet.cell(row=3, column=1, value="Instrument: SYNTHETIC")
+    sheet.append(["frequency", "Z'", "Z''", "|Z|", "Phase"])
+    sheet.append(["Hz", "Ohm", "Ohm", "Ohm", "deg"])
+    for k, (f, z) in enumerate(zip(F.tolist(), Z.tolist())):
+        sheet.append([f, z.real, z.imag, abs(z) * (1000 if k >= 2 else 1), float(np.degrees(np.angle(z)))])
+    book.save(tmp_path / "rows.xlsx")
+    cells = {row[0].row: [c.value for c in row] for row in openpyxl.load_workbook(tmp_path / "rows.xlsx").active.iter_rows()}
+    row = _first_row_1000_times(cells)
+    assert row == 8  # (3 rows above the header, the header, the units, two data rows: by hand)
+    note = ix.load(tmp_path / "rows.xlsx").attrs["polar_columns_note"]
+    assert f"on {F.size - 2} of {F.size} rows, first on row {row} of rows.xlsx [sheet Sheet]" in note and "line" not in note, note
+
+
+def test_ods_note_names_the_row_the_program_shows(tmp_path):
+    """The same in OpenDocument: rows counted from the file's content.xml (a row repeated N
+    times is N rows), three empty rows above the header written as one repeated row, as
+    LibreOffice writes them."""
+    pytest.importorskip("odf")
+    import re
+    import zipfile
+
+    import pandas as pd
+
+    modulus = np.abs(Z) * np.where(np.arange(F.size) >= 2, 1000, 1)
+    frame = pd.DataFrame({"frequency": F, "Z' (Ohm)": Z.real, "Z'' (Ohm)": Z.imag, "|Z| (Ohm)": modulus, "Phase (deg)": np.degrees(np.angle(Z))})
+    frame.to_excel(tmp_path / "pandas.ods", engine="odf", index=False, startrow=3)
+    with zipfile.ZipFile(tmp_path / "pandas.ods") as zin, zipfile.ZipFile(tmp_path / "rows.ods", "w") as zout:
+        for item in zin.infolist():
+            data = zin.read(item.filename)
+            if item.filename == "content.xml":
+                data = data.replace(b"<table:table-row/>" * 3, b'<table:table-row table:number-rows-repeated="3"><table:table-cell/></table:table-row>', 1)
+            zout.writestr(item, data)
+    content = zipfile.ZipFile(tmp_path / "rows.ods").read("content.xml").decode()
+    cells, row = {}, 0
+    for element in re.findall(r"<table:table-row[^>]*?(?:/>|>.*?</table:table-row>)", content):
+        repeated = re.search(r'number-rows-repeated="(\d+)"', element)
+        row += int(repeated.group(1)) if repeated else 1
+        cells[row] = re.findall(r"<text:p>(.*?)</text:p>", element)
+    assert 'number-rows-repeated="3"' in content and _first_row_1000_times(cells) == 7
+    note = ix.load(tmp_path / "rows.ods").attrs["polar_columns_note"]
+    assert f"first on row {_first_row_1000_times(cells)} of rows.ods [sheet Sheet1]" in note, note

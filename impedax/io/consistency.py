@@ -77,10 +77,12 @@ def polar_columns_note(
     scales: dict[str, float],
     printed: Callable[[np.ndarray], dict[str, Sequence[str]]],
     file_name: str,
+    *,
+    position: str = "line",
 ) -> str | None:
     """``attrs["polar_columns_note"]`` of `polar_columns_attrs` (the same arguments), or ``None``
     when the columns agree."""
-    return polar_columns_attrs(z, modulus, phase_deg, lines, names, scales, printed, file_name).get("polar_columns_note")
+    return polar_columns_attrs(z, modulus, phase_deg, lines, names, scales, printed, file_name, position=position).get("polar_columns_note")
 
 
 def polar_columns_attrs(
@@ -92,6 +94,8 @@ def polar_columns_attrs(
     scales: dict[str, float],
     printed: Callable[[np.ndarray], dict[str, Sequence[str]]],
     file_name: str,
+    *,
+    position: str = "line",
 ) -> dict[str, str]:
     """``{"polar_columns_note": …}``: where the |Z| column (``modulus`` [Ω]) or the phase column
     (``phase_deg``, in degrees and in the data model's sign) disagrees with Z = Z' + jZ'' beyond
@@ -99,10 +103,14 @@ def polar_columns_attrs(
     beside it when the phase column holds the opposite sign; ``{}`` when they agree. ``names``:
     the columns' header names by role (real, imag, modulus, phase); ``scales``: each one's factor
     to Ω or degrees; ``printed(rows)``: the printed cells of those rows by role, asked only for
-    rows that differ by more than `MISMATCH_FLOOR` (|Z|) or `PHASE_FLOOR_DEG`."""
+    rows that differ by more than `MISMATCH_FLOOR` (|Z|) or `PHASE_FLOOR_DEG`; ``lines``: each
+    row's place in the file, which ``position`` names: 'line' of a text file, 'row' of a
+    spreadsheet (as its program numbers them), 'point' of a file of arrays (counted as points)."""
     z = np.asarray(z)
     notes = []
     attrs: dict[str, str] = {}
+    rows_word = "points" if position == "point" else "rows"
+    first_at = "at point" if position == "point" else f"on {position}"
     abs_z = np.abs(z)
     if modulus is not None:
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -112,7 +120,7 @@ def polar_columns_attrs(
             rows, first = text
             ratio = float(np.median(modulus[rows] / np.maximum(abs_z[rows], np.finfo(float).tiny)))
             notes.append(f"column {names['modulus']!r} disagrees with |Z'+jZ''| from {names['real']!r} and {names['imag']!r} on "
-                         f"{rows.size} of {z.size} rows, first on line {lines[first]} of {file_name} ({modulus[first]:.6g} Ω there, "
+                         f"{rows.size} of {z.size} {rows_word}, first {first_at} {lines[first]} of {file_name} ({modulus[first]:.6g} Ω there, "
                          f"|Z'+jZ''| {abs_z[first]:.6g} Ω): {_factor_text(ratio)}")
     if phase_deg is not None:
         angle = np.degrees(np.angle(z))
@@ -133,7 +141,7 @@ def polar_columns_attrs(
             else:
                 why = f"off by up to {float(off[rows].max()):.3g}°"
             notes.append(f"column {names['phase']!r} disagrees with atan2(Z'', Z') from {names['real']!r} and {names['imag']!r} on "
-                         f"{rows.size} of {z.size} rows, first on line {lines[first]} of {file_name} ({phase_deg[first]:.6g}° there as read, "
+                         f"{rows.size} of {z.size} {rows_word}, first {first_at} {lines[first]} of {file_name} ({phase_deg[first]:.6g}° there as read, "
                          f"atan2 {angle[first]:.6g}°): {why}")
     if not notes:
         return {}

@@ -717,7 +717,7 @@ def _columns_at_once(rows: Sequence[tuple[int, Sequence[str]]], n_fields: int, w
     return columns, extra
 
 
-def _polar_note(layout: Layout, z: np.ndarray, lines: Sequence[int], rows, path: Path, comma: bool) -> dict:
+def _polar_note(layout: Layout, z: np.ndarray, lines: Sequence[int], rows, path: Path, comma: bool, position: str = "line") -> dict:
     """``polar_columns_note`` (and ``polar_columns_flipped_phase``) when the |Z| or phase column
     beside Z' and Z'' disagrees with Z (read from ``lines`` of ``rows``) beyond the rounding of
     its digits (`consistency.polar_columns_attrs`); ``{}`` otherwise, or when such a column holds text. A
@@ -760,7 +760,7 @@ def _polar_note(layout: Layout, z: np.ndarray, lines: Sequence[int], rows, path:
         def printed(k: np.ndarray) -> dict[str, list[str]]:
             return {role: [column[i] for i in k] for role, column in cells.items()}
 
-        return polar_columns_attrs(z[at], values.get("modulus"), values.get("phase"), [lines[i] for i in at], names, scales, printed, path.name)
+        return polar_columns_attrs(z[at], values.get("modulus"), values.get("phase"), [lines[i] for i in at], names, scales, printed, path.name, position=position)
 
     if len(lines) <= CHECK_ALL_ROWS:
         return check(np.arange(len(lines)))
@@ -781,6 +781,7 @@ def spectrum_from_rows(
     split_sweeps: bool = False,
     cut_line: int | None = None,
     delimited: bool = False,
+    position: str = "line",
 ) -> xr.Dataset:
     """One spectrum from ``rows`` (line number, cells; or a `RowBlock`) laid out as ``layout``, read
     a column at a time when every row is a row of numbers (`_columns_at_once`), else row by row. ``cut_line``: the
@@ -791,7 +792,8 @@ def spectrum_from_rows(
     header's that another delimiter would split right is refused naming both. With
     ``split_sweeps``, a table of several sweeps of one frequency list (the list restarts, or an
     EC-Lab ``cycle number`` column changes) becomes a ``sweep`` (``cycle``) dimension
-    (`_sweep_blocks`)."""
+    (`_sweep_blocks`). ``position``: what the line numbers are, in `_polar_note`'s words ('row'
+    for a spreadsheet's rows)."""
     skipped = skipped if skipped is not None else Skipped()
     header = list(layout.header)
     while header and not header[-1]:
@@ -856,7 +858,7 @@ def spectrum_from_rows(
         z = col["modulus"] * np.exp(1j * np.deg2rad(phase))
         attrs = {**attrs, **_radians_note(layout, phase, col["frequency"], col["modulus"], path, header_line), **_degrees_note(layout, phase)}
     if layout.cartesian and any(role in layout.columns for role in polar):
-        attrs = {**attrs, **_polar_note(layout, z, lines, source_rows, path, comma)}
+        attrs = {**attrs, **_polar_note(layout, z, lines, source_rows, path, comma, position)}
     attrs = {**attrs, **layout.notes()}
     if layout.other_columns():
         attrs.setdefault("other_columns", ", ".join(layout.other_columns()))

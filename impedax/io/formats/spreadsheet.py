@@ -148,7 +148,7 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
         if units_row:
             attrs["units_row"] = units_row_note(rows[1][0], rows[1][1], "row")
         try:
-            ds = spectrum_from_rows(where, layout, rows[2:] if units_row else rows[1:], attrs, comma=False, split_sweeps=True)
+            ds = spectrum_from_rows(where, layout, rows[2:] if units_row else rows[1:], attrs, comma=False, split_sweeps=True, position="row")
         except SweepGridsDiffer as exc:
             if len(sheets) == 1:
                 raise
