@@ -312,3 +312,52 @@ def test_ods_note_names_the_row_the_program_shows(tmp_path):
     assert 'number-rows-repeated="3"' in content and _first_row_1000_times(cells) == 7
     note = ix.load(tmp_path / "rows.ods").attrs["polar_columns_note"]
     assert f"first on row {_first_row_1000_times(cells)} of rows.ods [sheet Sheet1]" in note, note
+
+
+def _palmsens(tmp_path, name, change):
+    """REAL data.pssession with the measurement's array ``name`` changed by ``change`` (a SYNTHETIC
+    mutated copy, UTF-16 with a byte-order mark as the original), and the arrays as written
+    (json, not impedax)."""
+    text = (REAL / "data.pssession").read_bytes().decode("utf-16")
+    session, _ = json.JSONDecoder().raw_decode(text.lstrip("\ufeff"))
+    values = session["Measurements"][0]["DataSet"]["Values"]
+    for entry in values:
+        if entry["Description"] == name:
+            for point in entry["DataValues"]:
+                point["V"] = change(point["V"])
+    path = tmp_path / f"{name}.pssession"
+    path.write_bytes(("\ufeff" + json.dumps(session)).encode("utf-16-le"))
+    arrays = {e["Description"]: np.array([p["V"] for p in e["DataValues"]]) for e in values}
+    return path, arrays
+
+
+def test_real_palmsens_arrays_do_agree_by_numpy():
+    """The oracle behind 'no note' on REAL data.pssession: its Z and Phase arrays (Phase holds
+    −phase, its 'Q' says '-Phase') against ZRe − j·ZIm, by numpy on the JSON."""
+    text = (REAL / "data.pssession").read_bytes().decode("utf-16")
+    session, _ = json.JSONDecoder().raw_decode(text.lstrip("\ufeff"))
+    entries = {e["Description"]: e for e in session["Measurements"][0]["DataSet"]["Values"]}
+    v = {k: np.array([p["V"] for p in e["DataValues"]]) for k, e in entries.items()}
+    z = v["ZRe"] - 1j * v["ZIm"]
+    assert entries["Phase"]["Unit"]["Q"] == "-Phase" and entries["Z"]["Unit"]["S"] == "\u2126"
+    assert np.max(np.abs(v["Z"] / np.abs(z) - 1)) < 1e-12 and np.max(np.abs(-v["Phase"] - np.degrees(np.angle(z)))) < 1e-10
+    assert "polar_columns_note" not in ix.load(REAL / "data.pssession").attrs
+
+
+def test_palmsens_phase_flipped_gives_the_note_and_the_name(tmp_path):
+    path, arrays = _palmsens(tmp_path, "Phase", lambda v: -v)
+    ds = ix.load(path)
+    note = ds.attrs["polar_columns_note"]
+    z = arrays["ZRe"] - 1j * arrays["ZIm"]
+    off = np.flatnonzero(np.abs(-arrays["Phase"] - np.degrees(np.angle(z))) > 1e-3)  # (points counted from 0, as the reader's messages)
+    assert "column 'Phase'" in note and "opposite sign" in note and f"on {off.size} of {z.size} points, first at point {off[0]} of Phase.pssession" in note, note
+    assert ds.attrs["polar_columns_flipped_phase"] == "Phase"
+    np.testing.assert_array_equal(np.sort_complex(ds["Z"].values), np.sort_complex(z))  # (Z read from ZRe and ZIm, as before)
+
+
+def test_palmsens_modulus_1000_times_gives_the_note(tmp_path):
+    path, arrays = _palmsens(tmp_path, "Z", lambda v: 1000 * v)
+    note = ix.load(path).attrs["polar_columns_note"]
+    n = arrays["Z"].size
+    assert np.median(arrays["Z"] / np.abs(arrays["ZRe"] - 1j * arrays["ZIm"])) == pytest.approx(1000, rel=1e-9)
+    assert "column 'Z'" in note and "1000× |Z'+jZ''|" in note and f"on {n} of {n} points, first at point 0 of Z.pssession" in note, note

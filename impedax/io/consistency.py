@@ -16,7 +16,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-__all__ = ["CHECK_ALL_ROWS", "SAMPLE_ROWS", "MISMATCH_FLOOR", "PHASE_FLOOR_DEG", "FLIPPED_PHASE_KEY", "OPPOSITE_SIGN_WORDS", "polar_columns_attrs",
+__all__ = ["CHECK_ALL_ROWS", "SAMPLE_ROWS", "MISMATCH_FLOOR", "PHASE_FLOOR_DEG", "FLIPPED_PHASE_KEY", "OPPOSITE_SIGN_WORDS", "float_cells", "polar_columns_attrs",
            "polar_columns_note", "printed_resolution"]
 
 #: Relative |Z| disagreement below which no row is looked at (a float32 instrument's 6e-8 and
@@ -51,6 +51,16 @@ def printed_resolution(cell: str) -> float:
     except ValueError:
         shift = 0
     return 10.0 ** (shift - decimals)
+
+
+def float_cells(columns: dict[str, np.ndarray]) -> Callable[[np.ndarray], dict[str, list[str]]]:
+    """The ``printed`` argument of `polar_columns_attrs` for a file that stores numbers, not text
+    (JSON, HDF5, binary): each value as its shortest exact text, whose last digit is the
+    rounding the file's double (or float32) allows."""
+    def printed(rows: np.ndarray) -> dict[str, list[str]]:
+        return {role: [repr(float(values[i])) for i in rows] for role, values in columns.items()}
+
+    return printed
 
 
 def _factor_text(ratio: float) -> str:

@@ -7,7 +7,9 @@ object. ``Measurements[i].DataSet`` of type ``...DataSetEIS`` lists ``Values``: 
 on one grid become a ``measurement`` dimension.
 
 Conventions: frequency in Hz; Z' = ``ZRe``; the file stores −Z'' in ``ZIm`` (its ``YIm`` is
-+Y'' and its ``Phase`` is −phase, consistent with that), negated here.
++Y'' and its ``Phase`` is −phase, consistent with that), negated here. Its ``Z`` [Ω] and
+``Phase`` [°] arrays are compared with |Z'+jZ''| and atan2(Z'', Z') (`_polar_attrs`,
+``attrs["polar_columns_note"]`` where they disagree); Z is read from ``ZRe`` and ``ZIm`` alone.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import xarray as xr
 
 from ...errors import DataError
 from .._common import CUT_AS, column_entry, decode_text, finish, head_text, read_bytes, stack
+from ..consistency import float_cells, polar_columns_attrs
 from ..registry import Reader
 
 __all__ = ["read_palmsens", "READER"]
@@ -48,6 +51,34 @@ def _array(values: list, description: str, path: Path, where: str) -> np.ndarray
                 out.append(float(v))
             return np.array(out, dtype=float)
     return None
+
+
+_OHM = ("\u2126", "\u03a9", "Ohm", "ohm")  # (PSTrace writes the ohm sign U+2126; the Greek capital omega looks the same)
+
+
+def _polar_attrs(values: list, z: np.ndarray, stored: dict[str, np.ndarray], path: Path, where: str) -> dict[str, str]:
+    """``polar_columns_note`` (`consistency.polar_columns_attrs`) when the measurement's ``Z``
+    array [Ω] or its ``Phase`` [°] (−phase, as its ``Q`` ``-Phase`` says; +phase when it says
+    ``Phase``) disagrees with Z read from ZRe and ZIm beyond a double's rounding; ``{}`` when they
+    agree, or an array is missing, not numbers, of another length or in another unit. Points
+    are counted from 0, as the reader's other messages count them."""
+    polar, names = {}, {"real": "ZRe", "imag": "ZIm"}
+    for role, name, symbols in (("modulus", "Z", _OHM), ("phase", "Phase", ("°",))):
+        entry = next((e for e in values if isinstance(e, dict) and e.get("Description") == name), None)
+        unit = entry.get("Unit") if entry is not None else None
+        if not isinstance(unit, dict) or unit.get("S") not in symbols:
+            continue
+        try:
+            array = _array(values, name, path, where)
+        except DataError:
+            continue
+        if array is not None and array.size == z.size:
+            polar[role], names[role] = (-array if role == "phase" and unit.get("Q") != "Phase" else array), name
+    if not polar:
+        return {}
+    printed = float_cells({**stored, **polar})
+    return polar_columns_attrs(z, polar.get("modulus"), polar.get("phase"), range(z.size), names,
+                               {role: 1.0 for role in names}, printed, f"{path.name} ({where})", position="point")
 
 
 def read_palmsens(path: str | Path) -> xr.Dataset:
@@ -88,6 +119,7 @@ def read_palmsens(path: str | Path) -> xr.Dataset:
                  "sign_convention": "ZIm holds -Z''; negated to Z''", "units": "Frequency in Hz, ZRe and ZIm in ohm",
                  "columns": {"frequency": column_entry("frequency", "Frequency"), "z_real": column_entry("z_real", "ZRe"),
                              "z_imag": column_entry("z_imag", "ZIm", negated=True)}}
+        attrs.update(_polar_attrs(values, re_ - 1j * neg_im, {"real": re_, "imag": neg_im}, path, where))
         spectra.append((label, finish(path, f, re_ - 1j * neg_im, list(range(1, f.size + 1)), attrs)))
     if not spectra:
         raise DataError(f"PalmSens session holds no EIS measurement ({len(measurements)} measurements of other kinds)", path=path)
