@@ -361,3 +361,77 @@ def test_palmsens_modulus_1000_times_gives_the_note(tmp_path):
     n = arrays["Z"].size
     assert np.median(arrays["Z"] / np.abs(arrays["ZRe"] - 1j * arrays["ZIm"])) == pytest.approx(1000, rel=1e-9)
     assert "column 'Z'" in note and "1000× |Z'+jZ''|" in note and f"on {n} of {n} points, first at point 0 of Z.pssession" in note, note
+
+
+LABONE = Path(__file__).parent / "fixtures" / "dev3000_imps_0_sample_00000.csv"  # (SYNTHETIC: a LabOne export's layout, two sweeps)
+
+
+def _labone_rows(tmp_path, field, change):
+    """The LabOne fixture with every value of ``field`` changed by ``change``; its fields by sweep
+    as written (numpy on the text, not impedax)."""
+    lines = LABONE.read_text().splitlines()
+    for k, line in enumerate(lines):
+        cells = line.split(";")
+        if len(cells) > 4 and cells[3] == field:
+            lines[k] = ";".join(cells[:4] + [repr(change(float(c))) for c in cells[4:]])
+    path = tmp_path / f"{field}.csv"
+    path.write_text("\n".join(lines) + "\n")
+    fields = {(cells[0], cells[3]): np.array([float(c) for c in cells[4:]]) for cells in (ln.split(";") for ln in lines[1:])}
+    return path, fields
+
+
+def test_labone_fields_agree_and_give_no_note():
+    """absz and phasez [rad] beside realz and imagz in the (SYNTHETIC) fixture agree to its 11
+    digits (numpy): no note."""
+    lines = [ln.split(";") for ln in LABONE.read_text().splitlines()[1:]]
+    fields = {(c[0], c[3]): np.array([float(v) for v in c[4:]]) for c in lines}
+    for sweep in ("0", "1"):
+        z = fields[sweep, "realz"] + 1j * fields[sweep, "imagz"]
+        assert np.max(np.abs(fields[sweep, "absz"] / np.abs(z) - 1)) < 1e-9 and np.max(np.abs(fields[sweep, "phasez"] - np.angle(z))) < 1e-9
+    assert "polar_columns_note" not in ix.load(LABONE).attrs
+
+
+@pytest.mark.parametrize("field, change, words", [("phasez", lambda v: -v, "opposite sign"), ("absz", lambda v: 1000 * v, "1000× |Z'+jZ''|")])
+def test_labone_csv_mutated_fields_give_the_note(tmp_path, field, change, words):
+    """SYNTHETIC copies with phasez negated, absz ×1000: the note, at point 0 (points counted
+    from 0, as the reader's messages), once when both sweeps' notes are the same (their phasez
+    are), else labelled by sweep; the flipped phase's field named for the file."""
+    path, fields = _labone_rows(tmp_path, field, change)
+    ds = ix.load(path)
+    note = ds.attrs["polar_columns_note"]
+    n = fields["0", "realz"].size
+    same = np.array_equal(fields["0", field], fields["1", field])
+    assert same == (field == "phasez") and note.count(f"column '{field}' disagrees") == (1 if same else 2), note
+    assert same or (note.startswith("sweep 0: ") and "; sweep 1: " in note), note
+    assert f"on {n} of {n} points, first at point 0 of {path.name}" in note and words in note, note
+    assert ds.attrs.get("polar_columns_flipped_phase") == ("phasez" if field == "phasez" else None)
+
+
+def test_labone_table_layout_names_the_line(tmp_path):
+    """One column per field (SYNTHETIC RC, as tests/test_labone_phase_in_degrees.py): the note
+    names the line; the line found by numpy on the written text."""
+    f = np.array([10.0, 100.0, 1000.0, 10000.0])
+    z = 1000 / (1 + 2j * np.pi * f * 1e-3)
+    phase = np.where(f >= 100, -np.angle(z), np.angle(z))  # (flipped from the second point on)
+    rows = ["frequency;realz;imagz;absz;phasez"] + [f"{a!r};{b.real!r};{b.imag!r};{abs(b)!r};{p!r}" for a, b, p in zip(f.tolist(), z.tolist(), phase.tolist())]
+    (tmp_path / "table.csv").write_text("\n".join(rows) + "\n")
+    table = np.loadtxt(tmp_path / "table.csv", delimiter=";", skiprows=1)
+    first = int(np.flatnonzero(np.abs(table[:, 4] - np.angle(table[:, 1] + 1j * table[:, 2])) > 1e-6)[0]) + 2  # (header on line 1)
+    note = ix.load(tmp_path / "table.csv").attrs["polar_columns_note"]
+    assert first == 3 and f"on 3 of 4 rows, first on line {first} of table.csv" in note and "opposite sign" in note, note
+
+
+def test_labone_hdf5_fields_compared(tmp_path):
+    """The HDF5 export (SYNTHETIC RC): agreeing fields give no note, phasez negated gives it."""
+    h5py = pytest.importorskip("h5py")
+    f = np.array([10.0, 100.0, 1000.0, 10000.0])
+    z = 1000 / (1 + 2j * np.pi * f * 1e-3)
+    for name, phase in (("ok.h5", np.angle(z)), ("flip.h5", -np.angle(z))):
+        with h5py.File(tmp_path / name, "w") as fh:
+            g = fh.create_group("000/dev3000/imps/0/sample")
+            g["frequency"], g["realz"], g["imagz"], g["absz"], g["phasez"] = f, z.real, z.imag, np.abs(z), phase
+    assert "polar_columns_note" not in ix.load(tmp_path / "ok.h5").attrs
+    ds = ix.load(tmp_path / "flip.h5")
+    assert "column 'phasez'" in ds.attrs["polar_columns_note"] and "on 4 of 4 points, first at point 0 of flip.h5" in ds.attrs["polar_columns_note"]
+    assert ds.attrs["polar_columns_flipped_phase"] == "phasez"
+    np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)

@@ -5,7 +5,8 @@ LabOne UI's sweeper export) or one column per field (``frequency;realz;imagz;...
 sweeps (chunks) on the same grid become a ``sweep`` dimension.
 
 Conventions: frequency from ``frequency`` (else the sweep ``grid``) in Hz; Z = ``realz`` +
-j·``imagz`` in Ω as stored, or ``absz``·exp(j·``phasez``) with the phase in radians. A point
+j·``imagz`` in Ω as stored, or ``absz``·exp(j·``phasez``) with the phase in radians; ``absz`` and
+``phasez`` beside ``realz`` and ``imagz`` are compared with them (`polar_attrs`). A point
 whose cells are empty in every field (padding of a shorter sweep) is skipped and reported; an
 empty cell in some fields only is an error naming the line and point — values are never moved
 onto other frequencies.
@@ -15,15 +16,17 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Sequence
 
 import numpy as np
 import xarray as xr
 
 from ...errors import DataError
 from .._common import CUT_SHORT, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, finish, head_text, number, radians_beyond_turn_note, read_text, stack
+from ..consistency import polar_columns_attrs
 from ..registry import Reader
 
-__all__ = ["read_labone_csv", "READER", "recorded_columns", "phasez_note"]
+__all__ = ["read_labone_csv", "READER", "recorded_columns", "phasez_note", "polar_attrs"]
 
 CONVENTIONS = "frequency (or grid) [Hz]; Z = realz + j·imagz [Ω], or absz·exp(j·phasez [rad])"
 
@@ -86,7 +89,7 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
             fields = chunks.setdefault(cells[chunk_col].strip() if chunk_col is not None else "0", {})
             for name, cell in zip(names, cells):
                 fields.setdefault(name, []).append((k, cell))
-    sweeps = [(chunk, _sweep(path, chunk, fields, cut_line)) for chunk, fields in chunks.items()]
+    sweeps = [(chunk, _sweep(path, chunk, fields, cut_line, by_line=kind == "table")) for chunk, fields in chunks.items()]
     if not sweeps:
         raise DataError("no sweep data after the header line", path=path, line=1)
     if cut_field is not None:
@@ -102,9 +105,10 @@ def read_labone_csv(path: str | Path) -> xr.Dataset:
     return ds
 
 
-def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut_line: int | None = None) -> xr.Dataset:
+def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut_line: int | None = None, *, by_line: bool = False) -> xr.Dataset:
     """One sweep from its fields' (line, cell) lists; ``cut_line``: the file's last line when the
-    file ends without a line end (a field missing there: the file looks cut short)."""
+    file ends without a line end (a field missing there: the file looks cut short); ``by_line``:
+    a point per line (one column per field), which `polar_attrs` names by line, else by point."""
     fkey = "frequency" if "frequency" in fields else "grid" if "grid" in fields else None
     if fkey is None:
         raise DataError(f"sweep (chunk) {chunk}: no 'frequency' or 'grid' field", path=path)
@@ -120,6 +124,7 @@ def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut
     skipped = Skipped()
     values: dict[str, list[float]] = {name: [] for name in used}
     where: list[int] = []
+    kept: list[int] = []
     for i in range(n):
         cells = {name: fields[name][i] if i < len(fields[name]) else (fields[name][-1][0] if fields[name] else None, "") for name in used}
         empty = [name for name in used if not cells[name][1].strip()]
@@ -134,13 +139,41 @@ def _sweep(path: Path, chunk: str, fields: dict[str, list[tuple[int, str]]], cut
         for name in used:
             values[name].append(number(cells[name][1], path, cells[name][0], f"{name}[{i}]"))
         where.append(line_of_point)
+        kept.append(i)
     a = {k: np.array(v) for k, v in values.items()}
     z = a["realz"] + 1j * a["imagz"] if parts == ("realz", "imagz") else a["absz"] * np.exp(1j * a["phasez"])
     attrs = {"sign_convention": sign_convention(parts),
              "units": f"{fkey} in Hz, Z in ohm", "columns": recorded_columns(fkey, parts)}
     if parts == ("absz", "phasez"):
         attrs.update(phasez_note(a["phasez"]))
+    elif "absz" in fields and "phasez" in fields:
+        polar = {name: [fields[name][i][1] if i < len(fields[name]) else "" for i in kept] for name in ("realz", "imagz", "absz", "phasez")}
+        at = where if by_line else kept
+        attrs.update(polar_attrs(z, polar, at, path.name, "line" if by_line else "point"))
     return finish(path, a[fkey], z, where, attrs, skipped=skipped)
+
+
+def polar_attrs(z: np.ndarray, cells: dict[str, Sequence], at: Sequence[int], file_name: str, position: str) -> dict[str, str]:
+    """``polar_columns_note`` (`consistency.polar_columns_attrs`) when the fields ``absz`` [Ω] and
+    ``phasez`` [rad] beside ``realz`` and ``imagz`` disagree with Z read from those beyond the
+    rounding of their digits; ``{}`` when they agree or a cell is not a number. ``cells``: each
+    field's cells at Z's points, text as printed (CSV) or numbers (HDF5: their shortest exact
+    text); ``at``: each point's place in the file, a ``position`` ('line' or 'point', from 0 as
+    the reader's other messages count them); the HDF5 reader's too."""
+    try:
+        numbers = {name: np.array([float(c) for c in column], dtype=float) for name, column in cells.items()}
+    except (TypeError, ValueError):
+        return {}
+    if not all(np.isfinite(v).all() and v.size == z.size for v in numbers.values()):
+        return {}
+    text = {name: [c if isinstance(c, str) else repr(float(c)) for c in column] for name, column in cells.items()}
+    roles = {"real": "realz", "imag": "imagz", "modulus": "absz", "phase": "phasez"}
+
+    def printed(rows: np.ndarray) -> dict[str, list[str]]:
+        return {role: [text[name][i] for i in rows] for role, name in roles.items()}
+
+    return polar_columns_attrs(z, numbers["absz"], np.degrees(numbers["phasez"]), list(at), roles,
+                               {"real": 1.0, "imag": 1.0, "modulus": 1.0, "phase": 180 / np.pi}, printed, file_name, position=position)
 
 
 def phasez_note(phasez: np.ndarray) -> dict:

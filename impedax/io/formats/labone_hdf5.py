@@ -4,8 +4,9 @@ Every group holding ``realz`` and ``imagz`` (or ``absz`` and ``phasez``) with ``
 ``grid``) datasets is one sweep; several sweeps on the same grid become a ``sweep`` dimension.
 
 Conventions: as the LabOne CSV export: frequency in Hz; Z = ``realz`` + j·``imagz`` in Ω, or
-``absz``·exp(j·``phasez``) with the phase in radians. Datasets larger than the file-size limit
-are refused before they are read.
+``absz``·exp(j·``phasez``) with the phase in radians (``absz`` and ``phasez`` beside ``realz`` and
+``imagz`` are compared with them: `labone_csv.polar_attrs`). Datasets larger than the file-size
+limit are refused before they are read.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import xarray as xr
 from ...errors import DataError
 from .._common import finish, max_file_bytes, optional_module, stack
 from ..registry import Reader
-from .labone_csv import phasez_note, recorded_columns, sign_convention
+from .labone_csv import phasez_note, polar_attrs, recorded_columns, sign_convention
 
 __all__ = ["read_labone_hdf5", "READER", "HDF5_MAGIC"]
 
@@ -58,14 +59,22 @@ def read_labone_hdf5(path: str | Path) -> xr.Dataset:
                     if re_.shape != im_.shape:
                         raise DataError(f"{name}: {re_.size} realz but {im_.size} imagz values", path=path)
                     z, parts = re_ + 1j * im_, ("realz", "imagz")
+                    checked = {}
+                    if all(isinstance(obj.get(k), h5py.Dataset) for k in ("absz", "phasez")):
+                        try:  # (|Z| and the phase beside Z: compared, never a reason to refuse the file)
+                            polar = {"realz": re_, "imagz": im_, "absz": load(obj["absz"]), "phasez": load(obj["phasez"])}
+                        except (DataError, ValueError, TypeError):
+                            polar = None
+                        checked = polar_attrs(z, polar, range(z.size), path.name, "point") if polar else {}
                 elif {"absz", "phasez"} <= keys:
                     mod, ph = load(obj["absz"]), load(obj["phasez"])
                     if mod.shape != ph.shape:
                         raise DataError(f"{name}: {mod.size} absz but {ph.size} phasez values", path=path)
                     z, parts = mod * np.exp(1j * ph), ("absz", "phasez")
+                    checked = phasez_note(ph)
                 else:
                     return
-                found.append((name, load(obj[fkey]), z, parts, recorded_columns(fkey, parts), phasez_note(ph) if parts == ("absz", "phasez") else {}))
+                found.append((name, load(obj[fkey]), z, parts, recorded_columns(fkey, parts), checked))
 
             fh.visititems(visit)
     except (OSError, ValueError, TypeError, KeyError) as exc:

@@ -78,7 +78,7 @@ def _polar_attrs(values: list, z: np.ndarray, stored: dict[str, np.ndarray], pat
         return {}
     printed = float_cells({**stored, **polar})
     return polar_columns_attrs(z, polar.get("modulus"), polar.get("phase"), range(z.size), names,
-                               {role: 1.0 for role in names}, printed, f"{path.name} ({where})", position="point")
+                               {role: 1.0 for role in names}, printed, path.name, position="point")
 
 
 def read_palmsens(path: str | Path) -> xr.Dataset:
