@@ -435,3 +435,35 @@ def test_labone_hdf5_fields_compared(tmp_path):
     assert "column 'phasez'" in ds.attrs["polar_columns_note"] and "on 4 of 4 points, first at point 0 of flip.h5" in ds.attrs["polar_columns_note"]
     assert ds.attrs["polar_columns_flipped_phase"] == "phasez"
     np.testing.assert_allclose(ds["Z"].values, z, rtol=1e-15)
+
+
+def _mpr(tmp_path, monkeypatch, modulus, phase, dtype="f4"):
+    """A .mpr read through a stand-in for galvani (as tests/test_readers.py): its record holds
+    SYNTHETIC Z of the R + R‖C above as EC-Lab stores it (float32, -Im(Z)), with ``modulus`` and
+    ``phase`` [deg] beside it."""
+    import sys
+    import types
+
+    table = np.zeros(F.size, dtype=[("freq/Hz", dtype), ("Re(Z)/Ohm", dtype), ("-Im(Z)/Ohm", dtype), ("|Z|/Ohm", dtype), ("Phase(Z)/deg", dtype)])
+    table["freq/Hz"], table["Re(Z)/Ohm"], table["-Im(Z)/Ohm"], table["|Z|/Ohm"], table["Phase(Z)/deg"] = F, Z.real, -Z.imag, modulus, phase
+    fake = types.ModuleType("galvani")
+    fake.BioLogic = types.SimpleNamespace(MPRfile=lambda name: types.SimpleNamespace(data=table))
+    monkeypatch.setitem(sys.modules, "galvani", fake)
+    path = tmp_path / "run.mpr"
+    path.write_bytes(b"BIO-LOGIC MODULAR FILE\x1a" + bytes(100))
+    return path, table
+
+
+def test_mpr_polar_columns_compared(tmp_path, monkeypatch):
+    """float32 columns that agree (|Z| and the phase rounded to float32 apart from Re and -Im):
+    no note; the phase negated: the note and the column's name; |Z| ×1000: the factor."""
+    path, table = _mpr(tmp_path, monkeypatch, np.abs(Z), np.degrees(np.angle(Z)))
+    stored = table["Re(Z)/Ohm"].astype(float) - 1j * table["-Im(Z)/Ohm"].astype(float)
+    assert 0 < np.max(np.abs(table["|Z|/Ohm"] / np.abs(stored) - 1)) < 1e-6  # (they differ, by float32 rounding alone)
+    assert "polar_columns_note" not in ix.load(path).attrs
+    path, _ = _mpr(tmp_path, monkeypatch, np.abs(Z), -np.degrees(np.angle(Z)))
+    ds = ix.load(path)
+    assert "column 'Phase(Z)/deg'" in ds.attrs["polar_columns_note"] and f"on {F.size} of {F.size} points, first at point 0 of run.mpr" in ds.attrs["polar_columns_note"]
+    assert ds.attrs["polar_columns_flipped_phase"] == "Phase(Z)/deg"
+    path, _ = _mpr(tmp_path, monkeypatch, 1000 * np.abs(Z), np.degrees(np.angle(Z)))
+    assert "1000× |Z'+jZ''|" in ix.load(path).attrs["polar_columns_note"]

@@ -55,10 +55,12 @@ def printed_resolution(cell: str) -> float:
 
 def float_cells(columns: dict[str, np.ndarray]) -> Callable[[np.ndarray], dict[str, list[str]]]:
     """The ``printed`` argument of `polar_columns_attrs` for a file that stores numbers, not text
-    (JSON, HDF5, binary): each value as its shortest exact text, whose last digit is the
-    rounding the file's double (or float32) allows."""
+    (JSON, HDF5, binary): each value as the shortest text that reads back to it in its own
+    dtype, whose last digit is the rounding the file's double (or float32) allows."""
+    columns = {role: np.asarray(values) for role, values in columns.items()}
+
     def printed(rows: np.ndarray) -> dict[str, list[str]]:
-        return {role: [repr(float(values[i])) for i in rows] for role, values in columns.items()}
+        return {role: [str(values[i]) for i in rows] for role, values in columns.items()}
 
     return printed
 

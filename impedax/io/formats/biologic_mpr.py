@@ -4,7 +4,8 @@ galvani is GPL-licensed; impedax does not depend on it and imports it only when 
 read (``pip install galvani``). Without it, export ``.mpt`` from EC-Lab instead.
 
 Conventions: the impedance module's columns ``freq/Hz``, ``Re(Z)/Ohm`` and ``-Im(Z)/Ohm`` (the
-file stores −Z'', negated here), as in the ``.mpt`` export.
+file stores −Z'', negated here), as in the ``.mpt`` export; its ``|Z|/Ohm`` and ``Phase(Z)/deg``
+are compared with them (``attrs["polar_columns_note"]`` where they disagree, as for ``.mpt``).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import xarray as xr
 
 from ...errors import DataError
 from .._common import column_entry, finish, optional_module
+from ..consistency import float_cells, polar_columns_attrs
 from ..registry import Reader
 
 __all__ = ["read_biologic_mpr", "READER"]
@@ -49,7 +51,22 @@ def read_biologic_mpr(path: str | Path) -> xr.Dataset:
              "sign_convention": "-Im(Z)/Ohm holds -Z''; negated to Z''", "units": "Hz, ohm",
              "columns": {"frequency": column_entry("frequency", "freq/Hz", "Hz"), "z_real": column_entry("z_real", "Re(Z)/Ohm", "Ohm"),
                          "z_imag": column_entry("z_imag", "-Im(Z)/Ohm", "Ohm", negated=True)}}
+    attrs.update(_polar_attrs(data, names, z, path))
     return finish(path, freq, z, list(range(1, freq.size + 1)), attrs)
+
+
+def _polar_attrs(data, names, z: np.ndarray, path: Path) -> dict[str, str]:
+    """``polar_columns_note`` (`consistency.polar_columns_attrs`) when the record's ``|Z|/Ohm``
+    or ``Phase(Z)/deg`` disagrees with Z read from ``Re(Z)/Ohm`` and ``-Im(Z)/Ohm`` beyond the
+    rounding of their stored floats; ``{}`` when they agree or neither column is there. Points
+    are counted from 0, as the reader's other messages count them."""
+    polar = {role: np.asarray(data[name]) for role, name in (("modulus", "|Z|/Ohm"), ("phase", "Phase(Z)/deg")) if name in names}
+    if not polar:
+        return {}
+    stored = {"real": np.asarray(data["Re(Z)/Ohm"]), "imag": np.asarray(data["-Im(Z)/Ohm"]), **polar}
+    names = {"real": "Re(Z)/Ohm", "imag": "-Im(Z)/Ohm", "modulus": "|Z|/Ohm", "phase": "Phase(Z)/deg"}
+    return polar_columns_attrs(z, polar["modulus"].astype(float) if "modulus" in polar else None, polar["phase"].astype(float) if "phase" in polar else None,
+                               range(z.size), names, {role: 1.0 for role in names}, float_cells(stored), path.name, position="point")
 
 
 READER = Reader("BioLogic EC-Lab mpr", (".mpr",), sniff, read_biologic_mpr, CONVENTIONS)
