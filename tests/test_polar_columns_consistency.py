@@ -467,3 +467,12 @@ def test_mpr_polar_columns_compared(tmp_path, monkeypatch):
     assert ds.attrs["polar_columns_flipped_phase"] == "Phase(Z)/deg"
     path, _ = _mpr(tmp_path, monkeypatch, 1000 * np.abs(Z), np.degrees(np.angle(Z)))
     assert "1000× |Z'+jZ''|" in ix.load(path).attrs["polar_columns_note"]
+
+
+def test_degrees_labelled_radians_give_the_note(tmp_path):
+    """A 'Phase (rad)' column holding degrees (SYNTHETIC): read as radians, its value in degrees
+    is 180/π × the number; the note says degrees read as radians (the test of that compared
+    with (180/π)³ × the phase and never held, 'off by up to …°' instead)."""
+    path = _write(tmp_path / "deg_as_rad.csv", np.abs(Z), np.degrees(np.angle(Z)), header="frequency,Z' (Ohm),Z'' (Ohm),|Z| (Ohm),Phase (rad)")
+    note = ix.load(path).attrs["polar_columns_note"]
+    assert "its values are degrees read as radians: name the column 'Phase (deg)'" in note, note

@@ -142,7 +142,7 @@ def polar_columns_attrs(
             rows, first = text
             flipped = float(np.median(np.abs(_wrapped(phase_deg[rows] + angle[rows]))))
             as_radians = float(np.median(np.abs(_wrapped(phase_deg[rows] - np.radians(angle[rows])))))
-            as_degrees_in_rad = float(np.median(np.abs(_wrapped(phase_deg[rows] - np.degrees(angle[rows]) * 180 / np.pi))))
+            as_degrees_in_rad = float(np.median(np.abs(_wrapped(phase_deg[rows] - angle[rows] * 180 / np.pi))))  # (``angle`` is in degrees already)
             if flipped < 0.01 * max(float(np.median(off[rows])), 1e-12) or flipped < 0.05:
                 why = OPPOSITE_SIGN_WORDS
                 attrs[FLIPPED_PHASE_KEY] = names["phase"]
