@@ -469,6 +469,19 @@ def test_mpr_polar_columns_compared(tmp_path, monkeypatch):
     assert "1000× |Z'+jZ''|" in ix.load(path).attrs["polar_columns_note"]
 
 
+def test_labone_phasez_in_degrees_beside_realz_says_so_without_a_column_to_rename(tmp_path):
+    """phasez written in degrees beside realz and imagz (SYNTHETIC RC): the note says degrees read
+    as radians, and suggests no header name (LabOne's field names are the format's; a table's
+    note says "name the column 'Phase (deg)'")."""
+    f = np.array([10.0, 100.0, 1000.0, 10000.0])
+    z = 1000 / (1 + 2j * np.pi * f * 1e-3)
+    rows = ["chunk;timestamp;size;fieldname"] + [f"0;1;4;{name};" + ";".join(repr(v) for v in values.tolist())
+                                                 for name, values in (("frequency", f), ("realz", z.real), ("imagz", z.imag), ("absz", np.abs(z)), ("phasez", np.degrees(np.angle(z))))]
+    (tmp_path / "deg.csv").write_text("\n".join(rows) + "\n")
+    note = ix.load(tmp_path / "deg.csv").attrs["polar_columns_note"]
+    assert "its values are degrees read as radians" in note and "name the column" not in note, note
+
+
 def test_degrees_labelled_radians_give_the_note(tmp_path):
     """A 'Phase (rad)' column holding degrees (SYNTHETIC): read as radians, its value in degrees
     is 180/π × the number; the note says degrees read as radians (the test of that compared

@@ -117,12 +117,14 @@ def polar_columns_attrs(
     to Ω or degrees; ``printed(rows)``: the printed cells of those rows by role, asked only for
     rows that differ by more than `MISMATCH_FLOOR` (|Z|) or `PHASE_FLOOR_DEG`; ``lines``: each
     row's place in the file, which ``position`` names: 'line' of a text file, 'row' of a
-    spreadsheet (as its program numbers them), 'point' of a file of arrays (counted as points)."""
+    spreadsheet (as its program numbers them), 'point' of a file of arrays (counted as points,
+    and no column to rename is suggested: its names are the format's)."""
     z = np.asarray(z)
     notes = []
     attrs: dict[str, str] = {}
     rows_word = "points" if position == "point" else "rows"
     first_at = "at point" if position == "point" else f"on {position}"
+    rename = "" if position == "point" else ": name the column '{}'"  # (a file of arrays has no header to edit)
     abs_z = np.abs(z)
     if modulus is not None:
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -147,9 +149,9 @@ def polar_columns_attrs(
                 why = OPPOSITE_SIGN_WORDS
                 attrs[FLIPPED_PHASE_KEY] = names["phase"]
             elif as_radians < 0.05:
-                why = "its values are radians read as degrees: name the column 'Phase (rad)'"
+                why = "its values are radians read as degrees" + rename.format("Phase (rad)")
             elif as_degrees_in_rad < 0.05 * 180 / np.pi:
-                why = "its values are degrees read as radians: name the column 'Phase (deg)'"
+                why = "its values are degrees read as radians" + rename.format("Phase (deg)")
             else:
                 why = f"off by up to {float(off[rows].max()):.3g}°"
             notes.append(f"column {names['phase']!r} disagrees with atan2(Z'', Z') from {names['real']!r} and {names['imag']!r} on "
