@@ -80,21 +80,10 @@ def _wrapped(deg: np.ndarray) -> np.ndarray:
     return -((-deg + 180.0) % 360.0 - 180.0)
 
 
-def polar_columns_note(
-    z: np.ndarray,
-    modulus: np.ndarray | None,
-    phase_deg: np.ndarray | None,
-    lines: Sequence[int],
-    names: dict[str, str],
-    scales: dict[str, float],
-    printed: Callable[[np.ndarray], dict[str, Sequence[str]]],
-    file_name: str,
-    *,
-    position: str = "line",
-) -> str | None:
+def polar_columns_note(*args, **kwargs) -> str | None:
     """``attrs["polar_columns_note"]`` of `polar_columns_attrs` (the same arguments), or ``None``
     when the columns agree."""
-    return polar_columns_attrs(z, modulus, phase_deg, lines, names, scales, printed, file_name, position=position).get("polar_columns_note")
+    return polar_columns_attrs(*args, **kwargs).get("polar_columns_note")
 
 
 def polar_columns_attrs(
