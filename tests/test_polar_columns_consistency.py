@@ -489,3 +489,16 @@ def test_degrees_labelled_radians_give_the_note(tmp_path):
     path = _write(tmp_path / "deg_as_rad.csv", np.abs(Z), np.degrees(np.angle(Z)), header="frequency,Z' (Ohm),Z'' (Ohm),|Z| (Ohm),Phase (rad)")
     note = ix.load(path).attrs["polar_columns_note"]
     assert "its values are degrees read as radians: name the column 'Phase (deg)'" in note, note
+
+
+def test_inspect_lists_the_flipped_phase_column_once(tmp_path, capsys):
+    """`impedax inspect` prints the attrs it has no line for; ``polar_columns_flipped_phase``
+    repeats the polar-columns note's column, which inspect prints under "how it was read", so it
+    is not listed again (SYNTHETIC phase column of the other sign). The JSON keeps every attr."""
+    path = _write(tmp_path / "flipped_phase.csv", np.abs(Z), -np.degrees(np.angle(Z)))
+    assert ix.load(path).attrs["polar_columns_flipped_phase"] == "Phase (deg)"
+    code, out, err = run(["inspect", path], capsys)
+    assert code == 0 and "polar columns note:" in out, out
+    assert "polar_columns_flipped_phase" not in out, out
+    code, out, err = run(["inspect", "--json", path], capsys)
+    assert code == 0 and json.loads(out)["attrs"]["polar_columns_flipped_phase"] == "Phase (deg)"

@@ -11,6 +11,9 @@ from __future__ import annotations
 _SAVED_IN_SESSION = "data built in a Python session (impedax.make_spectrum), not read from a file"
 
 _HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit_note", "polar_columns_note", "decimal_mark", "point_count_note")
+# attrs that repeat a line printed under another key (the flipped phase column is named in the
+# polar-columns note): kept in the JSON's "attrs", not listed again in the text
+_SAID_IN_ANOTHER_LINE = ("polar_columns_flipped_phase",)
 
 
 def register(sub) -> None:
@@ -128,7 +131,7 @@ def run(args) -> int:
         print(f"  left out of {path} by the stack (not in every file): {labels_text([format_frequency(f) for f in frequencies])}")
     for key, value in summary["attrs"].items():
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
-        if key not in ("format", "data_format", "source", "path", *_HOW_KEYS) and not (key in extra and _repeats_labels(str(value), key, summary["labels"][key])):
+        if key not in ("format", "data_format", "source", "path", *_HOW_KEYS, *_SAID_IN_ANOTHER_LINE) and not (key in extra and _repeats_labels(str(value), key, summary["labels"][key])):
             print(f"  {key}: {_provenance_text(value) if key == 'provenance' else _SAVED_IN_SESSION if key == 'saved_from' and value == IN_MEMORY else str(value).splitlines()[0] if str(value) else ''}")
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
