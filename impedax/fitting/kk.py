@@ -98,6 +98,15 @@ BAND_CUT_AT_END = {True: "data.where(data.frequency >= f, drop=True)", False: "d
 which ``impedax kk`` gives: the run's command with ``--exclude``/``--fmin``/``--fmax``; until
 2026-12-06 the Python report gave those options alone, words no Python call takes)."""
 
+
+DIAGNOSE_MASKING = ("diagnose and refine leave KK-flagged points out by themselves only where the test passes without them (a few erratic points) "
+                    "or where they are a short run at an end of the band, and say so; otherwise they keep them in every fit, as the data's problem")
+"""What the ``next:`` step says diagnose and refine do with the points it suggests leaving out
+(`diagnosis.kk_outliers`, `diagnosis.end_runs`, `diagnosis.KK_MASK_MAX_FRACTION`). Until
+2026-12-07 the line said "impedax refine leaves the KK-flagged points out by itself", and on
+REAL BioLogic refine kept all four points in every fit (without them the test still fails)."""
+
+
 FEW_BAND_POINTS = 3
 """A band of at most this many flagged points is "a few points": the report names their measured
 frequencies (which ``--exclude`` takes; the band's edges lie between points), and one inside the
@@ -540,8 +549,7 @@ class KKResult(FrozenResult):
             lines.append("  impedax fit, diagnose and refine take the same options" if command else f"  {TRIMMED_DATA_TOO}")
         elif words:
             lines.append(f"next: leave them out and test again: {command or RETEST_WITHOUT_THEM}")
-            lines.append("  impedax fit, diagnose and refine take the same options; impedax refine leaves the KK-flagged points out by itself" if command else
-                         f"  {TRIMMED_DATA_TOO}; refine leaves the KK-flagged points out by itself")
+            lines.append(f"  {'impedax fit, diagnose and refine take the same options' if command else TRIMMED_DATA_TOO}; {DIAGNOSE_MASKING}")
         spans = _band_spans(*self._rule_masks()[::2])
         inside = [f for f, (i, j) in zip(self.band_frequencies, spans) if len(f) > FEW_BAND_POINTS and i > 0 and j < self.frequency.size]
         if self.passing_band is not None and not self._excludable_by_bands().size:
