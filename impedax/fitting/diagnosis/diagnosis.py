@@ -563,8 +563,12 @@ class Diagnosis(FrozenResult):
         rejected = [s for s in self.candidates if s.warning and s.delta_aic < -DELTA_AIC_MIN][:3]
         for s in rejected:
             lines.append(f"  not proposed: {s.model} (rms_rel {s.rms_rel * 100:.3g} %): {s.warning}")
+        # (why KK-flagged points were kept is said on the data line; its note, for the JSON's
+        # ``notes``, said it again as the last line until 2026-12-07: 600 characters twice on REAL Gamry)
+        said = {self.kk_flagged_kept, f"{self.kk_flagged_kept}: diagnosed with every point"} if self.kk is not None and self.kk_flagged_kept else set()
         for n in self.notes:
-            lines.append(f"note: {n}")
+            if n not in said:
+                lines.append(f"note: {n}")
         return "\n".join(lines)
 
     def _why_not_significant(self, candidate: Suggestion) -> str:
