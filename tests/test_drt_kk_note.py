@@ -84,3 +84,28 @@ def test_the_note_names_the_flagged_measured_points_as_impedax_kk_does(capsys):
     (note,) = [line for line in capsys.readouterr().out.splitlines() if line.startswith("note: the data fail")]
     named = f"{ix.data.format_frequency(float(flagged[0]))}–{ix.data.format_frequency(float(flagged[-1]))}"
     assert note.startswith(f"note: the data fail the Kramers–Kronig test at {named} ("), note
+
+
+def test_the_kk_command_carries_the_runs_band_and_exclusions(files, capsys):
+    """`impedax drt FILE --exclude ...` tests the points it took, and its note named `impedax kk
+    FILE` alone, which tests every point and flags others (REAL BioLogic with --exclude
+    5.34,56.2,123,270: the note said 15.2 Hz, the command it named flags 5.34, 56.2, 123 and
+    270 Hz). The command carries the run's --fmin, --fmax and --exclude, and names the same
+    points as the note (the oracle: `ix.kk_test` of the data without them, run here)."""
+    import shlex
+
+    from impedax.cli.common import exclude_points
+
+    path = files["drifted"]
+    left_out = f"{FREQ[40]:.6g}"  # (a measured point inside the band, as --exclude takes it)
+    argv = ["drt", str(path), "--fmax", "3e4", "--exclude", left_out]
+    assert main(argv) == 0
+    (note,) = [line for line in capsys.readouterr().out.splitlines() if line.startswith("note: the data fail")]
+    command = note.split("(", 1)[1].split(" says which points", 1)[0]
+    words = shlex.split(command)
+    assert words[:4] == ["impedax", "kk", str(path), "--fmax"] and float(words[4]) == 3e4 and words[5:] == ["--exclude", left_out]
+    data = exclude_points(ix.load(path), left_out)
+    kk = ix.kk_test(data.sel(frequency=data.frequency[data.frequency <= 3e4]))
+    assert f"the Kramers–Kronig test at {kk.measured_bands_text()} (" in note
+    assert main(shlex.split(command)[1:]) == 0
+    assert "NOT valid" in capsys.readouterr().out

@@ -127,7 +127,11 @@ def _kk_note(result, data, args) -> str | None:
     failed = [i for i, (r, t) in enumerate(zip(results, tests)) if t.conclusive and not t.valid and not r.sign_hint]
     if not failed:
         return None
-    command = f"impedax kk {shlex.quote(str(args.data))}" + "".join(f" --select {shlex.quote(s)}" for s in (args.select or ()))
+    # (the run's --fmin/--fmax/--exclude too: the test above ran on the points the DRT took; until
+    # 2026-12-07 the command named the file alone, and on REAL BioLogic with --exclude
+    # 5.34,56.2,123,270 it flagged those four where the note named 15.2 Hz)
+    command = f"impedax kk {shlex.quote(str(args.data))}" + "".join(f" --select {shlex.quote(s)}" for s in (args.select or ())) + "".join(
+        f" {flag} {shlex.quote(str(value))}" for flag, value in (("--fmin", args.fmin), ("--fmax", args.fmax), ("--exclude", args.exclude)) if value is not None)
     if not extra:
         bands = tests[0].bad_bands  # (the shaded bands, edges halfway to the neighbours: a peak between a flagged point and the next lies there; the text names the flagged points)
         inside = [p for p in results[0].peaks if any(lo <= p.frequency_hz <= hi for lo, hi in bands)]
