@@ -135,7 +135,7 @@ def run(args) -> int:
     from pathlib import Path
 
     from .. import BatchFitResult, FitResult, fit, parse
-    from ..fitting.least_squares.result import misfit_hint
+    from ..fitting.least_squares.result import DIAGNOSIS_ADVICE, misfit_hint
     from ..errors import ParameterError
     from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
 
@@ -198,6 +198,12 @@ def run(args) -> int:
                 from .common import fit_command
 
                 print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the hint above)")
+            elif isinstance(result, FitResult) and any(DIAGNOSIS_ADVICE in w for w in result.warnings):  # (a misfit over 5× the data's own: REAL Gamry, 2026-12-07)
+                import shlex
+
+                from .common import fit_command
+
+                print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the warning above)")
             if batch_hints is not None:  # (the report's hint names the worst spectrum; its diagnosis)
                 from .common import diagnose_command
 

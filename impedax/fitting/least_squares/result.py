@@ -1282,6 +1282,10 @@ SIGMA_EXPLAINED = 2.0
 SIGMA_EXCEEDED = 2.0 * SIGMA_EXPLAINED
 MODEL_MISSES_STRUCTURE = "the model misses structure the data hold"
 MISFIT_IS_MODELS = "the misfit is this model's"
+DIAGNOSIS_ADVICE = "a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
+"""How a fit's misfit note that blames the model ends; ``impedax fit`` follows such a note with the
+``impedax diagnose`` command to run (`cli.fit`; until 2026-12-07 only a misfit that looks small, the
+hint, got the command)."""
 MODEL_MISFIT_MARKS = (MODEL_MISSES_STRUCTURE, MISFIT_IS_MODELS)
 """Phrases of the `misfit_notes` that blame the model, not the data (their text is built from
 them; the Bayesian run's WAIC warning reads the start fit's notes by them: `bayes.sampler`)."""
@@ -1581,7 +1585,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
         if rms[i] > MISFIT_RATIO_MAX * kk and not sigma_wrong[i]:
             out[i] = (
                 f"{MODEL_MISSES_STRUCTURE}: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g}% a Kramers–Kronig-consistent model "
-                f"({KK_CHAIN_WORDS}) reaches; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
+                f"({KK_CHAIN_WORDS}) reaches; {DIAGNOSIS_ADVICE}",
             )
         elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i] and weighting not in (None, "sigma"):
             out[i] = (
@@ -1592,7 +1596,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
             out[i] = (
                 f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
                 f"model ({KK_CHAIN_WORDS}) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%): {MISFIT_IS_MODELS}, "
-                "not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
+                f"not the data's noise; {DIAGNOSIS_ADVICE}",
             )
         else:
             out[i] = (
@@ -1620,7 +1624,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
                 )
                 out[i] = (
                     f"{MISFIT_IS_MODELS}: the data pass the Kramers–Kronig test (their {kk * 100:.2g}% rms_rel from its Voigt chain is their noise) "
-                    f"and {beyond}; a diagnosis (impedax diagnose) shows where it fails and which effect is missing",
+                    f"and {beyond}; {DIAGNOSIS_ADVICE}",
                 )
             elif hint:
                 out[i] = (f"{out[i][0]}; {SIGN_HINT_LEAD}{hint}",)
