@@ -89,6 +89,13 @@ def run(args) -> int:
         print(command_line_words(result.report(args.data), "kk"))
     else:
         print(command_line_words(result.report(command) if args.method == "linear" else result.report(), "kk"))
+        if args.method == "linear" and result.valid and result.conclusive and not result.sign_hint:
+            # (the next step as impedax inspect names it, on the points tested: until 2026-12-07 a
+            # valid verdict was the one step of the walkthrough that said nothing of the next)
+            from .common import fit_command
+
+            stdin = "; with the data saved to a file, named in place of -: standard input is read once" if args.data == "-" else ""
+            print(f"next: {fit_command(args, data=data, program='impedax drt')} (how many arcs; it ends with a starting circuit to fit{stdin})")
     note_skipped_rows(data, "kk", args.data)
     return 0
 
