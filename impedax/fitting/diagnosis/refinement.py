@@ -286,7 +286,12 @@ class Refinement(FrozenResult):
             before, after = f"{first.rms_rel * 100:.3g}", f"{last.rms_rel * 100:.3g}"
             # (a step that only simplified leaves rms_rel as it was: "fell from 1.4 % to 1.4 %" read oddly; walkthrough 2026-12-05)
             moved = (f"fell from {before} % to {after} %" if last.rms_rel < first.rms_rel else f"rose from {before} % to {after} %") if before != after else f"stayed at {after} %"
-            lines.append(f"rms_rel {moved} in {len(self.steps) - 1} step(s); AIC {first.aic:.1f} → {last.aic:.1f}.")
+            n_steps = len(self.steps) - 1
+            # (a step of a pair adds two effects, which max_effects counts: "in 3 steps" beside "its limit of
+            # 4 added effects" read as a contradiction on REAL VersaStudio)
+            n_added = sum(effect_count(s.effect) for s in self.steps)
+            added = f" ({n_added} effect{'' if n_added == 1 else 's'} added)" if n_added > n_steps else ""
+            lines.append(f"rms_rel {moved} in {n_steps} step{'' if n_steps == 1 else 's'}{added}; AIC {first.aic:.1f} → {last.aic:.1f}.")
         last_d = self.steps[-1].diagnosis
         data_line = self.data_line
         if data_line:
