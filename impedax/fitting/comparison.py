@@ -19,7 +19,7 @@ from ..data import column_width, format_quantity, report_text
 from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
-from .bayes.evidence import EVIDENCE_NOTE_LEAD, WAIC_NOTE_LEAD
+from .bayes.evidence import EVIDENCE_NOTE_LEAD, WaicDoubt
 from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
 from .frozen import FrozenResult, freeze_fields
 from .problem import WEIGHTING_SCALES
@@ -679,7 +679,9 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
         if "log_evidence" in row:
             row["log_evidence_reliable"] = math.isfinite(row["log_evidence"]) and not any(w.startswith(EVIDENCE_NOTE_LEAD) for w in _own_warnings(item))
         if "waic" in row:
-            row["waic_reliable"] = _waic_reliable(item, row["waic"])  # (added 2026-12-06)
+            reason = _waic_unreliable_reason(item, row["waic"])
+            row["waic_reliable"] = reason is None  # (added 2026-12-06)
+            row["waic_unreliable_reason"] = reason  # (added 2026-12-07: `Posterior.waic_unreliable_reason`; None when reliable)
         rows.append(row)
     for j, r in enumerate(results):  # a fit another model also gives: the data cannot tell them apart
         twin = next((rows[i]["label"] for i in range(len(results)) if i != j and _same_fit(results[i], r)), None)
@@ -714,12 +716,13 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
     return Comparison(tuple(rows), tuple(tests), tuple(results), ics[0]["aic_form"])
 
 
-def _waic_reliable(item, value: float) -> bool:
-    """Whether a posterior's WAIC is a score to compare models by: finite, not from a chain too
-    short to estimate τ (its ``waic_note``, the rule of the note `sample`'s report prints beside
-    WAIC: `evidence.short_chain_waic_note`) and not called unreliable by its own warnings (those
-    beginning "WAIC ", `evidence.WAIC_NOTE_LEAD`: p_waic over twice the parameters)."""
-    return math.isfinite(value) and not getattr(item, "waic_note", "") and not any(w.startswith(WAIC_NOTE_LEAD) for w in _own_warnings(item))
+def _waic_unreliable_reason(item, value: float) -> str | None:
+    """Why a posterior's WAIC ``value`` is no score to compare models by, None when it is one:
+    its ``waic_unreliable_reason`` (`Posterior.waic_unreliable_reason`: not finite, from a chain
+    too short to estimate τ, or p_waic over twice the parameters, the rule of its notes, not read
+    from their words), or "undefined" for a value that is not finite of an item without one."""
+    reason = getattr(item, "waic_unreliable_reason", None)
+    return WaicDoubt(reason).value if reason is not None else None if math.isfinite(value) else WaicDoubt.UNDEFINED.value
 
 
 def _own_warnings(item) -> list[str]:

@@ -6,6 +6,7 @@ functions; see docs/bayesian.md for how to read them.
 
 from __future__ import annotations
 
+import enum
 import math
 from typing import NamedTuple, Sequence
 
@@ -17,7 +18,7 @@ from ...data import format_frequency
 from .diagnostics import kept_draws_text, more_draws_advice
 from .logprob import LogProbArgs, LogProbFunctions
 
-__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "START_UNEVEN_NOISE", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS", "short_chain_waic_note", "WAIC_REMEDY", "evidence_note_beside_waic"]
+__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "START_UNEVEN_NOISE", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS", "short_chain_waic_note", "WAIC_REMEDY", "evidence_note_beside_waic", "WaicDoubt", "waic_doubts", "SHORT_CHAIN_REMEDY", "DOUBTED_WAIC_REMEDY", "evidence_remedy"]
 
 LAPLACE_WIDTH_RATIO = 2.0
 """The Laplace log evidence is flagged unreliable when, for some parameter, the Gaussian at the
@@ -67,10 +68,50 @@ EVIDENCE_NOTE_LEAD = "Laplace log evidence "
 """How the notes of `laplace_evidence` begin, each saying the value is unreliable or undefined:
 `impedax.compare` marks the log evidence of a posterior that carries one."""
 WAIC_NOTE_LEAD = "WAIC "
-"""How the notes of `waic` begin, each saying the value is unreliable or undefined."""
+"""How the notes of `waic` begin, each saying the value is unreliable or undefined (whether WAIC
+is one to compare models by is `waic_doubts`'s value, not these words)."""
 MODEL_COMPARISON_NOTE_LEADS = (EVIDENCE_NOTE_LEAD, WAIC_NOTE_LEAD)
 """The leads of the notes that speak only to comparing models (the Laplace evidence, WAIC): a
 command that compares none (`impedax gap`) leaves them out of its warnings."""
+
+
+class WaicDoubt(enum.StrEnum):
+    """Why a posterior's WAIC is no score to compare models by (`waic_doubts`), as a value, not
+    words: what `Posterior.waic_unreliable_reason` holds, ``impedax sample --json``'s and
+    ``impedax compare --json``'s ``waic_unreliable_reason``, and what `impedax.compare`'s
+    ``waic_reliable`` and the Laplace evidence's remedy (`laplace_evidence`) read. Each has its
+    note in words: `waic`'s (undefined, p_waic) and `short_chain_waic_note`."""
+
+    UNDEFINED = "undefined"
+    """WAIC is not finite: the likelihood is not finite at (nearly) every draw."""
+    SHORT_CHAIN = "short_chain"
+    """The kept chain has fewer than `CHAIN_TAU_MULTIPLE` draws per walker, too few to estimate τ."""
+    HIGH_P_WAIC = "high_p_waic"
+    """p_waic exceeds `WAIC_PARAMETER_FACTOR` × the number of sampled parameters (WAIC's own
+    variance warning)."""
+
+
+def _too_short(n_draws: int) -> bool:
+    """Whether ``n_draws`` kept draws per walker are too few to estimate τ (the chain-length
+    warning's rule, `diagnostics.integrated_autocorr`'s)."""
+    return n_draws < CHAIN_TAU_MULTIPLE
+
+
+def waic_doubts(waic_value: float, p_waic: float, n_params: int, n_draws: int | None = None) -> tuple[WaicDoubt, ...]:
+    """The reasons WAIC ``waic_value`` (p_waic ``p_waic``, of ``n_params`` sampled parameters,
+    from a chain of ``n_draws`` kept draws per walker; None: its length not judged) is no score to
+    compare models by, in the order `WaicDoubt` lists them (the first is the posterior's
+    ``waic_unreliable_reason``); () when it is one. The one rule `waic`'s note, the note beside
+    WAIC (`short_chain_waic_note`), the Laplace evidence's remedy and `impedax.compare`'s
+    ``waic_reliable`` follow."""
+    doubts = []
+    if not math.isfinite(waic_value):
+        doubts.append(WaicDoubt.UNDEFINED)
+    if n_draws is not None and _too_short(n_draws):
+        doubts.append(WaicDoubt.SHORT_CHAIN)
+    if p_waic > WAIC_PARAMETER_FACTOR * n_params:
+        doubts.append(WaicDoubt.HIGH_P_WAIC)
+    return tuple(doubts)
 
 
 def short_chain_waic_note(n_draws: int, thin: int = 1) -> str:
@@ -81,14 +122,15 @@ def short_chain_waic_note(n_draws: int, thin: int = 1) -> str:
     R0 + R1 ∥ C1 (40 points, 1 % noise) it read 1.9 after 8 steps and 4.7 after 2000 (P = 4), so
     WAIC is no score to compare models by (added 2026-12-06: the report printed it with nothing
     beside it)."""
-    if n_draws >= CHAIN_TAU_MULTIPLE:
+    if not _too_short(n_draws):
         return ""
     return (f"{WAIC_NOTE_LEAD}and p_waic are from a chain too short to trust ({kept_draws_text(n_draws, thin)}, too few to estimate τ: emcee needs ≳ {CHAIN_TAU_MULTIPLE} τ): "
             "whether its draws have spread from the start over the posterior is unknown, and until they have p_waic is off the mark (low on the shortest chains), "
             f"so do not compare models by this WAIC; {more_draws_advice(thin)} (steps='auto', the default, runs until the chain is {CHAIN_TAU_MULTIPLE} τ long)")
 
 
-def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y, names: Sequence[str] | None = None, *, converged: bool | None = None) -> LaplaceEvidence:
+def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFunctions, lo_y, hi_y, names: Sequence[str] | None = None, *, converged: bool | None = None,
+                     waic_reasons: Sequence[WaicDoubt] | None = None) -> LaplaceEvidence:
     """ln Z ≈ ln p(y*) + ln π(y*) + (d/2) ln 2π − ½ ln det(−H) at the MAP y* (sampled space).
 
     The MAP starts from the best draw of ``chain_y`` (walker, draw, param) and is polished by
@@ -96,7 +138,9 @@ def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFun
     note names the parameters (``names``, in order) whose Gaussian width at the MAP and whose
     draws' width differ by more than `LAPLACE_WIDTH_RATIO`: there the approximation fails;
     ``converged`` (the chain's, `Posterior.chain_converged`; None: not known) leaves out of its
-    causes a chain too short when true.
+    causes a chain too short when true. ``waic_reasons`` (the run's WAIC's, `waic_doubts`; None:
+    not known, judged by the length of ``chain_y`` alone) choose the note's remedy: WAIC only
+    where it is a score to compare models by (`evidence_remedy`).
     """
     from scipy.optimize import minimize
 
@@ -129,33 +173,51 @@ def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFun
     if eig.min() / eig.max() < 1e-12:
         note = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is nearly flat along some direction (unidentified parameters)"
     else:
-        note = _width_note(np.linalg.inv(-0.5 * (h + h.T)), chain_y, names, converged)
+        reasons = ((WaicDoubt.SHORT_CHAIN,) if _too_short(chain_y.shape[1]) else ()) if waic_reasons is None else tuple(waic_reasons)
+        note = _width_note(np.linalg.inv(-0.5 * (h + h.T)), chain_y, names, converged, reasons)
     return LaplaceEvidence(lp_map + 0.5 * d * math.log(2 * math.pi) - 0.5 * float(np.sum(np.log(eig))), y_map, note)
 
 
 WAIC_REMEDY = "Compare models by WAIC, or fix or bound that parameter"
 """How a note of `laplace_evidence` on a posterior far from Gaussian ends (`_width_note`): the way
-out it names, unless `evidence_note_beside_waic` takes WAIC out of it."""
+out it names where WAIC is a score to compare models by (`evidence_remedy`)."""
+SHORT_CHAIN_REMEDY = "WAIC, from a chain too short to estimate τ, is no score to compare models by either (see the note beside it): run a longer chain, or fix or bound that parameter"
+"""`WAIC_REMEDY` where the chain is too short to estimate τ (`WaicDoubt.SHORT_CHAIN`): until
+2026-12-06 the note sent the user to a WAIC `short_chain_waic_note` says not to compare models by
+in the same report (REAL exampleDataGamry.DTA with R0 + R1 || CPE1 and --steps 40)."""
+DOUBTED_WAIC_REMEDY = "WAIC is no score to compare models by either (see its warning): fix or bound that parameter"
+"""`WAIC_REMEDY` where WAIC has a warning of its own (`WaicDoubt.UNDEFINED`,
+`WaicDoubt.HIGH_P_WAIC`): until 2026-12-06 one posterior's warnings could say "Compare models by
+WAIC" and "Do not compare models by this WAIC"."""
+
+
+def evidence_remedy(waic_reasons: Sequence[WaicDoubt]) -> str:
+    """The way out a note of `laplace_evidence` names, by why the run's WAIC is no score to
+    compare models by (``waic_reasons``, `waic_doubts`; () when it is one): a chain too short
+    first, as its remedy (a longer chain) may mend WAIC's other doubts too."""
+    if WaicDoubt.SHORT_CHAIN in waic_reasons:
+        return SHORT_CHAIN_REMEDY
+    return DOUBTED_WAIC_REMEDY if waic_reasons else WAIC_REMEDY
 
 
 def evidence_note_beside_waic(evidence_note: str, waic_note: str) -> str:
-    """The Laplace evidence's note as the posterior keeps it beside WAIC's: where WAIC has a note
-    of its own (unreliable or undefined, `waic`), not sending the user to compare models by it
-    (until 2026-12-06 one posterior's warnings could say "Compare models by WAIC" and "Do not
-    compare models by this WAIC")."""
+    """The Laplace evidence's note ``evidence_note`` as kept beside a WAIC note ``waic_note``
+    (unreliable or undefined, `waic`; "" for none): where WAIC has one, not sending the user to
+    compare models by it (`DOUBTED_WAIC_REMEDY`). `sample` does not use it: it gives
+    `laplace_evidence` the reasons of its WAIC (``waic_reasons``), which choose the remedy."""
     if not waic_note or not evidence_note.endswith(WAIC_REMEDY):
         return evidence_note
-    return evidence_note[: -len(WAIC_REMEDY)] + "WAIC is no score to compare models by either (see its warning): fix or bound that parameter"
+    return evidence_note[: -len(WAIC_REMEDY)] + DOUBTED_WAIC_REMEDY
 
 
-def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str] | None, converged: bool | None = None) -> str:
+def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str] | None, converged: bool | None = None, waic_reasons: Sequence[WaicDoubt] = ()) -> str:
     """"" when every parameter's Laplace sd (from ``covariance``) is within
     `LAPLACE_WIDTH_RATIO` of its draws' sd in ``chain_y`` (walker, draw, param); else a note
     naming them with both widths. A Gaussian far wider than the draws is blamed on a parameter
     left to its prior or cut off by a prior's edge or a bound, and, unless the chain is known to
     have ``converged``, on draws not yet spread out (a converged REAL Gamry chain was sent to "see
     its warning" of a chain too short, which it did not have, 2026-12-06). The remedy names WAIC
-    only where the chain is long enough for it (`short_chain_waic_note`'s rule)."""
+    only where ``waic_reasons`` (the run's WAIC's, `waic_doubts`) are none (`evidence_remedy`)."""
     laplace_sd = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     draws_sd = chain_y.reshape(-1, chain_y.shape[-1]).std(axis=0)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -172,12 +234,7 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
         why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or one whose draws a prior's edge or a bound cuts off (see its pile-up warning, if any)"
     else:
         why = "; a Gaussian far wider than the draws marks a parameter left to its prior, or draws that have not yet spread over the posterior (a chain too short: see its warning)"
-    # (a chain too short to estimate τ has a WAIC `short_chain_waic_note` says not to compare
-    # models by: until 2026-12-06 this note sent the user to it in the same report, REAL
-    # exampleDataGamry.DTA with R0 + R1 || CPE1 and --steps 40)
-    remedy = (WAIC_REMEDY if chain_y.shape[1] >= CHAIN_TAU_MULTIPLE else
-              "WAIC, from a chain too short to estimate τ, is no score to compare models by either (see the note beside it): run a longer chain, or fix or bound that parameter")
-    return f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. {remedy}"
+    return f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along {detail}{why}. {evidence_remedy(waic_reasons)}"
 
 
 START_BEYOND_SIGMA = "beyond sigma"
@@ -277,7 +334,7 @@ def waic(chain_y, args: LogProbArgs, functions: LogProbFunctions, excluded: Sequ
     total, p_waic = float(-2.0 * np.sum(lppd - p_i)), float(np.sum(p_i))
     high = int(np.sum(p_i > WAIC_POINT_LIMIT))
     n_params = chain_y.shape[-1]
-    if not p_waic > WAIC_PARAMETER_FACTOR * n_params:
+    if WaicDoubt.HIGH_P_WAIC not in waic_doubts(total, p_waic, n_params):
         return WAIC(total, p_waic, "", high)
     names = list(names) if names is not None and len(names) == n_params else [f"parameter {k}" for k in range(n_params)]
     cause = waic_cause(chain_y, names, excluded=excluded, start_y=start_y, converged=converged, model_misfit=model_misfit)

@@ -28,7 +28,7 @@ from ..least_squares.branches import left_to_priors
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
 from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
-from .evidence import short_chain_waic_note
+from .evidence import WaicDoubt, short_chain_waic_note, waic_doubts
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, tied_to_bound, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel
 from .priors import Prior
@@ -250,6 +250,17 @@ class Posterior(PiledUp, FrozenResult):
         τ (the chain-length warning's rule: `evidence.short_chain_waic_note`), "" otherwise."""
         return short_chain_waic_note(self.n_draws, self.settings.get("thin", 1))
 
+    @property
+    def waic_unreliable_reason(self) -> WaicDoubt | None:
+        """Why WAIC is no score to compare models by, None when it is one: `WaicDoubt.UNDEFINED`
+        (not finite), `WaicDoubt.SHORT_CHAIN` (a chain too short to estimate τ, `waic_note`) or
+        `WaicDoubt.HIGH_P_WAIC` (p_waic over 2 × the sampled parameters, WAIC's own warning),
+        the first that applies (`evidence.waic_doubts`, the rule those notes follow, of ``waic``,
+        ``p_waic``, the number of sampled parameters and ``n_draws``; not read from any words).
+        A `str`: "undefined", "short_chain", "high_p_waic"."""
+        reasons = waic_doubts(self.waic, self.p_waic, len(self.names), self.n_draws)
+        return reasons[0] if reasons else None
+
     @functools.cached_property
     def warnings(self) -> tuple[str, ...]:
         """Diagnostics that need attention (straggler walkers left out, chain length, acceptance,
@@ -350,6 +361,7 @@ class Posterior(PiledUp, FrozenResult):
             "waic": self.waic,
             "p_waic": self.p_waic,
             "waic_note": self.waic_note or None,  # (added 2026-12-06: beside WAIC of a chain too short to estimate τ; null otherwise)
+            "waic_unreliable_reason": None if self.waic_unreliable_reason is None else self.waic_unreliable_reason.value,  # (added 2026-12-07: why WAIC is no score to compare models by, `WaicDoubt`; null when it is one)
             "noise": self.noise.value,
             "sigma_origin": self.settings.get("sigma_origin"),  # (added 2026-12-06: what the data's σ is under noise 'sigma', `diagnosis.noise.sigma_origin`'s words; null otherwise)
             "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as before 2026-12-01)

@@ -30,7 +30,7 @@ from .chain import (
     support_in_sampled_space, undetermined_span,
 )
 from .diagnostics import CHAIN_TAU_MULTIPLE, integrated_autocorr
-from .evidence import START_BEYOND_SIGMA, START_UNEVEN_NOISE, evidence_note_beside_waic, laplace_evidence, waic
+from .evidence import START_BEYOND_SIGMA, START_UNEVEN_NOISE, laplace_evidence, waic, waic_doubts
 from .logprob import NOISE_MODELS, LogProbArgs, LogProbFunctions, LogProbStructure, NoiseModel, log_prob_functions, start_weighting, walkers_log_prob
 from .posterior import Posterior
 from ...progress import quiet_beneath
@@ -529,10 +529,12 @@ def sample(
     length = length_settings(chain, walkers)
 
     converged = _converged(chain.chain_y)
-    evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names, converged=converged)
     start_y = np.where(np.asarray(space.log_scale), np.log(np.maximum(np.asarray(fitted, float), np.finfo(float).tiny)), np.asarray(fitted, float))
     information = waic(chain.chain_y, args, functions, excluded, names=space.names, start_y=start_y, converged=converged, model_misfit=_start_misfit(init, noise))
-    notes += [note for note in (evidence_note_beside_waic(evidence.note, information.note), information.note) if note]
+    # (the reasons the posterior's `waic_unreliable_reason` gives, from the same numbers: the evidence's remedy names WAIC only where it is sound)
+    reasons = waic_doubts(information.waic, information.p_waic, len(space.names), chain.chain_y.shape[1])
+    evidence = laplace_evidence(chain.chain_y, chain.log_prob, args, functions, lo_y, hi_y, names=space.names, converged=converged, waic_reasons=reasons)
+    notes += [note for note in (evidence.note, information.note) if note]
     log_scale = np.asarray(space.log_scale)
     map_x = np.where(log_scale, np.exp(evidence.map_y), evidence.map_y)
     return Posterior(
