@@ -6,11 +6,15 @@ so below `RESISTOR_LIKE_ALPHA` (`resistor_like_exponents`)."""
 
 from __future__ import annotations
 
+import math
+from typing import Mapping
+
 import numpy as np
 
-from ..circuits import Circuit, Registry
+from ..circuits import Circuit, Element, Registry, Series, compile_circuit, parse
+from ..errors import CircuitError
 
-__all__ = ["capacitor_name", "replacement_name", "reducing_bounds", "resistor_like_exponents", "RESISTOR_LIKE_ALPHA", "warburg_deviation", "warburg_like_elements", "WARBURG_LIKE_DEVIATION"]
+__all__ = ["capacitor_name", "replacement_name", "reducing_bounds", "resistor_like_exponents", "RESISTOR_LIKE_ALPHA", "warburg_deviation", "warburg_like_elements", "WARBURG_LIKE_DEVIATION", "series_shorts", "SHORT_STEP", "SHORT_SHARE"]
 
 
 def capacitor_name(name: str, taken) -> str:
@@ -118,4 +122,80 @@ def warburg_like_elements(circuit: Circuit, registry: Registry) -> dict[str, tup
         names = spec.parameter_names(e.name)
         if spec.symbol in ("Wo", "Ws", "G") and len(names) == 2:
             out[names[1]] = (e.name, names[0], replacement_name(e.name, "W", circuit.element_names, own=spec.symbol), sigma_unit, spec.symbol)
+    return out
+
+
+SHORT_STEP = 1e12
+SHORT_SHARE = 1e-6
+"""`series_shorts` takes a parameter whose bound is 0 (∞) to its value ÷ (×) `SHORT_STEP`, and
+calls the element a short there when its |Z| falls below `SHORT_SHARE` of its |Z| at the value
+at every frequency: an impedance proportional to the parameter (a W's σ, an R, an L) or to its
+inverse (a C, a CPE's Q) falls by 1e12, one that tends to a finite value (a CPE's α → 0: the
+resistor 1/Q) or grows does not."""
+
+
+def _in_series(node: Circuit, name: str) -> bool:
+    """Whether element ``name`` of ``node`` is one term of a series chain (its parent a `Series`),
+    not a branch of a parallel block, nor the whole circuit."""
+    if isinstance(node, Element):
+        return False
+    for child in node.children:
+        if isinstance(child, Element) and child.name == name:
+            return isinstance(node, Series)
+        if not isinstance(child, Element) and name in child.element_names:
+            return _in_series(child, name)
+    return False
+
+
+def _toward(value: float, bound: float) -> float | None:
+    """The parameter's value taken toward its ``bound`` (`SHORT_STEP`), the bound itself when finite
+    and not 0; None where no such value is defined (a value not positive beside a bound 0 or ∞)."""
+    if bound == 0 or math.isinf(bound):
+        if not value > 0 or not math.isfinite(value) or bound < 0:
+            return None
+        return value / SHORT_STEP if bound == 0 else value * SHORT_STEP
+    return bound
+
+
+def series_shorts(circuit: Circuit, registry: Registry, values: Mapping[str, float], freq) -> dict[str, tuple[str, str, Circuit]]:
+    """{parameter: (side, element, circuit without it)} of ``circuit``'s parameters whose element
+    is one term of a series chain and becomes a short (Z → 0) as the parameter runs to its bound
+    on ``side`` ("lower", "upper"), the element's other parameters at ``values`` (a W's σ → 0, an
+    R or an L → 0, a C or a CPE's Q → ∞; `SHORT_SHARE` at every frequency ``freq`` [Hz]): there
+    the circuit is the one without that element (`Circuit.without`, which shorts a series term).
+    An element that is a branch of a parallel block is left out (shorted, it shorts the whole
+    block, which is no removal), as are elements whose parameters lack a value, and a circuit
+    without the element that does not read back and compile (`parse`, `compile_circuit`)."""
+    omega = 2 * np.pi * np.asarray(freq, float).ravel()
+    specs = circuit.parameter_specs(registry)
+    out: dict[str, tuple[str, str, Circuit]] = {}
+    if omega.size == 0:
+        return out
+    for e in circuit.elements():
+        spec = registry[e.symbol]
+        names = spec.parameter_names(e.name)
+        if not _in_series(circuit, e.name) or not all(n in values and math.isfinite(values[n]) for n in names):
+            continue
+        point = [float(values[n]) for n in names]
+        with np.errstate(all="ignore"):
+            z = np.abs(np.asarray(spec.impedance(omega, *point), complex))
+        if not np.all(np.isfinite(z) & (z > 0)):
+            continue
+        for k, n in enumerate(names):
+            for side, bound in (("lower", specs[n].lower), ("upper", specs[n].upper)):
+                limit = _toward(point[k], float(bound))
+                if limit is None:
+                    continue
+                with np.errstate(all="ignore"):
+                    z_limit = np.abs(np.asarray(spec.impedance(omega, *point[:k], limit, *point[k + 1:]), complex))
+                if not np.all(z_limit <= SHORT_SHARE * z):  # (NaN: not a short)
+                    continue
+                try:
+                    reduced = circuit.without(e.name)
+                    if parse(str(reduced), registry) != reduced:
+                        continue
+                    compile_circuit(reduced, registry)
+                except CircuitError:
+                    continue
+                out[n] = (side, e.name, reduced)
     return out

@@ -17,11 +17,11 @@ from ...arguments import CHAIN_TAU_MULTIPLE as CHAIN_TAU_MULTIPLE
 from ...circuits import Circuit, Registry
 from ...data import format_bound, format_factor, format_quantity, value_span
 from ..derived import QUANTILES, mean_and_sd
-from ..reductions import reducing_bounds
+from ..reductions import reducing_bounds, series_shorts
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "reducing_bounds", "user_bound_sides", "circuit_name", "PiledUp",
+    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "short_advice", "reducing_bounds", "user_bound_sides", "circuit_name", "PiledUp",
     "acceptance_warnings", "interval_warnings", "tied_to_bound", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
@@ -428,6 +428,7 @@ def prior_edges(
     reductions: Mapping[str, tuple[str, str]] | None = None,
     bound_causes: Mapping[str, str] | None = None,
     user_sides: Mapping[str, frozenset[str]] | None = None,
+    shorts: Mapping[str, tuple[str, str]] | None = None,
 ) -> PriorEdges:
     """The parameters whose posterior piles up against an edge of their prior, as data and as
     a warning for each (`PriorEdges`).
@@ -452,8 +453,11 @@ def prior_edges(
     there, the warning names the user's bound as what sets that end (the data want values beyond
     it), never a reduction, which holds only at the element's own bound (a CPE's α piled up at a
     user's 0.78 is no capacitor).
+    ``shorts`` (`short_advice`): {parameter: (side, words)} of parameters whose element, a term
+    of a series chain, is a short beyond that side (a W's σ → 0); piled up there at the prior's
+    end or the element's own bound, the warning names the circuit without that element.
     """
-    reductions, bound_causes, user_sides = reductions or {}, bound_causes or {}, user_sides or {}
+    reductions, bound_causes, user_sides, shorts = reductions or {}, bound_causes or {}, user_sides or {}, shorts or {}
     out, piled_up, at_reduction = [], {}, set()
     for i, n in enumerate(names):
         prior = priors[n]
@@ -499,14 +503,33 @@ def prior_edges(
             elif end == bound and n in bound_causes:
                 out.append(f"{n} piles up against its {side} bound {at} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values. {bound_causes[n]}")
             elif end == bound:
-                out.append(f"{n} piles up against its {side} bound {at} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values (is the model missing something?)")
+                shorted = shorts.get(n, ("",))[0] == side
+                out.append(f"{n} piles up against its {side} bound {at} ({where}): the bound, not the data, sets {interval}; the data would take {beyond} values"
+                           + (f"; {shorts[n][1]}" if shorted else " (is the model missing something?)"))
             else:
                 out.append(
                     f"{n} piles up against the {side} end of its prior {prior} ({where}): the prior, not the data, sets {interval}; "
                     f"the data allow {beyond} values — give {n} a prior that says how {'small' if side == 'lower' else 'large'} it can be"
+                    + (f"; {shorts[n][1]}" if shorts.get(n, ("",))[0] == side else "")
                 )
     return PriorEdges(out, piled_up, frozenset(n for n in at_reduction if piled_up[n] != "both"))
 
+
+
+def short_advice(circuit: Circuit, registry: Registry, values: Mapping[str, float], freq) -> dict[str, tuple[str, str]]:
+    """{parameter: (side, words)} for `prior_edges`'s ``shorts``: the parameters whose element,
+    a term of a series chain, is a short beyond that side (`reductions.series_shorts`, the
+    element's other parameters at ``values``, at the frequencies ``freq``), with the circuit
+    without it, as a user would type it. On REAL exampleDataBioLogic.mpt with
+    R0 + R1 || CPE1 + W1, W1.sigma piled up at its prior's lower end and the warning asked only
+    for a prior that says how small it can be (2026-12-07)."""
+    specs = circuit.parameter_specs(registry)
+    out = {}
+    for n, (side, element, reduced) in series_shorts(circuit, registry, values, freq).items():
+        bound = specs[n].lower if side == "lower" else specs[n].upper
+        limit = "∞" if bound == math.inf else format_quantity(bound, specs[n].unit) if bound else "0"
+        out[n] = (side, f"{element} tends to a short as {n} → {limit} (its impedance vanishes), so the data may need no {element}: try the model without it, {reduced}")
+    return out
 
 
 def circuit_name(name: str) -> str:
@@ -529,7 +552,10 @@ class PiledUp:
         reductions = reducing_bounds(self.circuit, self.registry)
         # (keyed by circuit parameter; a joint posterior's per-spectrum CPE2.alpha[cycle=64] is CPE2.alpha's)
         by_name = lambda keyed: {n: keyed[circuit_name(n)] for n in self.names if circuit_name(n) in keyed}  # noqa: E731
-        return prior_edges(self.names, self.units, self.draws.reshape(-1, len(self.names)), self.priors, *self.bounds, by_name(reductions), causes, by_name(sides))
+        flat = self.draws.reshape(-1, len(self.names))
+        medians = {**{circuit_name(n): float(np.median(flat[:, i])) for i, n in enumerate(self.names)}, **self.fixed}
+        shorts = short_advice(self.circuit, self.registry, medians, self.frequency)
+        return prior_edges(self.names, self.units, flat, self.priors, *self.bounds, by_name(reductions), causes, by_name(sides), by_name(shorts))
 
     @property
     def piled_up(self) -> dict[str, str]:
