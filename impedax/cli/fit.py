@@ -135,7 +135,7 @@ def run(args) -> int:
     from pathlib import Path
 
     from .. import BatchFitResult, FitResult, fit, parse
-    from ..fitting.least_squares.result import DIAGNOSIS_ADVICE, misfit_hint
+    from ..fitting.least_squares.result import misfit_hint
     from ..errors import ParameterError
     from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
 
@@ -198,7 +198,7 @@ def run(args) -> int:
                 from .common import fit_command
 
                 print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the hint above)")
-            elif isinstance(result, FitResult) and any(DIAGNOSIS_ADVICE in w for w in result.warnings):  # (a misfit over 5× the data's own: REAL Gamry, 2026-12-07)
+            elif isinstance(result, FitResult) and result.misses_structure:  # (a warning says the model misses structure: REAL Gamry, R0 + R1 || C1 at 30.1 %)
                 import shlex
 
                 from .common import fit_command
@@ -209,6 +209,11 @@ def run(args) -> int:
 
                 across = "" if args.residual_map else "; --residual-map FIG.png on this command maps where it fails across all of them"
                 print(f"next: {diagnose_command(args, data, batch_hints['worst']['labels'], args.model)} (where the model fails on the worst of those spectra and what it misses{across})")
+            elif isinstance(result, BatchFitResult) and (worst := _worst_missing_structure(result)) is not None:  # (REAL battery cycles at 29–40 %)
+                from .common import diagnose_command
+
+                across = "" if args.residual_map else "; --residual-map FIG.png on this command maps where it fails across all of them"
+                print(f"next: {diagnose_command(args, data, worst, args.model)} (where the model fails on the worst of the spectra whose warnings say it misses structure, and what it misses{across})")
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0
@@ -230,3 +235,15 @@ def check_plot_x(dim: str, data, path: str, *, given_plot: bool) -> None:
         raise ParameterError(f"--plot-x {dim}: not a dimension of the spectra of {path} ({', '.join(dims)})")
     if not numeric_coordinate(data, dim):
         raise ParameterError(f"--plot-x {dim}: {dim} has no numeric coordinate in {path} to draw against (its labels are not numbers): leave --plot-x out")
+
+
+def _worst_missing_structure(batch) -> dict | None:
+    """The labels of the spectrum with the largest rms_rel among those whose model misses
+    structure the data hold (`BatchFitResult.misses_structure`), None when there is none."""
+    import numpy as np
+
+    flags = batch.misses_structure.transpose(*batch.dims).values.reshape(-1)
+    if not flags.any():
+        return None
+    rms = batch.dataset["rms_rel"].transpose(*batch.dims).values.reshape(-1)
+    return list(batch.spectrum_keys())[int(np.argmax(np.where(flags, np.nan_to_num(rms, nan=-np.inf), -np.inf)))][1]
