@@ -1156,7 +1156,7 @@ def add_plot_option(parser, help: str, *, flag: str = "--plot", title_names: str
     parser.add_argument(flag, metavar=PLOT_METAVAR, help=f"{help} ({PLOT_FORMATS_HELP})")
     if not any("--dpi" in action.option_strings for action in parser._actions):
         parser.add_argument("--dpi", type=dpi_option, default=None, metavar="N",
-                            help=f"resolution of a raster figure (.png, .jpg, .tif) in dots per inch (default {FIGURE_DPI}, at most {MAX_DPI}); a vector figure has none")
+                            help=f"resolution of a raster figure (.png, .jpg, .tif) in dots per inch (default {FIGURE_DPI}, at least {MIN_DPI}, at most {MAX_DPI}); a vector figure has none")
         parser.add_argument("--title", default=None, metavar="TEXT",
                             help=f"the figure's title in place of the one impedax writes (which names {title_names}); --title '' for none")
 
@@ -1167,13 +1167,22 @@ drew a KK figure for 38 s in 3.9 GB of memory (2026-12-05); an 11 × 4.5 in figu
 holds 71 million pixels, about 0.3 GB."""
 
 
+MIN_DPI = 20
+"""The least ``--dpi``: FreeType draws no text below one pixel per em, which the 5–7 pt labels of
+impedax's figures reach below about 15 dpi (``--dpi 5`` ended in matplotlib's RuntimeError
+"invalid ppem value", ``--dpi 1e-300`` in "cannot write empty image"; tests/cli_fuzz_matrix.py,
+2026-12-07). At 20 dpi a 6 pt label is 1.7 pixels tall: a thumbnail, nothing smaller is legible."""
+
+
 def dpi_option(text: str) -> float:
-    """``--dpi``: a positive number (`prefixed_number`) up to `MAX_DPI`, as an argparse ``type`` (exit 2)."""
+    """``--dpi``: a number (`prefixed_number`) from `MIN_DPI` to `MAX_DPI`, as an argparse ``type`` (exit 2)."""
     import argparse
 
     value = number_option(text)
     if not (math.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"expected a positive number of dots per inch, got {text!r}")
+    if value < MIN_DPI:
+        raise argparse.ArgumentTypeError(f"{text} dots per inch is too few to draw the figure's text; use at least {MIN_DPI} (the default is {FIGURE_DPI})")
     if value > MAX_DPI:
         raise argparse.ArgumentTypeError(f"{text} dots per inch is more than the {MAX_DPI} print needs, and the figure would take minutes and gigabytes to draw; use at most {MAX_DPI}, or a vector format (.pdf, .svg), which has no resolution")
     return value

@@ -1,0 +1,77 @@
+"""Bad input the command-line matrix (tests/cli_fuzz_matrix.py) found ending in a traceback:
+each case exits 2 with one message naming the file or the option, and an existing --out file
+keeps its bytes.
+
+The matrix's first run (2026-12-07, 2994 command lines) found: `impedax diagnose` and `refine`
+on a spectrum whose Z is exactly zero at some frequency (ZeroDivisionError, or ValueError with
+--weighting unit); `--dpi` below what FreeType draws text at (RuntimeError from matplotlib's
+savefig, or "cannot write empty image"); `impedax fit --shared` naming every free parameter
+(JAX's ValueError "Need at least one array to stack")."""
+
+import numpy as np
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+
+EXISTING = b"an existing output file: a failing run must leave these bytes\n"
+RC = "R0 + R1 || C1"
+
+
+def _csv(path, f, z):
+    path.write_text("frequency_hz,z_real_ohm,z_imag_ohm\n" + "".join(f"{x:.8g},{v.real:.8g},{v.imag:.8g}\n" for x, v in zip(f, z)))
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    """SYNTHETIC spectra (numpy formula of R0 + R1 || C1, 21 points from 1 Hz to 100 kHz): good,
+    all Z zero, one Z zero (at 17.8 Hz), and a series of two along ``day``."""
+    folder = tmp_path_factory.mktemp("fuzz")
+    f = np.geomspace(1, 1e5, 21)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 1e-4)
+    one_zero = z.copy()
+    one_zero[5] = 0
+    ix.save(ix.make_spectrum(f, np.stack([z, 1.01 * z]), dims=("day",), coords={"day": [1, 2]}), folder / "series.nc")
+    return {
+        "good": _csv(folder / "good.csv", f, z),
+        "zero": _csv(folder / "zero.csv", f, np.zeros_like(z)),
+        "one-zero": _csv(folder / "one_zero.csv", f, one_zero),
+        "series": str(folder / "series.nc"),
+    }
+
+
+def _refused(argv, out, capsys):
+    """Run ``impedax *argv`` with an existing ``out`` file named by --out: exit 2, one error line,
+    no traceback, ``out`` unchanged; returns the message."""
+    out.write_bytes(EXISTING)
+    try:
+        code = main([*argv, "--out", str(out)])
+    except SystemExit as exc:  # (argparse's own refusals)
+        code = exc.code
+    _, err = capsys.readouterr()
+    assert code == 2, err
+    assert "Traceback" not in err
+    assert len([line for line in err.splitlines() if ": error: " in line]) == 1, err
+    assert out.read_bytes() == EXISTING
+    return err
+
+
+@pytest.mark.parametrize("dpi", ["1", "5", "1e-300", "19.9"])
+@pytest.mark.parametrize("argv", [
+    lambda p, fig: ["fit", p["good"], "--model", RC, "--plot", fig],
+    lambda p, fig: ["kk", p["good"], "--plot", fig],
+    lambda p, fig: ["inspect", p["good"], "--plot", fig],
+], ids=["fit", "kk", "inspect"])
+def test_dpi_too_small_to_draw_text_is_refused(files, tmp_path, capsys, argv, dpi):
+    figure = tmp_path / "figure.png"
+    err = _refused([*argv(files, str(figure)), "--dpi", dpi], tmp_path / "out.json" if argv(files, "")[0] != "inspect" else tmp_path / "out.csv", capsys)
+    assert "--dpi" in err and "at least 20" in err
+    assert not figure.exists()
+
+
+@pytest.mark.parametrize("dpi", ["20", "40"])
+def test_dpi_at_the_least_draws(files, tmp_path, capsys, dpi):
+    figure = tmp_path / "figure.png"
+    assert main(["kk", files["good"], "--plot", str(figure), "--dpi", dpi]) == 0
+    assert figure.read_bytes().startswith(b"\x89PNG")
