@@ -57,6 +57,24 @@ def _refused(argv, out, capsys):
     return err
 
 
+@pytest.mark.parametrize("command", ["diagnose", "refine"])
+@pytest.mark.parametrize("name, weighting, where", [
+    ("zero", "modulus", "Z is exactly zero at 1 Hz, 1.78 Hz, 3.16 Hz and 18 more"),
+    ("zero", "unit", "Z is exactly zero at 1 Hz, 1.78 Hz, 3.16 Hz and 18 more"),
+    ("one-zero", "modulus", "Z is exactly zero at 17.8 Hz;"),
+    ("one-zero", "unit", "Z is exactly zero at 17.8 Hz;"),
+])
+def test_diagnosis_of_zero_impedance_is_refused(files, tmp_path, capsys, command, name, weighting, where):
+    err = _refused([command, files[name], "--model", RC, "--weighting", weighting], tmp_path / "d.json", capsys)
+    assert where in err and files[name] in err and "needs |Z| > 0" in err
+
+
+def test_diagnosis_of_a_fit_to_zero_impedance_is_refused_in_python(files):
+    fitted = ix.fit(RC, files["one-zero"], weighting="unit")  # (fit takes the point: unit weights need no |Z|)
+    with pytest.raises(ix.DataError, match=r"Z is exactly zero at 17.8 Hz; a diagnosis judges"):
+        ix.diagnose(fitted)
+
+
 @pytest.mark.parametrize("dpi", ["1", "5", "1e-300", "19.9"])
 @pytest.mark.parametrize("argv", [
     lambda p, fig: ["fit", p["good"], "--model", RC, "--plot", fig],

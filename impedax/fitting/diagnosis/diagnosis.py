@@ -62,7 +62,7 @@ from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Re
 from ...data import concise_repr, report_text, counted, format_frequency, format_quantity, make_spectrum, unit_text
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
-from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band, retested_band  # (frequency_text, left_out_options: here before 2026-12-02)
+from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band, retested_band, zero_impedance_text  # (frequency_text, left_out_options: here before 2026-12-02)
 from ..least_squares import BatchFitResult, FitResult, fit
 from ..least_squares.result import RESIDUAL_LONG_NAME, is_dominated_note
 from ..least_squares.branches import is_idle_note, parallel_branches
@@ -1202,6 +1202,7 @@ def _fit_baseline(data, circuit: Circuit | str, effects: EffectCatalog, *, regis
     require_points_for_diagnosis(ds.sizes["frequency"], len(circuit.parameter_names(registry)), source=ds.attrs.get("source"), fmin=fmin, fmax=fmax)
     if not noise_given:
         _require_noise_without_kk(ds.sizes["frequency"], None, ds["sigma"] if "sigma" in ds else None, source=ds.attrs.get("source"))
+    _require_nonzero_impedance(ds["frequency"].values, ds["Z"].values, source=ds.attrs.get("source"))
     # the candidates depend on the circuit's structure: propose them around a stand-in fit, so
     # that one compiled solver holds the baseline and its candidates. The stand-in model is the
     # data scaled by 0.999, on no data-gated effect's side (an inductive loop is proposed only
@@ -1242,6 +1243,7 @@ def _baseline(fit_or_data, circuit, *, data, effects, registry, fmin, fmax, weig
             raise ParameterError("bounds= goes with data and a circuit; a FitResult keeps the bounds it was fitted with (fit(..., bounds=...) first)")
         if fmin is not None or fmax is not None:
             raise ParameterError("fmin/fmax select the band of data to fit; a FitResult keeps the band it was fitted on")
+        _require_nonzero_impedance(fit_or_data.frequency, fit_or_data.z_data, source=fit_or_data.source)
         return fit_or_data, data, shape, {}
     if isinstance(fit_or_data, BatchFitResult):
         raise ParameterError("diagnose takes the fit of one spectrum; fit a trial mean or select one spectrum of the batch")
@@ -1276,6 +1278,16 @@ def require_points_for_diagnosis(n_points: int, n_free: int, command: str = "dia
         else:
             band = ""
         raise DataError(f"{command} needs at least {needed} frequencies for {counted(n_free, 'free parameter')} and the Kramers–Kronig test, got {n_points}{band}", path=source)
+
+
+def _require_nonzero_impedance(frequency, z, *, source: str | None) -> None:
+    """`DataError` when Z is exactly zero at some frequency: a diagnosis judges misfits against
+    noise relative to |Z| and starts its candidates from the data's |Z|, so such a point has no
+    noise scale (`impedax diagnose` of an all-zero table ended in a ZeroDivisionError, with
+    weighting 'unit'; found by tests/cli_fuzz_matrix.py, 2026-12-07)."""
+    if np.any(np.asarray(z) == 0):
+        raise DataError(f"{zero_impedance_text(np.asarray(frequency, float), np.asarray(z))}; a diagnosis judges misfits against noise relative to |Z|, "
+                        "which needs |Z| > 0: drop those points", path=source)
 
 
 def _require_noise_without_kk(n_points: int, noise: float | None, sigma, *, source: str | None) -> None:
