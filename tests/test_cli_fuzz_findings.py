@@ -93,3 +93,14 @@ def test_dpi_at_the_least_draws(files, tmp_path, capsys, dpi):
     figure = tmp_path / "figure.png"
     assert main(["kk", files["good"], "--plot", str(figure), "--dpi", dpi]) == 0
     assert figure.read_bytes().startswith(b"\x89PNG")
+
+
+@pytest.mark.parametrize("shared, fixed", [("R0,R1,C1", []), ("R1,C1", ["--fix", "R0=10"])])
+def test_sharing_every_free_parameter_is_refused(files, tmp_path, capsys, shared, fixed):
+    err = _refused(["fit", files["series"], "--model", RC, "--shared", shared, "--over", "day", *fixed], tmp_path / "fit.json", capsys)
+    assert "--shared: every free parameter" in err
+
+
+def test_sharing_every_free_parameter_is_refused_in_python(files):
+    with pytest.raises(ix.ParameterError, match="shared: every free parameter"):
+        ix.fit(RC, ix.load(files["series"]), shared=["R0", "R1", "C1"], over="day")

@@ -120,6 +120,9 @@ def shared_layout(table: ParameterTable, extra_dims: Sequence[str], shared, over
     free = table.free_names
     shared_slots = tuple(sorted(free.index(n) for n in names))
     own_slots = tuple(i for i in range(len(free)) if i not in shared_slots)
+    if not own_slots:  # (the joint solver stacks each spectrum's own columns: none ended in JAX's "Need at least one array to stack", 2026-12-07)
+        raise ParameterError(f"shared: every free parameter ({', '.join(free)}) is shared, which leaves each spectrum none of its own: leave at least one "
+                             f"out of shared; for one set of values for every spectrum, fit the spectra's mean over {', '.join(map(str, over_dims))}")
     keep = tuple(d for d in extra_dims if d not in over_dims)
     return SharedLayout(tuple(free[i] for i in shared_slots), tuple(over_dims), keep, shared_slots, own_slots)
 
