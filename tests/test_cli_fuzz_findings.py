@@ -104,3 +104,37 @@ def test_sharing_every_free_parameter_is_refused(files, tmp_path, capsys, shared
 def test_sharing_every_free_parameter_is_refused_in_python(files):
     with pytest.raises(ix.ParameterError, match="shared: every free parameter"):
         ix.fit(RC, ix.load(files["series"]), shared=["R0", "R1", "C1"], over="day")
+
+
+@pytest.mark.parametrize("title", [r"$\undefinedcmd$", r"$\frac{1}$", "a $x^$ b"])
+def test_a_title_that_is_no_math_text_is_refused(files, tmp_path, capsys, title):
+    figure = tmp_path / "figure.png"
+    err = _refused(["kk", files["good"], "--plot", str(figure), "--title", title], tmp_path / "kk.json", capsys)
+    assert "argument --title" in err and "math text" in err and "\\$" in err
+    assert not figure.exists()
+
+
+@pytest.mark.parametrize("title", [r"Z at $\omega = 2\pi f$", r"costs \$5", "$x", "a $ b", ""])
+def test_titles_that_draw_are_drawn(files, tmp_path, title):
+    figure = tmp_path / "figure.png"
+    assert main(["kk", files["good"], "--plot", str(figure), "--title", title]) == 0
+    assert figure.read_bytes().startswith(b"\x89PNG")
+
+
+@pytest.mark.parametrize("name", [r"x$\bad$.csv", "price $5 and $6.csv"])
+def test_a_file_name_with_dollar_signs_is_the_title_as_written(files, tmp_path, monkeypatch, name):
+    """The data file's name in a figure's title is text, not matplotlib math: a name with a
+    backslash between dollar signs ended in a ParseFatalException, and one with two dollar signs
+    drew the words between them in italics, without the signs."""
+    import impedax.plotting
+
+    titles = []
+    save = impedax.plotting.save_figure
+    monkeypatch.setattr(impedax.plotting, "save_figure", lambda fig, path, **kw: (titles.append(fig._suptitle._preprocess_math(fig._suptitle.get_text())), save(fig, path, **kw)))
+    data = tmp_path / name
+    data.write_bytes(open(files["good"], "rb").read())
+    figure = tmp_path / "figure.png"
+    assert main(["kk", str(data), "--plot", str(figure)]) == 0
+    shown, is_math = titles[0]
+    assert not is_math and name in shown
+    assert figure.read_bytes().startswith(b"\x89PNG")

@@ -1157,8 +1157,8 @@ def add_plot_option(parser, help: str, *, flag: str = "--plot", title_names: str
     if not any("--dpi" in action.option_strings for action in parser._actions):
         parser.add_argument("--dpi", type=dpi_option, default=None, metavar="N",
                             help=f"resolution of a raster figure (.png, .jpg, .tif) in dots per inch (default {FIGURE_DPI}, at least {MIN_DPI}, at most {MAX_DPI}); a vector figure has none")
-        parser.add_argument("--title", default=None, metavar="TEXT",
-                            help=f"the figure's title in place of the one impedax writes (which names {title_names}); --title '' for none")
+        parser.add_argument("--title", type=title_option, default=None, metavar="TEXT",
+                            help=f"the figure's title in place of the one impedax writes (which names {title_names}); --title '' for none; text between two $ is matplotlib math text, \\$ a dollar sign")
 
 
 MAX_DPI = 1200
@@ -1186,6 +1186,33 @@ def dpi_option(text: str) -> float:
     if value > MAX_DPI:
         raise argparse.ArgumentTypeError(f"{text} dots per inch is more than the {MAX_DPI} print needs, and the figure would take minutes and gigabytes to draw; use at most {MAX_DPI}, or a vector format (.pdf, .svg), which has no resolution")
     return value
+
+
+def title_option(text: str) -> str:
+    """``--title``: any text; a part between dollar signs is matplotlib math text, which must
+    parse, as an argparse ``type`` (exit 2): ``--title '$\\undefined$'`` ended in matplotlib's
+    ParseFatalException when the figure was saved, after the analysis (tests/cli_fuzz_matrix.py,
+    2026-12-07). matplotlib is imported only when --title is given."""
+    import argparse
+
+    from matplotlib import cbook
+
+    if cbook.is_math_text(text):
+        from matplotlib.mathtext import MathTextParser
+
+        try:
+            MathTextParser("path").parse(text)
+        except ValueError as exc:
+            found = str(exc).strip().splitlines()[-1].split(": ", 1)[-1].split(" (at char")[0]  # (its last line, "ParseFatalException: Unknown symbol: \\x, found '\\'")
+            found = found.strip() if len(found) <= 80 else found[:79] + "…"
+            raise argparse.ArgumentTypeError(f"'{text}' is not matplotlib math text between its dollar signs ({found}); write \\$ for a dollar sign") from None
+    return text
+
+
+def literal_text(text: str) -> str:
+    """``text`` (a file's name, a label) as matplotlib draws it literally: each ``$`` escaped,
+    so that no part between two of them is read as math text."""
+    return text.replace("$", r"\$")
 
 
 def figure_options(args) -> dict:
@@ -1353,7 +1380,7 @@ def short_source(source: str) -> str:
 def title_with_source(fig, source: str) -> None:
     """Add `short_source` of ``source`` to ``fig``'s title (a line of its own, wrapped to the
     figure's width), unless the title names it already."""
-    shown = short_source(source)
+    shown = literal_text(short_source(source))
     if fig._suptitle is None or shown not in fig._suptitle.get_text():
         append_title_line(fig, shown, lambda text, width: "\n".join(_wrapped(text, width)))
 

@@ -354,12 +354,12 @@ def _preview(ds, fmt, name: str | None = None):
     import numpy as np
 
     from ..plotting import characters_across, plot_spectra, plot_spectrum, wrap_model
-    from .common import dimension_labels, short_source
+    from .common import dimension_labels, literal_text, short_source
 
     name = name if name is not None else str(ds.attrs.get("path", ""))
     source = str(ds.attrs.get("source", ""))
     shown = short_source(source) if "[" in source else short_source(name) if name else ""  # (a --select pick: its labels)
-    head = f"{shown}: {fmt}" if shown else str(fmt)
+    head = f"{literal_text(shown)}: {fmt}" if shown else str(fmt)
     width = characters_across(11.0 - 0.4, 12)
     extra = [d for d in ds["Z"].dims if d != "frequency"]
     if not extra:
