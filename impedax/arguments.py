@@ -197,7 +197,10 @@ def real(*, minimum: float | None = None, maximum: float | None = None, positive
             return None
         if not _is_real(value):
             raise ParameterError(f"{name} must be a number, got {shown(value)} ({type(value).__name__})")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # (an int beyond floating point, 10**400: until 2026-12-07 Python's OverflowError)
+            raise ParameterError(f"{name} must be finite, got an integer of {len(str(abs(int(value))))} digits, beyond floating point") from None
         if not math.isfinite(value):
             raise ParameterError(f"{name} must be finite, got {value}")
         if positive and value <= 0:

@@ -138,3 +138,22 @@ def test_a_file_name_with_dollar_signs_is_the_title_as_written(files, tmp_path, 
     shown, is_math = titles[0]
     assert not is_math and name in shown
     assert figure.read_bytes().startswith(b"\x89PNG")
+
+
+HUGE = 10**400  # a Python int beyond every float
+API_HUGE_INT = [  # (id, call, message fragment naming the argument)
+    ("fit-fmin", lambda ds: ix.fit(RC, ds, fmin=HUGE), "fmin must be finite"),
+    ("kk-c", lambda ds: ix.kk_test(ds, c=HUGE), "c must be between 0 and 1"),
+    ("drt-lam", lambda ds: ix.drt(ds, lam=HUGE), "lam must be a positive finite number"),
+    ("diagnose-noise", lambda ds: ix.diagnose(ds, RC, noise=HUGE), "noise must be finite"),
+    ("log-frequencies", lambda ds: ix.log_frequencies(HUGE, 1e3, 5), "must be finite"),
+]
+
+
+@pytest.mark.parametrize("call, fragment", [c[1:] for c in API_HUGE_INT], ids=[c[0] for c in API_HUGE_INT])
+def test_an_integer_beyond_floating_point_is_a_parameter_error(files, call, fragment):
+    """The Python matrix (wrong types in every argument of the public functions) found 10**400
+    ending in OverflowError "int too large to convert to float"."""
+    with pytest.raises(ix.ParameterError, match=fragment) as caught:
+        call(ix.load(files["good"]))
+    assert len(str(caught.value)) < 300

@@ -222,6 +222,8 @@ def drt(
     else:
         try:
             fixed = float(lam)
+        except OverflowError:  # (an int beyond floating point, 10**400)
+            raise ParameterError("lam must be a positive finite number, got an integer beyond floating point") from None
         except (TypeError, ValueError):
             raise ParameterError(f"lam must be 'auto' or a positive number, got {lam!r}") from None
         if not (math.isfinite(fixed) and fixed > 0):
