@@ -193,9 +193,9 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
     """Check the data model; raise `DataError` naming the problem. Returns ``ds`` unchanged.
     Data `impedax.load` read from ``source`` passed these checks then: a failure now says that
     they were changed in memory since, so that no one looks for the fault in the file."""
+    if not isinstance(ds, xr.Dataset):  # (before ds.attrs: a list ended in AttributeError until 2026-12-07)
+        raise DataError(f"expected an xarray.Dataset, got {type(ds).__name__}", path=source or "dataset")
     source = source or str(ds.attrs.get("source", "dataset"))
-    if not isinstance(ds, xr.Dataset):
-        raise DataError(f"expected an xarray.Dataset, got {type(ds).__name__}", path=source)
     try:
         return _validated(ds, source)
     except DataError as exc:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 from typing import Mapping
 
+from .arguments import shown
 from .circuits import DEFAULT_REGISTRY, Circuit, Element, Registry, Series, parse
 from .data import SI_PREFIXES, format_quantity, si_prefix
 from .errors import DataError, ImpedaxError, ParameterError
@@ -159,6 +160,8 @@ def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = No
     labelled with its name and, for the parameters given in ``values`` (name → value, SI units,
     e.g. fitted values), its value. Needs the optional ``schemdraw`` (``pip install impedax[draw]``).
     """
+    if not isinstance(circuit, (str, Circuit)):  # (a list ended in AttributeError until 2026-12-07)
+        raise ParameterError(f"circuit must be circuit text or a Circuit, got {shown(circuit)} ({type(circuit).__name__})")
     circuit = parse(circuit, registry) if isinstance(circuit, str) else circuit
     values = dict(values or {})
     known = circuit.parameter_names(registry)

@@ -157,3 +157,22 @@ def test_an_integer_beyond_floating_point_is_a_parameter_error(files, call, frag
     with pytest.raises(ix.ParameterError, match=fragment) as caught:
         call(ix.load(files["good"]))
     assert len(str(caught.value)) < 300
+
+
+API_WRONG_TYPES = [  # (id, call, error type, message fragment naming the argument)
+    ("validate-spectrum-list", lambda: ix.validate_spectrum([1.0, 2.0]), ix.DataError, "expected an xarray.Dataset, got list"),
+    ("validate-spectrum-none", lambda: ix.validate_spectrum(None), ix.DataError, "expected an xarray.Dataset, got NoneType"),
+    ("draw-circuit-list", lambda: ix.draw_circuit([1.0, 2.0]), ix.ParameterError, "circuit must be circuit text or a Circuit, got"),
+    ("draw-circuit-none", lambda: ix.draw_circuit(None), ix.ParameterError, "circuit must be circuit text or a Circuit, got None"),
+    ("stack-files-numbers", lambda: ix.stack_files([1.0, 2.0]), ix.ParameterError, "paths: item 1 of 2 is not a file name"),
+    ("stack-files-arrays", lambda: ix.stack_files([np.ones(3), np.ones(3)]), ix.ParameterError, "paths: item 1 of 2 is not a file name"),
+]
+
+
+@pytest.mark.parametrize("call, error, fragment", [c[1:] for c in API_WRONG_TYPES], ids=[c[0] for c in API_WRONG_TYPES])
+def test_wrong_types_in_python_are_impedax_errors(call, error, fragment):
+    """The Python matrix found these ending in AttributeError ('list' object has no attribute
+    'attrs' / 'parameter_names') and TypeError (expected str, bytes or os.PathLike object)."""
+    with pytest.raises(error, match=fragment.replace("(", r"\(")) as caught:
+        call()
+    assert len(str(caught.value)) < 300

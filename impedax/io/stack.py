@@ -61,6 +61,9 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         raise ParameterError(f"paths must be a list of files, got {shown(paths)} ({type(paths).__name__})") from None
     if not paths:
         raise ParameterError("paths is empty: give at least one spectrum file")
+    for i, path in enumerate(paths):  # (a number ended in os.fspath's TypeError until 2026-12-07)
+        if not isinstance(path, (str, os.PathLike)):
+            raise ParameterError(f"paths: item {i + 1} of {len(paths)} is not a file name: {shown(path)} ({type(path).__name__})")
     if not isinstance(dim, str) or not dim.strip():
         raise ParameterError(f"dim must be the name of the new dimension (text, e.g. 'day'), got {shown(dim)}")
     if dim == "frequency":
