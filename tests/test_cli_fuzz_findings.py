@@ -176,3 +176,14 @@ def test_wrong_types_in_python_are_impedax_errors(call, error, fragment):
     with pytest.raises(error, match=fragment.replace("(", r"\(")) as caught:
         call()
     assert len(str(caught.value)) < 300
+
+
+@pytest.mark.parametrize("call", [
+    lambda ds: ix.drt(ds, lam=list(np.arange(40) + 1j)),
+    lambda ds: ix.fit(RC, ds, shared=list(np.arange(40) + 1j)),
+], ids=["drt-lam", "fit-shared"])
+def test_a_long_wrong_value_is_shortened_in_the_message(files, call):
+    """A list of 40 complex numbers was quoted whole (about 1,200 characters)."""
+    with pytest.raises(ix.ParameterError) as caught:
+        call(ix.load(files["good"]))
+    assert len(str(caught.value)) < 300

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from ...arguments import checked_arguments, count, flag, real
+from ...arguments import checked_arguments, count, flag, real, shown
 from ...constants import DRT_POINTS_MIN
 from ...errors import DataError, ParameterError
 from ...io.sign_check import values_sign_hint
@@ -217,7 +217,7 @@ def drt(
     if isinstance(lam, str):
         if lam != "auto":
             rule = f"; the rule that chooses λ is lam_method={lam.lower()!r} (with lam='auto')" if lam.lower() in LAMBDA_METHODS else ""
-            raise ParameterError(f"lam must be 'auto' or a positive number, got {lam!r}{rule}")
+            raise ParameterError(f"lam must be 'auto' or a positive number, got {shown(lam)}{rule}")
         fixed = None
     else:
         try:
@@ -225,9 +225,9 @@ def drt(
         except OverflowError:  # (an int beyond floating point, 10**400)
             raise ParameterError("lam must be a positive finite number, got an integer beyond floating point") from None
         except (TypeError, ValueError):
-            raise ParameterError(f"lam must be 'auto' or a positive number, got {lam!r}") from None
+            raise ParameterError(f"lam must be 'auto' or a positive number, got {shown(lam)}") from None
         if not (math.isfinite(fixed) and fixed > 0):
-            raise ParameterError(f"lam must be a positive finite number, got {lam!r}")
+            raise ParameterError(f"lam must be a positive finite number, got {shown(lam)}")
     if derivative not in (1, 2):
         raise ParameterError(f"derivative must be 1 or 2, got {derivative!r}")
     for name, flag in (("signed", signed), ("inductance", inductance)):

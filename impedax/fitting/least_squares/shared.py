@@ -37,7 +37,7 @@ import numpy as np
 import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit
-from ...arguments import closest_name
+from ...arguments import closest_name, shown
 from ...data import column_width, concise_repr, counted, report_text, coordinate_labels, format_relative_error, unit_text
 from ...errors import DataError, FitError, ParameterError
 from ...progress import say, silenced
@@ -86,7 +86,7 @@ def _as_names(value, what: str) -> tuple[str, ...]:
         except TypeError:
             raise ParameterError(f"{what}: expected a name or a list of names, got {type(value).__name__}") from None
     if not names or not all(isinstance(n, str) and n for n in names):
-        raise ParameterError(f"{what}: expected one or more names, got {value!r}")
+        raise ParameterError(f"{what}: expected one or more names, got {shown(value)}")
     if len(set(names)) != len(names):
         raise ParameterError(f"{what}: a name is given twice ({', '.join(names)})")
     return names
