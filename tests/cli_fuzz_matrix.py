@@ -115,6 +115,9 @@ BAD_EXCLUDE = ["", ",", "abc", "1,abc", "-1", "0", "nan", "inf", "1e400", "7", "
 BAD_OUTPUT_EXT = ["out.xyz", "out", "out.", ".csv", "out.CSV", "out.json.gz", "out.txt"]
 
 
+VALUES_OF = {"--param": BAD_ASSIGN, "--fix": BAD_ASSIGN, "--init": BAD_ASSIGN, "--bound": BAD_BOUNDS, "--prior": BAD_PRIORS, "--exclude": BAD_EXCLUDE}
+
+
 class Timeout(BaseException):
     pass
 
@@ -167,8 +170,9 @@ def verdict(result: dict) -> str | None:
         return f"EXIT {code}"
     if code != 0 and result["out_changed"]:
         return "OUT CHANGED by a failing run"
-    if code == 2 and result["err"].count("error:") != 1:
-        return f"{result['err'].count('error:')} error messages"
+    messages = [line for line in result["err"].splitlines() if line.startswith("impedax") and ": error: " in line]
+    if code == 2 and len(messages) != 1:
+        return f"{len(messages)} error messages"
     return None
 
 
@@ -262,20 +266,8 @@ def cases(p: dict[str, str], tmp: Path) -> list[tuple[str, list[str], str | None
                 for value in BAD_SELECT:
                     add(f"{command} --select {value!r}", _with(series_argv, option, value), out_path)
                 continue
-            if option in ("--param", "--fix", "--init"):
-                for value in BAD_ASSIGN:
-                    add(f"{command} {option} {value!r}", _with(argv, option, value), out_path)
-                continue
-            if option == "--bound":
-                for value in BAD_BOUNDS:
-                    add(f"{command} {option} {value!r}", _with(argv, option, value), out_path)
-                continue
-            if option == "--prior":
-                for value in BAD_PRIORS:
-                    add(f"{command} {option} {value!r}", _with(argv, option, value), out_path)
-                continue
-            if option == "--exclude":
-                for value in BAD_EXCLUDE:
+            if option in VALUES_OF:
+                for value in VALUES_OF[option]:
                     add(f"{command} {option} {value!r}", _with(argv, option, value), out_path)
                 continue
             if choices:
@@ -383,7 +375,7 @@ def cases(p: dict[str, str], tmp: Path) -> list[tuple[str, list[str], str | None
         ("gap pooled + method pooled", ["gap", p["total"], p["skin"], p["ts"], "--area", "130e-6", "--pooled", "--method", "pooled", "--steps", "20"]),
         ("gap no-area-check negative", ["gap", p["total"], p["skin"], p["ts"], "--area", "-1", "--no-area-check"]),
         ("gap no-area-check zero", ["gap", p["total"], p["skin"], p["ts"], "--area", "0", "--no-area-check"]),
-        ("gap remaining + three files", ["gap", p["total"], p["skin"], p["ts"], "--area", "130e-6", "--remaining", str(tmp / "rem.nc")]),
+        ("gap remaining + three files", ["gap", p["total"], p["skin"], p["ts"], "--area", "130e-6", "--pooled", "--steps", "20", "--remaining", str(tmp / "rem.nc")]),
         ("gap one file", ["gap", p["total"], "--area", "130e-6", "--pooled", "--steps", "20"]),
         ("gap same file thrice", ["gap", p["total"], p["total"], p["total"], "--area", "130e-6", "--pooled", "--steps", "20"]),
         ("gap steps auto hierarchical", ["gap", p["total"], p["skin"], p["ts"], "--area", "130e-6", "--steps", "abc"]),
@@ -415,6 +407,28 @@ def cases(p: dict[str, str], tmp: Path) -> list[tuple[str, list[str], str | None
         ("impedax --plugin only", ["--plugin"]),
         ("version", ["--version"]),
     ]
+    # figure options with a figure to draw: --dpi and --title only act then
+    for command, (argv, out_path) in lines.items():
+        flags = [o for o, *_ in option_table(command)] if command != "demo" else []
+        for figure_flag in [f for f in ("--plot", "--corner", "--trace", "--residual-map") if f in flags]:
+            drawn = _with(argv, figure_flag, str(tmp / "figure.png"))
+            if command == "fit" and figure_flag == "--residual-map":
+                drawn = [p["series"] if a == p["good"] else a for a in drawn]
+            for value in ["1", "5", "19", "1e-300", "20", "1200", "1201"]:
+                add(f"{command} {figure_flag} --dpi {value}", _with(drawn, "--dpi", value), out_path)
+            for value in [r"$\undefined$", r"$\frac{1}$", "a $x^$ b", r"Z at $\omega$", r"costs \$5", "$", "\x1b[2J", "x" * 5000]:
+                add(f"{command} {figure_flag} --title {value[:16]!r}", _with(drawn, "--title", value), out_path)
+    # data whose labels and file names hold dollar signs, drawn
+    import impedax as ix
+
+    labelled = ix.load(p["series"]).assign_coords(day=[r"$\bad$", "price $5 and $6"])
+    ix.save(labelled, str(tmp / "labelled.nc"))
+    named = tmp / r"x$\bad$.csv"
+    named.write_bytes(Path(p["good"]).read_bytes())
+    for command in ("fit", "compare", "kk", "drt", "inspect"):
+        argv, out_path = lines[command]
+        for name, path in (("labels", str(tmp / "labelled.nc")), ("file name", str(named))):
+            add(f"{command} --plot data with $ in its {name}", _with([path if a == p["good"] else a for a in argv], "--plot", str(tmp / "figure.png")), out_path)
     for case_id, argv in extra:
         out.append((case_id, argv, None))
     return out
