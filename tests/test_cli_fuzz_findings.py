@@ -96,14 +96,18 @@ def test_dpi_at_the_least_draws(files, tmp_path, capsys, dpi):
 
 
 @pytest.mark.parametrize("shared, fixed", [("R0,R1,C1", []), ("R1,C1", ["--fix", "R0=10"])])
-def test_sharing_every_free_parameter_is_refused(files, tmp_path, capsys, shared, fixed):
-    err = _refused(["fit", files["series"], "--model", RC, "--shared", shared, "--over", "day", *fixed], tmp_path / "fit.json", capsys)
-    assert "--shared: every free parameter" in err
+def test_sharing_every_free_parameter_fits_one_set_of_values(files, tmp_path, capsys, shared, fixed):
+    out = tmp_path / "fit.json"
+    assert main(["fit", files["series"], "--model", RC, "--shared", shared, "--over", "day", *fixed, "--out", str(out)]) == 0
+    assert "Traceback" not in capsys.readouterr().err and out.stat().st_size > 0
 
 
-def test_sharing_every_free_parameter_is_refused_in_python(files):
-    with pytest.raises(ix.ParameterError, match="shared: every free parameter"):
-        ix.fit(RC, ix.load(files["series"]), shared=["R0", "R1", "C1"], over="day")
+def test_sharing_every_free_parameter_in_python_lies_between_the_spectra(files):
+    """The series holds Z and 1.01·Z of R0 = 10 Ω, R1 = 100 Ω: under relative (modulus) weights the
+    best single circuit is c·Z with 1 ≤ c ≤ 1.01, so R0 lies in [10, 10.1] and R1 in [100, 101]."""
+    r = ix.fit(RC, ix.load(files["series"]), shared=["R0", "R1", "C1"], over="day")
+    assert 10 * (1 - 1e-6) <= float(r.values("R0")) <= 10.1 * (1 + 1e-6)
+    assert 100 * (1 - 1e-6) <= float(r.values("R1")) <= 101 * (1 + 1e-6)
 
 
 @pytest.mark.parametrize("title", [r"$\undefinedcmd$", r"$\frac{1}$", "a $x^$ b"])

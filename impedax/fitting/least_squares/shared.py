@@ -120,9 +120,6 @@ def shared_layout(table: ParameterTable, extra_dims: Sequence[str], shared, over
     free = table.free_names
     shared_slots = tuple(sorted(free.index(n) for n in names))
     own_slots = tuple(i for i in range(len(free)) if i not in shared_slots)
-    if not own_slots:  # (the joint solver stacks each spectrum's own columns: none ended in JAX's "Need at least one array to stack", 2026-12-07)
-        raise ParameterError(f"shared: every free parameter ({', '.join(free)}) is shared, which leaves each spectrum none of its own: leave at least one "
-                             f"out of shared; for one set of values for every spectrum, fit the spectra's mean over {', '.join(map(str, over_dims))}")
     keep = tuple(d for d in extra_dims if d not in over_dims)
     return SharedLayout(tuple(free[i] for i in shared_slots), tuple(over_dims), keep, shared_slots, own_slots)
 
@@ -803,7 +800,11 @@ def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, i
         total = float(np.sum(out[3] ** 2))
         if best is None or total < best[0]:
             best = (total, sol, out)
-    if refit is not None:  # spectra the global fit leaves far above their own fits: each refitted alone under the shared values, then solved again
+    # spectra the global fit leaves far above their own fits: each refitted alone under the shared
+    # values, then solved again; with every free parameter shared there is nothing of a spectrum's
+    # own to refit (the refit's solver, with no own columns, ended in JAX's "Need at least one
+    # array to stack" on spectra that differ, 2026-12-07)
+    if refit is not None and len(own):
         chi2_rows = np.sum(best[2][3] ** 2, axis=1) / scale**2
         poor = np.flatnonzero(np.isfinite(chi2_independent) & (chi2_rows > POOR_SPECTRUM_CHI2_RATIO * chi2_independent))
         if poor.size:
