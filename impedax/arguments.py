@@ -31,6 +31,7 @@ from .errors import ParameterError
 
 __all__ = [
     "checked_arguments",
+    "literal_text",
     "variants_named",
     "count",
     "real",
@@ -904,3 +905,10 @@ def _binding_message(label: str, signature: inspect.Signature, n_positional: int
     if missing:
         return f"{label}() needs the argument {missing[0]}"
     return f"{label}(): {str(exc)[:200]}"
+
+
+def literal_text(text: str) -> str:
+    """``text`` (a file's name, a spectrum's label) as matplotlib draws it literally: each ``$``
+    escaped, so that no part between two of them is read as math text (``x$\\bad$.csv`` ended in
+    matplotlib's ParseFatalException, ``price $5 and $6`` drew "5 and " as math)."""
+    return str(text).replace("$", r"\$")

@@ -191,3 +191,42 @@ def test_a_long_wrong_value_is_shortened_in_the_message(files, call):
     with pytest.raises(ix.ParameterError) as caught:
         call(ix.load(files["good"]))
     assert len(str(caught.value)) < 300
+
+
+@pytest.fixture(scope="module")
+def dollar_labels(tmp_path_factory):
+    """SYNTHETIC two spectra (numpy formula of R0 + R1 ‖ CPE1) along ``sheet``, labelled ``$\\bad$``
+    (no math text) and ``price $5 and $6`` (math text that would italicise "5 and ")."""
+    import xarray as xr
+
+    f = np.geomspace(1e5, 1.0, 25)
+    s = 2j * np.pi * f
+    z = np.array([10 + 100 / (1 + 100 * 1e-5 * s**a) for a in (0.9, 0.8)])
+    path = tmp_path_factory.mktemp("dollars") / "sheets.nc"
+    ix.save(xr.Dataset({"Z": (("sheet", "frequency"), z)}, coords={"sheet": [r"$\bad$", "price $5 and $6"], "frequency": f}), path)
+    return str(path)
+
+
+@pytest.mark.parametrize("argv", [["fit", "--model", "R0 + R1 || CPE1", "--residual-map", "map.png"], ["compare", "--model", "R0 + R1 || CPE1", "--model", RC], ["kk"], ["drt"]], ids=["fit", "compare", "kk", "drt"])
+def test_spectrum_labels_with_dollar_signs_are_drawn_as_written(dollar_labels, tmp_path, monkeypatch, argv):
+    """A batch figure draws each spectrum's label (a sheet's name, a `stack --coords` label) as
+    text: `$\\bad$` ended fit, compare, kk and drt --plot in matplotlib's ParseFatalException. Every
+    text of the saved figure that holds a label is drawn without math (matplotlib's own parse)."""
+    import matplotlib.text
+    import impedax.plotting
+
+    drawn = []
+    save = impedax.plotting.save_figure
+
+    def saving(fig, path, **kw):
+        fig.canvas.draw()
+        drawn.extend(t._preprocess_math(t.get_text()) for t in fig.findobj(matplotlib.text.Text) if "bad" in t.get_text() or "price" in t.get_text())
+        return save(fig, path, **kw)
+
+    monkeypatch.setattr(impedax.plotting, "save_figure", saving)
+    monkeypatch.chdir(tmp_path)
+    command, *rest = argv
+    assert main([command, dollar_labels, *rest, "--plot", "figure.png", "-q"]) == 0
+    assert (tmp_path / "figure.png").read_bytes().startswith(b"\x89PNG")
+    assert drawn and all(not is_math for _, is_math in drawn), drawn
+    assert any(r"$\bad$" in text for text, _ in drawn) and any("price $5 and $6" in text for text, _ in drawn), drawn

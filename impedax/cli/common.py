@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, Mapping, Sequence
 
-from ..arguments import EXCLUDE_RTOL, number_text, reversed_band_message
+from ..arguments import EXCLUDE_RTOL, literal_text, number_text, reversed_band_message
 from ..errors import DataError, ParameterError
 from ..progress import PROGRESS_AFTER_S as PROGRESS_AFTER_S_DEFAULT, progress_printer as core_progress_printer
 from ..warning_groups import label_shown, labels_text
@@ -1207,12 +1207,6 @@ def title_option(text: str) -> str:
             found = found.strip() if len(found) <= 80 else found[:79] + "…"
             raise argparse.ArgumentTypeError(f"'{text}' is not matplotlib math text between its dollar signs ({found}); write \\$ for a dollar sign") from None
     return text
-
-
-def literal_text(text: str) -> str:
-    """``text`` (a file's name, a label) as matplotlib draws it literally: each ``$`` escaped,
-    so that no part between two of them is read as math text."""
-    return text.replace("$", r"\$")
 
 
 def figure_options(args) -> dict:

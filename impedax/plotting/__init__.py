@@ -18,12 +18,12 @@ from matplotlib.ticker import Formatter, Locator, MaxNLocator, ScalarFormatter
 import numpy as np
 import xarray as xr
 
-from ..arguments import figure_size, shown
+from ..arguments import figure_size, literal_text, shown
 from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -1084,6 +1084,15 @@ def frequency_cell_edges(f: np.ndarray) -> np.ndarray:
         return np.array([f[0] / 1.2, f[0] * 1.2])
     inner = np.sqrt(f[1:] * f[:-1])
     return np.concatenate([[f[0] ** 2 / inner[0]], inner, [f[-1] ** 2 / inner[-1]]])
+
+
+def drawn_label(label) -> str:
+    """A spectrum's label (a coordinate value, `data.label_text`) as a figure draws it: literally,
+    its ``$`` escaped (`arguments.literal_text`), since a sheet or a ``stack --coords`` label named
+    ``$\\bad$`` ended the figure in matplotlib's ParseFatalException."""
+    from ..data import label_text
+
+    return literal_text(label_text(label))
 
 
 def label_spectra_axis(ax, labels: Sequence[str], dims: Sequence[str]) -> None:

@@ -12,7 +12,7 @@ from typing import Mapping, Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..arguments import count, figure_size, real, shown, unknown_parameter
+from ..arguments import count, figure_size, literal_text, real, shown, unknown_parameter
 from ..data import format_quantity, si_prefix, unit_text
 from ..errors import ParameterError
 from . import characters_across, font_size, legends_off_data, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
@@ -57,7 +57,7 @@ def plot_joint_posterior_bands(frequency, z_data, labels: Sequence[str], model_f
             ax_mod.sharex(axes[0, 1])
             ax_ph.sharex(axes[0, 2])
         _draw_bands((ax_nyq, ax_mod, ax_ph), frequency, z[i], f, zs[i], None if zp is None else zp[i], n_lines)
-        ax_nyq.set_title(label, loc="left", fontsize=font_size("title", 10))
+        ax_nyq.set_title(literal_text(label), loc="left", fontsize=font_size("title", 10))
     for ax in axes[-1, 1:]:
         ax.set_xlabel("frequency [Hz]")
     axes[0, 0].legend(fontsize=font_size("legend", 8))

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..arguments import figure_size
 from ..data import counted
-from . import font_size, label_spectra_axis
+from . import drawn_label, font_size, label_spectra_axis
 
 
 def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
@@ -90,7 +90,7 @@ def plot_batch_comparison(comparison, *, figsize: tuple[float, float] | None = N
     ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
     # each spectrum's labels on the x axis (every k-th where they do not all fit), the batch's
     # dimensions named: the axis read "spectrum index (0 = cycle=0, …)" beyond 30 spectra
-    label_spectra_axis(ax, [", ".join(str(v) for v in r["labels"].values()) for r in rows], list(comparison.dims))
+    label_spectra_axis(ax, [", ".join(drawn_label(v) for v in r["labels"].values()) for r in rows], list(comparison.dims))
     ax.set_ylabel("ΔAIC to the spectrum's best")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=font_size("legend", 7), loc="best")

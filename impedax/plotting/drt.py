@@ -7,8 +7,8 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..data import counted, format_lambda, format_percent, format_quantity, format_time, label_text
-from . import FLAT_NYQUIST, dense_model, font_size, label_spectra_axis, legends_off_data, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
+from ..data import counted, format_lambda, format_percent, format_quantity, format_time
+from . import FLAT_NYQUIST, dense_model, drawn_label, font_size, label_spectra_axis, legends_off_data, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -206,7 +206,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     (`gamma_map`: how the peaks move and grow along the series, as the KK test's map of a batch
     shows its residuals), and each DRT fit's rms_rel beside the rms_rel the noise alone gives,
     √2 × ``difference_noise``, red where it warns (marked with the spectra's labels)."""
-    labels = [", ".join(f"{d}={label_text(v)}" for d, v in where.items()) for where in batch.labels()]
+    labels = [", ".join(f"{d}={drawn_label(v)}" for d, v in where.items()) for where in batch.labels()]
     n = len(batch.results)
     # (axes made in the order overlay, rms_rel, map: fig.axes[1] stays the rms_rel panel it was)
     fig = plt.figure(figsize=(8, 9), layout="constrained")
@@ -226,7 +226,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
         ax.add_collection(LineCollection([np.column_stack([one.tau, one.gamma]) for one in batch.results], colors=colours[:n], linewidths=1.2))
         ax.autoscale_view()
         bar = fig.colorbar(plt.cm.ScalarMappable(norm=plt.Normalize(0, n - 1), cmap="viridis"), ax=ax)
-        label_colour_bar(bar, [", ".join(label_text(v) for v in where.values()) for where in batch.labels()], batch.dims)
+        label_colour_bar(bar, [", ".join(drawn_label(v) for v in where.values()) for where in batch.labels()], batch.dims)
     # the measured τ window, shaded outside as `plot_drt` does (the union of the spectra's windows)
     lo = min(one.window[0] for one in batch.results)
     hi = max(one.window[1] for one in batch.results)
@@ -260,7 +260,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
         ax_rms.plot(x, noise, "--", color="0.3", lw=0.9, label="rms_rel of the noise alone (√2 × first-difference noise)", **({"marker": "_", "ms": 14, "mew": 1.2} if n == 1 else {}))
     ax_rms.set_yscale("log")
     plain_log_ticks(ax_rms.yaxis)
-    label_spectra_axis(ax_rms, [", ".join(label_text(v) for v in where.values()) for where in batch.labels()], batch.dims)
+    label_spectra_axis(ax_rms, [", ".join(drawn_label(v) for v in where.values()) for where in batch.labels()], batch.dims)
     ax_rms.set_ylabel("DRT fit rms_rel [%]")
     ax_rms.grid(alpha=0.3, which="both")
     ax_rms.legend(fontsize=font_size("legend", 7), ncols=3, loc="best")

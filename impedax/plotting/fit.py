@@ -8,9 +8,9 @@ import math
 import numpy as np
 
 from ..arguments import figure_size, shown
-from ..data import coordinate_labels, label_text, unit_text
+from ..data import coordinate_labels, unit_text
 from ..errors import ParameterError
-from . import TAIL_RATIO, font_size, tail_frame
+from . import TAIL_RATIO, drawn_label, font_size, tail_frame
 
 
 def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None, spectra: str = "auto"):
@@ -54,7 +54,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     for _, members, position in series or ():  # (each spectrum at its coordinate)
         index = np.where(members, position, index)
     places = [coordinate_labels(ds, d) for d in batch.dims]
-    labels = [", ".join(label_text(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
+    labels = [", ".join(drawn_label(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in batch.dims))]
     specs = batch.circuit.parameter_specs(batch.registry)
     shared = set(getattr(batch, "shared", ()))  # (a global fit's shared parameters)
     for ax, name in zip(axes, panels):
@@ -186,7 +186,7 @@ def _x_series(batch, x) -> list[tuple[str, np.ndarray, np.ndarray]]:
         for d, j in zip(others, group):
             members &= at[batch.dims.index(d)] == j
         shift = (k - (len(groups) - 1) / 2) * SERIES_SHIFT * step
-        label = ", ".join(f"{d}={label_text(coordinate_labels(ds, d)[j])}" for d, j in zip(others, group))
+        label = ", ".join(f"{d}={drawn_label(coordinate_labels(ds, d)[j])}" for d, j in zip(others, group))
         out.append((label, members, coordinate[at[axis]] + shift))
     return out
 
@@ -476,7 +476,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     beyond = f"; beyond it, up to {float(np.max(np.abs(parts))):.3g} {unit}" if above or below else ""
     bar.set_label(f"{quantity} [{unit}]\n(± {scale:.3g} {unit}: the 99th percentile{beyond})")  # (two lines: one ran past the figure's top)
     places = [coordinate_labels(ds, d) for d in dims]
-    labels = [", ".join(label_text(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
+    labels = [", ".join(drawn_label(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
     # (in σ, each fit's chi2_red, about 1 at the noise σ states, as the report gives it since
     # 2026-12-06; else rms_rel [%])
     per_fit = "chi2_red" if unit == "σ" and "chi2_red" in ds else "rms_rel"

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
-from ..data import format_percent, label_text
-from . import dense_model, drawn_points, font_size, legends_off_data, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
+from ..data import format_percent
+from . import dense_model, drawn_label, drawn_points, font_size, legends_off_data, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
 
 
 def plot_kk(result, *, title: str | None = None):
@@ -184,7 +184,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     plain_log_ticks(ax_rms.yaxis)
     ax_rms.grid(alpha=0.3, which="both")
     ax_rms.legend(fontsize=font_size("legend", 7), ncols=3, loc="best")
-    label_spectra_axis(ax_rms, [", ".join(label_text(v) for v in where.values()) for where in batch.labels()], batch.dims)
+    label_spectra_axis(ax_rms, [", ".join(drawn_label(v) for v in where.values()) for where in batch.labels()], batch.dims)
     fig.suptitle(title)
     # (a legend over a flagged circle goes above its panel: "flagged (280 points)" in the upper
     # right hid the REAL battery cycles' 6.2–9.9 kHz flags of cycles 92, 112 and 116)
