@@ -76,8 +76,10 @@ def _factor_text(ratio: float) -> str:
 
 
 def _wrapped(deg: np.ndarray) -> np.ndarray:
-    """An angle difference [deg] brought into (-180, 180]."""
-    return -((-deg + 180.0) % 360.0 - 180.0)
+    """An angle difference [deg] brought into (-180, 180]; NaN for a cell that is not finite, without
+    numpy's RuntimeWarning (a mutated REAL test_data.txt with an infinite phase printed one)."""
+    with np.errstate(invalid="ignore"):
+        return -((-deg + 180.0) % 360.0 - 180.0)
 
 
 def polar_columns_note(*args, **kwargs) -> str | None:
