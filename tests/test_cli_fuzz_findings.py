@@ -230,3 +230,42 @@ def test_spectrum_labels_with_dollar_signs_are_drawn_as_written(dollar_labels, t
     assert (tmp_path / "figure.png").read_bytes().startswith(b"\x89PNG")
     assert drawn and all(not is_math for _, is_math in drawn), drawn
     assert any(r"$\bad$" in text for text, _ in drawn) and any("price $5 and $6" in text for text, _ in drawn), drawn
+
+
+# --- a newcomer's walkthrough and the matrix's "accepted" list (2026-12-07) ---------------------
+
+REAL_CSV = __import__("pathlib").Path(__file__).parent / "fixtures" / "real" / "exampleData.csv"
+
+
+@pytest.fixture
+def two_real(tmp_path):
+    """REAL: impedance.py's exampleData.csv (tests/fixtures/real, MIT) copied to two files, a.csv
+    and b.csv, one grid: a stack of the two."""
+    paths = []
+    for name in ("a.csv", "b.csv"):
+        (tmp_path / name).write_bytes(REAL_CSV.read_bytes())
+        paths.append(str(tmp_path / name))
+    return paths
+
+
+@pytest.mark.parametrize("coords, where", [
+    (["nan", "1"], "label 1 of 2, 'nan'"),
+    (["1", "NaN"], "label 2 of 2, 'NaN'"),
+    (["inf", "1"], "label 1 of 2, 'inf'"),
+    (["", "b"], "label 1 of 2 is empty"),
+    (["a", "  "], "label 2 of 2 is empty"),
+    (["a", " b"], "label 2 of 2, ' b'"),
+])
+def test_stack_refuses_a_label_select_cannot_name(two_real, tmp_path, capsys, coords, where):
+    err = _refused(["stack", *two_real, "--coords", *coords], tmp_path / "s.nc", capsys)
+    assert "--coords" in err and where in err, err
+
+
+def test_stack_refuses_a_repeated_label(two_real, tmp_path, capsys):
+    err = _refused(["stack", *two_real, "--coords", "1", "1.0"], tmp_path / "s.nc", capsys)
+    assert "--coords: the label 1 is given twice (files 1 and 2)" in err
+
+
+def test_stack_labels_in_python_refuse_nan(two_real):
+    with pytest.raises(ix.ParameterError, match=r"coords: label 1 of 2, 'nan', is not a finite number"):
+        ix.stack_files(two_real, coords=[float("nan"), 1.0])

@@ -135,8 +135,9 @@ def _refuse_repeated(paths: Sequence) -> None:
 def stack_labels(values: Sequence, count: int, *, given: bool = True) -> np.ndarray:
     """One label per file: ``values`` as numbers when every one reads as a number (whole numbers
     as integers: ``1 2 3``, ``0.5 1.5``), else as text; `ParameterError` naming ``coords`` when
-    their count is not ``count`` or a label repeats (``given``: the user gave them; otherwise they
-    are the file names, and the message says to give coords)."""
+    their count is not ``count``, a label repeats, or one is no label ``--select DIM=LABEL`` can
+    name (`_check_label`: empty, blanks around it, NaN or inf) (``given``: the user gave them;
+    otherwise they are the file names, and the message says to give coords)."""
     if isinstance(values, (str, bytes)):
         raise ParameterError(f"coords must be one label per file, got the single {shown(values)}")
     try:
@@ -145,6 +146,8 @@ def stack_labels(values: Sequence, count: int, *, given: bool = True) -> np.ndar
         raise ParameterError(f"coords must be one label per file, got {shown(values)} ({type(values).__name__})") from None
     if len(values) != count:
         raise ParameterError(f"coords: {len(values)} label{'s' if len(values) != 1 else ''} for {count} file{'s' if count != 1 else ''}; give one per file, in the files' order")
+    for i, value in enumerate(values):
+        _check_label(value, i, count, given)
     numbers = [_number(v) for v in values]
     if all(n is not None for n in numbers):
         labels = np.array([int(n) for n in numbers]) if all(float(n).is_integer() and abs(n) < 2**31 for n in numbers) else np.array(numbers, float)
@@ -158,6 +161,29 @@ def stack_labels(values: Sequence, count: int, *, given: bool = True) -> np.ndar
             raise ParameterError(f"files {seen[label] + 1} and {i + 1} are both named {label!r}: label the files with coords (impedax stack --coords), one label per file")
         seen[label] = i
     return labels
+
+
+def _check_label(value, i: int, count: int, given: bool) -> None:
+    """`ParameterError` naming label ``i`` (0-based) of ``count`` when ``--select DIM=LABEL`` could
+    not name it: empty or only blanks, blanks around it (--select strips them), or a number that
+    is not finite (NaN, inf: a stack of "nan" and 1 has text labels, and NaN equals no label)."""
+    where = f"coords: label {i + 1} of {count}" if given else f"the label of file {i + 1} of {count} (its name without extension)"
+    fix = "give each file a label --select can name (a number, or text without blanks around it)" if given else \
+        "label the files with coords (impedax stack --coords), one label per file"
+    if isinstance(value, (float, np.floating)) and not math.isfinite(value):
+        raise ParameterError(f"{where}, {shown(str(value))}, is not a finite number; {fix}")
+    if not isinstance(value, str):
+        return
+    if not value.strip():
+        raise ParameterError(f"{where} is empty{'' if not value else ' (blanks only)'}; {fix}")
+    if value != value.strip():
+        raise ParameterError(f"{where}, {shown(value)}, has blanks around it, which --select DIM=LABEL strips; {fix}")
+    try:
+        number = float(value)
+    except ValueError:
+        return
+    if not math.isfinite(number):
+        raise ParameterError(f"{where}, {shown(value)}, is not a finite number; {fix}")
 
 
 def _number(value) -> float | None:
