@@ -269,3 +269,22 @@ def test_stack_refuses_a_repeated_label(two_real, tmp_path, capsys):
 def test_stack_labels_in_python_refuse_nan(two_real):
     with pytest.raises(ix.ParameterError, match=r"coords: label 1 of 2, 'nan', is not a finite number"):
         ix.stack_files(two_real, coords=[float("nan"), 1.0])
+@pytest.mark.parametrize("dim, named", [("a b", "' '"), ("a=b", "'='"), ("a,b", "','"), (" day", "' '"), ("a/b", "'/'"), ("-x", "'-' cannot lead")])
+def test_stack_refuses_a_dimension_select_cannot_name(two_real, tmp_path, capsys, dim, named):
+    err = _refused(["stack", *two_real, f"--dim={dim}"], tmp_path / "s.nc", capsys)
+    assert f"--dim {dim!r}" in err and named in err, err
+
+
+@pytest.mark.parametrize("dim", ["frequency", "Z", "sigma"])
+def test_stack_refuses_a_dimension_named_as_a_variable_of_the_spectrum(two_real, tmp_path, capsys, dim):
+    err = _refused(["stack", *two_real, "--dim", dim], tmp_path / "s.nc", capsys)
+    assert f"'{dim}'" in err and "--dim" in err, err
+
+
+@pytest.mark.parametrize("dim, coords", [("day", ["1", "2"]), ("température", ["a,b", "x=y"]), ("cell_2.v-1", ["0.5", "1.5"])])
+def test_stack_names_that_select_reads_are_kept(two_real, tmp_path, capsys, dim, coords):
+    out = tmp_path / "s.nc"
+    assert main(["stack", *two_real, "--dim", dim, "--coords", *coords, "--out", str(out), "-q"]) == 0
+    capsys.readouterr()
+    assert main(["inspect", str(out), "--select", f"{dim}={coords[1]}", "--json"]) == 0
+    assert "Traceback" not in capsys.readouterr().err

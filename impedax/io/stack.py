@@ -68,6 +68,8 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         raise ParameterError(f"dim must be the name of the new dimension (text, e.g. 'day'), got {shown(dim)}")
     if dim == "frequency":
         raise ParameterError("dim: 'frequency' is every spectrum's own dimension; name the new one otherwise, e.g. 'day'")
+    if dim in ("Z", "sigma"):  # (Z ended in xarray's ValueError, sigma in make_spectrum's words on sigma's shape)
+        raise ParameterError(f"dim: {dim!r} is the name of a variable of every spectrum; name the new dimension otherwise, e.g. 'day'")
     labels = None if coords is None else stack_labels(coords, len(paths))  # (the labels given are checked first, as any argument)
     _refuse_repeated(paths)
     if labels is None:  # (standard input, "-", is named as load names it, <stdin>, and labelled "stdin"; added 2026-12-01)
