@@ -288,3 +288,44 @@ def test_stack_names_that_select_reads_are_kept(two_real, tmp_path, capsys, dim,
     capsys.readouterr()
     assert main(["inspect", str(out), "--select", f"{dim}={coords[1]}", "--json"]) == 0
     assert "Traceback" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("option", [["--dpi", "200"], ["--title", "day 3"], ["--title", ""]], ids=["dpi", "title", "empty-title"])
+@pytest.mark.parametrize("argv", [
+    lambda out: ["inspect", str(REAL_CSV), "--out", out],
+    lambda out: ["kk", str(REAL_CSV), "--out", out, "-q"],
+    lambda out: ["simulate", "--model", RC, "--param", "R0=10", "R1=100", "C1=1u", "--out", out],
+], ids=["inspect", "kk", "simulate"])
+def test_a_figure_option_without_a_figure_is_noted(tmp_path, capsys, argv, option):
+    """REAL (impedance.py's exampleData.csv) for inspect and kk. --dpi and --title without --plot
+    change nothing: one note on stderr, the exit code and the outputs as without them."""
+    plain, noted = tmp_path / "plain.csv", tmp_path / "noted.csv"
+    assert main(argv(str(plain))) == 0
+    capsys.readouterr()
+    assert main([*argv(str(noted)), *option]) == 0
+    out, err = capsys.readouterr()
+    command = argv("")[0]
+    assert [line for line in err.splitlines() if "no effect" in line] == [f"impedax {command}: note: {option[0]} has no effect without --plot"], err
+    assert list(tmp_path.glob("*.png")) == []
+
+
+def test_figure_options_with_a_figure_are_not_noted(tmp_path, capsys):
+    figure = tmp_path / "preview.png"
+    assert main(["inspect", str(REAL_CSV), "--plot", str(figure), "--dpi", "50", "--title", "REAL"]) == 0
+    assert "no effect" not in capsys.readouterr().err
+    assert figure.read_bytes().startswith(b"\x89PNG")
+
+
+def test_sample_notes_each_of_its_figures():
+    """sample draws three figures (--plot, --corner, --trace): the note names them all, in the order of --help; fit's
+    --residual-map is a figure too, so --dpi with it alone is not noted."""
+    from impedax.cli import _subparser, build_parser
+    from impedax.cli.common import unused_figure_options
+
+    sample = _subparser(build_parser("sample"), "sample")
+    args = sample.parse_args(["d.csv", "--model", RC, "--dpi", "300"])
+    assert unused_figure_options(sample, args) == ["--dpi has no effect without --corner, --trace or --plot"]
+    assert unused_figure_options(sample, sample.parse_args(["d.csv", "--model", RC, "--dpi", "300", "--trace", "t.png"])) == []
+    fit = _subparser(build_parser("fit"), "fit")
+    assert unused_figure_options(fit, fit.parse_args(["d.csv", "--model", RC, "--dpi", "300", "--residual-map", "m.png"])) == []
+    assert unused_figure_options(fit, fit.parse_args(["d.csv", "--model", RC, "--title", "x"])) == ["--title has no effect without --plot or --residual-map"]

@@ -517,7 +517,7 @@ def _spread_params(argv: list[str], options: tuple[str, ...] = ASSIGNMENT_OPTION
 
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
-    from .common import option_words, positional_model, read_impedance_py_model
+    from .common import option_words, positional_model, read_impedance_py_model, unused_figure_options
 
     name = _command_of(argv)
     parser = build_parser(name)
@@ -535,6 +535,8 @@ def _run(argv: list[str], command: list[str]) -> int:
     if repeated:
         print(f"impedax {args.command}: error: {repeated}", file=sys.stderr)
         return 2
+    for note in unused_figure_options(_subparser(parser, args.command), args):
+        print(f"impedax {args.command}: note: {note}", file=sys.stderr)
     _configure_jax_cache()
     try:
         _load_plugins(args)

@@ -24,7 +24,7 @@ __all__ = [
     "check_outputs", "save_outputs", "print_result", "each_spectrum_written", "result_out_help", "Output", "OutputPlan", "plan_outputs",
     "memory_limit", "check_memory", "MEMORY_LIMIT_ENV", "add_select_option", "load_selected", "select_spectra", "load_selected_files", "shown_path", "labels_text", "dimension_labels",
     "command_line_words", "naming_target", "part_of_joined", "announce_written", "option_words", "check_points", "check_band_options", "progress_printer", "PROGRESS_AFTER_S",
-    "relative_noise", "fit_command", "exclude_points", "exclude_items", "exclude_frequency", "parse_bounds", "checked_bound_options", "command_provenance", "comma_names", "csv_sigma_note",
+    "relative_noise", "fit_command", "add_figure_flag", "unused_figure_options", "exclude_points", "exclude_items", "exclude_frequency", "parse_bounds", "checked_bound_options", "command_provenance", "comma_names", "csv_sigma_note",
 ]
 
 
@@ -1154,11 +1154,29 @@ def add_plot_option(parser, help: str, *, flag: str = "--plot", title_names: str
     figure options ``--dpi N`` and ``--title TEXT`` (`figure_options`; its help says the
     default title names ``title_names``), once per parser."""
     parser.add_argument(flag, metavar=PLOT_METAVAR, help=f"{help} ({PLOT_FORMATS_HELP})")
+    add_figure_flag(parser, flag)
     if not any("--dpi" in action.option_strings for action in parser._actions):
         parser.add_argument("--dpi", type=dpi_option, default=None, metavar="N",
                             help=f"resolution of a raster figure (.png, .jpg, .tif) in dots per inch (default {FIGURE_DPI}, at least {MIN_DPI}, at most {MAX_DPI}); a vector figure has none")
         parser.add_argument("--title", type=title_option, default=None, metavar="TEXT",
                             help=f"the figure's title in place of the one impedax writes (which names {title_names}); --title '' for none; text between two $ is matplotlib math text, \\$ a dollar sign")
+
+
+def add_figure_flag(parser, flag: str) -> None:
+    """Record ``flag`` (``--plot``, ``--corner``, fit's ``--residual-map``) as an option of
+    ``parser`` that draws a figure, which ``--dpi`` and ``--title`` apply to (`unused_figure_options`)."""
+    parser.figure_flags = [*getattr(parser, "figure_flags", []), flag]
+
+
+def unused_figure_options(parser, args) -> list[str]:
+    """The notes for ``--dpi`` and ``--title`` given in ``args`` (parsed by ``parser``) with none of
+    the parser's figure options (`add_figure_flag`): they change nothing then, which the run says
+    on stderr rather than ignoring them silently (a walkthrough's ``--dpi 300`` without --plot)."""
+    flags = getattr(parser, "figure_flags", [])
+    if not flags or any(getattr(args, parser._option_string_actions[flag].dest, None) is not None for flag in flags):
+        return []
+    wanted = ", ".join(flags[:-1]) + (" or " if len(flags) > 1 else "") + flags[-1]
+    return [f"{option} has no effect without {wanted}" for option in ("--dpi", "--title") if getattr(args, option[2:], None) is not None]
 
 
 MAX_DPI = 1200

@@ -111,7 +111,7 @@ def shared_arguments(args) -> dict:
 
 
 def register(sub) -> None:
-    from .common import add_model_argument, add_output_options, add_select_option, data_help, result_out_help
+    from .common import add_figure_flag, add_model_argument, add_output_options, add_select_option, data_help, result_out_help
 
     p = sub.add_parser("fit", help="least-squares fit of a circuit to a spectrum", description="Fit MODEL to the spectrum in DATA (CSV, netCDF or an instrument file). Data with extra dimensions (trials, ...) are fitted together.")
     p.add_argument("data", metavar="DATA", help=data_help("spectrum file"))
@@ -127,6 +127,7 @@ def register(sub) -> None:
     p.add_argument("--plot-params", nargs="+", metavar="NAME", help="the parameters --plot draws for several spectra, in that order (default: every free one)")
     p.add_argument("--residual-map", metavar="FIG.png", help="for several spectra: save every fit's residuals (real, imaginary; relative to |Z|, or in units of σ under --weighting sigma) as maps over the spectra and frequency, --exclude's frequencies as hatched rows, "
                    "where a missing effect shows as one pattern at the same frequencies in spectrum after spectrum (docs/fitting.md)")
+    add_figure_flag(p, "--residual-map")
     p.add_argument("--plot-x", metavar="DIM", help="for several spectra: --plot draws each parameter against DIM's numeric coordinate (e.g. voltage), with error bars, one series per label of the other dimensions (default: the spectra side by side)")
     p.set_defaults(run=run)
 
