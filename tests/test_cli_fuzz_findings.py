@@ -329,3 +329,35 @@ def test_sample_notes_each_of_its_figures():
     fit = _subparser(build_parser("fit"), "fit")
     assert unused_figure_options(fit, fit.parse_args(["d.csv", "--model", RC, "--dpi", "300", "--residual-map", "m.png"])) == []
     assert unused_figure_options(fit, fit.parse_args(["d.csv", "--model", RC, "--title", "x"])) == ["--title has no effect without --plot or --residual-map"]
+
+
+@pytest.mark.parametrize("argv", [
+    ["kk", str(REAL_CSV), "-q"],
+    ["drt", str(REAL_CSV), "-q"],
+    ["fit", str(REAL_CSV), "--model", RC],
+    ["diagnose", str(REAL_CSV), "--model", RC],
+    ["stack", str(REAL_CSV), str(REAL_CSV.with_name("exampleDataAutolab.txt"))],
+    ["force", "meyer"],
+    ["draw", RC],
+], ids=["kk", "drt", "fit", "diagnose", "stack", "force", "draw"])
+def test_out_txt_of_a_result_is_refused_before_any_work(tmp_path, capsys, argv):
+    """REAL input (impedance.py's example files). A result, DRT, stack, force table or diagram has
+    no .txt form: refused naming the extensions it has, before any file is read or fit is run."""
+    err = _refused(argv, tmp_path / "out.txt", capsys)
+    assert "--out" in err and ("'.txt'" in err or "written as netCDF" in err)
+    assert ".csv" in err or ".nc" in err or ".png" in err
+
+
+@pytest.mark.parametrize("name, written_as", [("out.txt", "CSV"), ("out", "CSV"), ("out.tsv", "tab-separated"), ("out.csv", None), ("out.nc", None)])
+def test_a_spectrum_written_under_another_extension_says_its_format(tmp_path, capsys, name, written_as):
+    """REAL (impedance.py's exampleData.csv). A spectrum's --out takes .txt, .tsv and no
+    extension (docs/io.md, "Writing spectra"); the "wrote" line says what such a file holds."""
+    out = tmp_path / name
+    assert main(["inspect", str(REAL_CSV), "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    if written_as is None:
+        assert f"wrote {out}\n" in err
+        return
+    separator = "\t" if written_as == "tab-separated" else ","
+    assert out.read_text().startswith(separator.join(["frequency_hz", "z_real_ohm", "z_imag_ohm"]) + separator)
+    assert f"wrote {out} (the spectrum as {written_as} text, as impedax load reads it)\n" in err, err

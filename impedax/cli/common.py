@@ -1548,8 +1548,24 @@ class OutputPlan:
         with OutputTransaction(to_stdout=write_stdout) as transaction:
             for output in self.outputs:
                 transaction.write(output.path, naming_target(writers[output.flag], output.path), suffix=output.suffix())
-        announce_written(transaction.committed)
+        kinds = {o.path: o.kind for o in self.outputs}
+        for path in transaction.committed:
+            if path != "-":
+                print(f"wrote {path}{_written_as(path, kinds.get(path))}", file=sys.stderr)
         return transaction.committed
+
+
+def _written_as(path: str, kind: str | None) -> str:
+    """What a spectrum file whose name does not say its format holds, for its ``wrote`` line:
+    ``.txt`` and no extension are CSV, ``.tsv`` tab-separated (`impedax.io.save`); "" otherwise.
+    Those extensions are kept for spectra (docs/io.md), and the line says what they hold, which
+    ``--out out.txt`` wrote without a word."""
+    if kind != "spectrum":
+        return ""
+    suffix = Path(path).suffix.lower()
+    if suffix in (".txt", ""):
+        return " (the spectrum as CSV text, as impedax load reads it)"
+    return " (the spectrum as tab-separated text, as impedax load reads it)" if suffix == ".tsv" else ""
 
 
 def announce_written(paths: Iterable[str]) -> None:
