@@ -36,7 +36,7 @@ from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes,
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
-from .starts import SpectrumFeatures, climb_target, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
+from .starts import SpectrumFeatures, climb_target, draw_size, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
 __all__ = ["BatchFitResult", "fit_batch", "labels_by_keyword"]
 
@@ -945,9 +945,9 @@ def _started_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting,
             poor, target = poor[still], target[still]
         if not poor.size:
             break
-        say(f"{poor.size} of the fits {'not at the noise' if not rung else 'still poor'}: {multiple * n_starts} more starts each")
+        say(f"{poor.size} of the fits {'not at the noise' if not rung else 'still poor'}: {multiple * draw_size(table, n_starts)} more starts each")
         out = _multistart_rung(out, solver, circuit, table, features, poor, n_starts, multiple, rung, seed, scale, max_steps, registry, screened=screened)
-        used[poor] = np.where(used[poor] > 1, used[poor], 0) + multiple * n_starts
+        used[poor] = np.where(used[poor] > 1, used[poor], 0) + multiple * draw_size(table, n_starts)
     return out, used, solver
 
 
@@ -1085,9 +1085,9 @@ def _outliers_restarted(out, u, used, solver, circuit, table, features, freq, z,
         if not poor.size:
             break
         before = np.array(out.chi2[poor])
-        say(f"{poor.size} of the fits poor beside the others or against their KK misfit: {n_starts} more starts each")
+        say(f"{poor.size} of the fits poor beside the others or against their KK misfit: {draw_size(table, n_starts)} more starts each")
         out = _multistart_rung(out, solver, circuit, table, features, poor, n_starts, 1, 0, seed, scale, max_steps, registry)
-        used[poor] = n_starts
+        used[poor] = draw_size(table, n_starts)
         tried[poor] = True
         if not np.any(out.chi2[poor] < before):  # nothing moved: the yardstick and the neighbours' optima are as they were
             break
@@ -1105,7 +1105,7 @@ def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, mult
     steps (at most ``max_steps``), the best of each spectrum continued to convergence and kept
     where it is better. ``screened`` (a list): the screened points (len(poor), starts, K) and
     their chi² (len(poor), starts) are appended to it."""
-    per = multiple * n_starts
+    per = multiple * draw_size(table, n_starts)  # (each draw's starts: the given start once where nothing is jittered)
     starts = rung_starts(circuit, table, features[poor], n_starts, [rung_seed(seed, rung, call) for call in range(multiple)], registry).reshape(poor.size * per, -1)
     owner = np.repeat(poor, per)
     u_s, chi2_s, _, steps_s = solver.solve(starts, owner, np.full(owner.size, min(SCREEN_STEPS, max_steps)), cold=True)

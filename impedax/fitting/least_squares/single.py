@@ -29,7 +29,7 @@ from .per_spectrum import has_per_spectrum_values, split_fits
 from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, sign_notes_first, unused_sigma_notes
 from .shared import SharedFitResult, fit_shared, shared_layout
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
-from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_words, escalation_rungs, climb_target, guess_start, inward_start, limit_draw_count, limit_starts, rms_rel_of, rung_draws, rung_seed, to_solver_space
+from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_size, draw_words, escalation_rungs, climb_target, guess_start, inward_start, limit_draw_count, limit_starts, rms_rel_of, rung_draws, rung_seed, to_solver_space
 
 __all__ = ["fit", "FitResult", "BatchFitResult", "SharedFitResult", "WEIGHTINGS", "information_criteria"]
 
@@ -171,6 +171,10 @@ def fit(
     # a start's screen is part of its fit: no longer than the step limit
     screen = min(SCREEN_STEPS, int(max_steps))
 
+    # a draw's starts (`draw_size`: fewer than n_starts where every free parameter is given),
+    # and the lanes a single start is repeated to, so that one compiled program serves both
+    lanes = draw_size(table, n_starts)
+
     def solve(*draws, screen_steps=screen, continue_best=True):
         """One output per draw of starts (one start: the fit from it): the draw's starts
         screened for ``screen_steps`` steps and the best continued (``continue_best``; else
@@ -179,7 +183,7 @@ def fit(
         awaited."""
         pending = []
         for first in range(0, len(draws), n_devices):
-            group = [s if len(s) > 1 else np.repeat(s, n_starts, axis=0) for s in draws[first : first + n_devices]]
+            group = [s if len(s) > 1 else np.repeat(s, lanes, axis=0) for s in draws[first : first + n_devices]]
             steps = [screen_steps if len(s) > 1 else 0 for s in draws[first : first + n_devices]]
             idle = n_devices - len(group)
             starts, steps = np.stack(group + group[:1] * idle), np.array(steps + [-1] * idle, np.int64)
@@ -202,7 +206,7 @@ def fit(
     # optimum it reached, which may be a local one (docs/fitting.md, "Starts")
     far = int(out.steps) > IDENTITY_DAMPING_STEPS
     if n_starts > 1 and (far or not at_noise_floor(freq, z, out.z_model, inv_re, inv_im, out.code)[()]):
-        say(f"the fit from {start} is " + ("far from its start" if far else "not at the noise") + f": {n_starts} starts (the start ladder's first draw: {draw_words(table, n_starts, guess_words, limit_draw_count(circuit, table, registry, n_starts))})")
+        say(f"the fit from {start} is " + ("far from its start" if far else "not at the noise") + f": {lanes} starts (the start ladder's first draw: {draw_words(table, n_starts, guess_words, limit_draw_count(circuit, table, registry, n_starts))})")
         out, used = escalated(out, solve, circuit, table, features, freq, z, n_starts, seed, registry, int(max_steps), kk_chains)
         for limit_start in limit_starts(circuit, table, np.asarray(out.x)[None], freq, registry):  # (an element's limit no step reaches, as a batch's)
             (again,) = solve(guess_start(circuit, table, features, registry, starts=limit_start))
@@ -247,10 +251,11 @@ def starts_words(table, n_starts: int, used: int, start: str, at_limits: int = 0
     21 draws of 16 are 336 and two more started at a G or Wo element's limit (REAL CHInstruments data, `R0 + G1`)."""
     draw = draw_words(table, n_starts, start, at_limit_in_draw)
     ladder = used - at_limits
+    size = draw_size(table, n_starts)  # (the starts a draw runs: the given start once where nothing is jittered)
     limits = f"; and {at_limits} from the best fit with an element moved to its limit" if at_limits else ""
-    if ladder <= n_starts:
+    if ladder <= size:
         return draw + limits
-    return (f"the start ladder's first draw of {n_starts}, escalated to {ladder} ({ladder // n_starts} draws) as the best fit stayed above "
+    return (f"the start ladder's first draw of {size}, escalated to {ladder} ({ladder // size} draws) as the best fit stayed above "
             f"{KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model; each draw {draw}{limits}")
 
 
@@ -267,6 +272,7 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
     fit call's `kk.KKChains`, whose chain the target is read from. Returns (the best output, the
     number of starts used)."""
     calls, target = 0, None
+    size = draw_size(table, n_starts)  # (the starts of one draw: the given start once where nothing is jittered)
     for rung, multiple in enumerate(escalation_rungs(len(table.free_names))):
         if rung:
             if target is None:
@@ -274,8 +280,8 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
             rms_rel = float(rms_rel_of(out.z_model, z))
             if rms_rel <= target:
                 break
-            say(f"the best of {calls * n_starts} starts misses the data by {rms_rel * 100:.3g}% rms_rel, above {target * 100:.2g}% "
-                f"({KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model): escalated to {(calls + multiple) * n_starts} starts ({multiple} new draws of {n_starts})")
+            say(f"the best of {calls * size} starts misses the data by {rms_rel * 100:.3g}% rms_rel, above {target * 100:.2g}% "
+                f"({KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model): escalated to {(calls + multiple) * size} starts ({multiple} new draws of {size})")
         seeds = [rung_seed(seed, rung, call) for call in range(multiple)]
         draws = [to_solver_space(table, x) for x in rung_draws(circuit, table, features, n_starts, seeds, registry)]
         calls += multiple
@@ -284,9 +290,12 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
             continue
         screened = to_solver_space(table, np.stack([s.x for s in solve(*draws, continue_best=False)]))
         groups = [screened[first : first + n_starts] for first in range(0, multiple, n_starts)]
-        for continued in solve(*(np.resize(g, (n_starts, g.shape[1])) for g in groups), screen_steps=max_steps):
+        # (a group of at most `size` points runs on the draws' program, a larger one on n_starts lanes:
+        # the groups, and so the point each continues, are those of a draw of n_starts either way)
+        width = size if len(groups[0]) <= size else n_starts
+        for continued in solve(*(np.resize(g, (width, g.shape[1])) for g in groups), screen_steps=max_steps):
             out = better(out, continued)
-    return out, calls * n_starts
+    return out, calls * size
 
 
 

@@ -30,7 +30,7 @@ from ..kk import kk_misfits
 from ..parameters import ParameterTable, Transform, inner_edges, to_internal
 
 __all__ = [
-    "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "limit_draw_count", "random_starts", "start_split", "draw_words", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
+    "SpectrumFeatures", "data_driven_guess", "data_driven_guesses", "limit_draw_count", "random_starts", "start_split", "draw_size", "draw_words", "guess_start", "multistart", "rung_starts", "rung_draws", "to_solver_space",
     "INSIDE_FRACTION", "well_inside", "values_inside", "inward_start",
     "ESCALATION_RUNGS", "LARGE_CIRCUIT_FREE", "LARGE_CIRCUIT_RUNG", "escalation_rungs", "KK_MISFIT_FACTOR", "ESCALATION_FLOOR", "climb_target", "BATCH_OUTLIER_FACTOR", "attainable_misfit", "rms_rel_of", "rung_seed", "batch_outliers",
 ]
@@ -453,8 +453,9 @@ def multistart(circuit, table, features, n_starts, seed, registry) -> np.ndarray
 
 def rung_starts(circuit, table, features, n_starts, seeds, registry) -> np.ndarray:
     """The starts of one rung of the ladder: `multistart`'s ``n_starts`` for each of
-    ``seeds``, one after the other, the guess computed once. Shape (len(seeds)·n_starts, K)
-    for one spectrum's features, (B, len(seeds)·n_starts, K) for a stack's."""
+    ``seeds``, one after the other, the guess computed once (`rung_draws`: `draw_size` starts
+    each). Shape (len(seeds)·size, K) for one spectrum's features, (B, len(seeds)·size, K) for
+    a stack's."""
     return to_solver_space(table, np.concatenate(rung_draws(circuit, table, features, n_starts, seeds, registry), axis=-2))
 
 
@@ -465,21 +466,33 @@ def start_split(n_starts: int) -> tuple[int, int]:
     return n_jitter, max(n_starts - 1 - n_jitter, 0)
 
 
+def _nothing_to_jitter(table: ParameterTable) -> bool:
+    """Every parameter fixed or given: `random_starts`' jittered copies are the guess itself."""
+    return not np.any(~table.fixed & np.isnan(table.values))
+
+
+def draw_size(table: ParameterTable, n_starts: int) -> int:
+    """How many starts one draw of ``n_starts`` runs (`rung_draws`): ``n_starts``, or, where
+    nothing is jittered (every free parameter given), the given start once and the random
+    ones: its (n − 1)//2 copies would be the same local fit again (9 of 16 by default)."""
+    n_jitter, _ = start_split(n_starts)
+    return n_starts - n_jitter if n_jitter and _nothing_to_jitter(table) else n_starts
+
+
 def draw_words(table: ParameterTable, n_starts: int, start: str, at_limit: int = 0) -> str:
-    """What one draw of ``n_starts`` starts (`random_starts`) holds, in words: ``start`` (the
+    """What one draw of ``n_starts`` starts (`rung_draws`) holds, in words: ``start`` (the
     guess: "the given start", "the data-driven start"), its jittered copies and the starts drawn
     at random ("the given start, 7 jittered copies of it and 8 drawn at random"), ``at_limit`` of
     them with an element at its limit (`limit_draw_count`). Only the parameters neither fixed
-    nor given are jittered: with every free one given, the copies are the given start again,
-    and the words say so."""
+    nor given are jittered: with every free one given, the draw runs the given start once
+    (`draw_size`), and the words say why there are no copies."""
     n_jitter, n_random = start_split(n_starts)
-    jittered = int(np.count_nonzero(~table.fixed & np.isnan(table.values)))
     if not n_jitter:
         copies = start
-    elif jittered:
+    elif not _nothing_to_jitter(table):
         copies = f"{start}, {n_jitter} jittered cop{'y' if n_jitter == 1 else 'ies'} of it"
     else:
-        copies = f"{start} {n_jitter + 1} times (every free parameter given: none to jitter)"
+        copies = f"{start} (every free parameter given: none to jitter)"
     limits = f" ({at_limit} of them with an element at its limit)" if at_limit else ""
     return f"{copies} and {n_random} drawn at random{limits}" if n_random else copies
 
@@ -487,11 +500,15 @@ def draw_words(table: ParameterTable, n_starts: int, start: str, at_limit: int =
 def rung_draws(circuit, table, features, n_starts, seeds, registry) -> list[np.ndarray]:
     """`random_starts`' ``n_starts`` starts for each of ``seeds`` (parameter values; the
     numbers of `multistart` with each seed), the guess and the draws' ranges computed once;
-    some of the random starts with an element at its limit (`_some_at_limits`)."""
+    some of the random starts with an element at its limit (`_some_at_limits`). Where nothing
+    is jittered, each draw holds the guess once and its random starts (`draw_size`): the
+    copies, the guess again, ran the same local fit 8 times per draw of 16 until 2026-12-07."""
     guess = data_driven_guess(circuit, table, features, registry)
     ranges = _draw_ranges(table, features)
     limits = _limits_of_free_elements(circuit, table, registry)
-    return [_some_at_limits(random_starts(table, features, guess, n_starts, seed, ranges=ranges), limits, table, features, n_starts) for seed in seeds]
+    n_jitter, _ = start_split(n_starts)
+    copies = slice(1, 1 + n_jitter) if draw_size(table, n_starts) < n_starts else slice(1, 1)
+    return [np.delete(_some_at_limits(random_starts(table, features, guess, n_starts, seed, ranges=ranges), limits, table, features, n_starts), copies, axis=-2) for seed in seeds]
 
 
 # one random start in this many of a draw has an element moved to its limit (`_some_at_limits`)
