@@ -361,3 +361,34 @@ def test_a_spectrum_written_under_another_extension_says_its_format(tmp_path, ca
     separator = "\t" if written_as == "tab-separated" else ","
     assert out.read_text().startswith(separator.join(["frequency_hz", "z_real_ohm", "z_imag_ohm"]) + separator)
     assert f"wrote {out} (the spectrum as {written_as} text, as impedax load reads it)\n" in err, err
+
+
+@pytest.fixture
+def progress_at_once(monkeypatch):
+    """Progress lines printed from the first (not after `PROGRESS_AFTER_S`)."""
+    import impedax.cli.common as common
+
+    monkeypatch.setattr(common, "PROGRESS_AFTER_S", 0.0)
+
+
+@pytest.mark.parametrize("quiet", [False, True])
+def test_diagnose_says_what_it_begins_before_the_baseline_fit(capsys, progress_at_once, quiet):
+    """REAL (impedance.py's exampleData.csv). `impedax diagnose` was silent for 17–21 s on a
+    loaded machine while it imported the fitting code and compiled and ran its baseline fit: its
+    first line comes before both, on stderr, in the style of the others ([  t s] text); --json's
+    stdout stays the JSON alone, and --quiet drops it."""
+    import json
+    import re
+
+    argv = ["diagnose", str(REAL_CSV), "--model", RC, "--effects", "series_inductance", "--json"]
+    assert main([*argv, *(["--quiet"] if quiet else [])]) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out)["verdict"]
+    first = f"diagnosing {RC} on {REAL_CSV}: loading the fitting code, then the baseline fit"
+    assert first not in out
+    if quiet:
+        assert first not in err and "fitting the baseline" not in err
+        return
+    lines = err.splitlines()
+    assert re.fullmatch(r"\[  0\.\d s\] " + re.escape(first) + r" \(.*\)", lines[0]), lines[:2]
+    assert lines[1].endswith(f"] fitting the baseline {RC}"), lines[:2]

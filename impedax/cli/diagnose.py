@@ -89,11 +89,21 @@ def bounds_option(args, fixed: dict[str, float]) -> dict[str, tuple[float, float
     return checked_bound_options(given, circuit.parameter_specs(args.registry), fixed=fixed)
 
 
+def fitting_function(name: str):
+    """``impedax.fitting``'s ``name`` (diagnose, refine), imported when it is called: the import
+    (JAX) takes seconds on a loaded machine, which `run_spectrum_command` says it begins."""
+    def analyse(*args, **kwargs):
+        from .. import fitting
+
+        return getattr(fitting, name)(*args, **kwargs)
+
+    return analyse
+
+
 def run(args) -> int:
-    from ..fitting import diagnose
     from .common import fit_command, note_skipped_rows, print_result
 
-    outputs, data, result, read, source, record = run_spectrum_command(args, "diagnose", diagnose)
+    outputs, data, result, read, source, record = run_spectrum_command(args, "diagnose", fitting_function("diagnose"))
     if not outputs.uses_stdout:
         print_result(read, args.json, source, record, command="diagnose", fit_command=fit_command(args, kept=result.baseline.frequency, masked=result.masked_points, data=data))
         if not args.json:
@@ -108,19 +118,24 @@ def run_spectrum_command(args, command: str, analyse, **settings):
     progress printer, and its result and figure written (--out, --plot). Returns the planned
     outputs, the data, the result, the result with the JSON's extra keys, the source and the
     provenance record."""
-    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, progress_printer, relative_noise, result_writer, skipped_rows, WithSummaryKeys
+    from .common import command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, plan_outputs, progress_printer, relative_noise, result_writer, shown_path, skipped_rows, WithSummaryKeys
     from .fit import check_max_steps, note_solver_step_limit
 
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
-    note_solver_step_limit(max_steps, command)
     noise = relative_noise(args.noise)
-    effects = effects_option(args.effects)
-    fixed = fixed_option(args)
-    bounds = bounds_option(args, fixed)
-    data = exclude_points(load_selected(args.data, args.select, single=f"impedax {command}", readers=args.readers), args.exclude)
+    # the first line, before the fitting code is imported (the solver's step limit and --effects'
+    # catalog need it) and the baseline fit compiles: a diagnose run on a loaded 2-core machine
+    # said nothing for 17–21 s
     progress = progress_printer(quiet=args.quiet)
     try:
+        progress(f"{'diagnosing' if command == 'diagnose' else 'refining'} {args.model} on {shown_path(args.data)}: loading the fitting code, then the baseline fit "
+                 "(a circuit's first fit compiles its solvers)")
+        note_solver_step_limit(max_steps, command)
+        effects = effects_option(args.effects)
+        fixed = fixed_option(args)
+        bounds = bounds_option(args, fixed)
+        data = exclude_points(load_selected(args.data, args.select, single=f"impedax {command}", readers=args.readers), args.exclude)
         result = analyse(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress,
                          fixed=fixed or None, bounds=bounds or None, registry=args.registry, mask=not args.keep_all_points, **settings)
         source = data_source(data)

@@ -28,13 +28,12 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..errors import ParameterError
-    from ..fitting import refine
     from .common import note_skipped_rows, print_result
-    from .diagnose import run_spectrum_command
+    from .diagnose import fitting_function, run_spectrum_command
 
     if args.max_effects < 0:
         raise ParameterError(f"--max-effects must be 0 or more, got {args.max_effects}")
-    outputs, data, result, read, source, record = run_spectrum_command(args, "refine", refine, max_effects=args.max_effects)
+    outputs, data, result, read, source, record = run_spectrum_command(args, "refine", fitting_function("refine"), max_effects=args.max_effects)
     if not outputs.uses_stdout:
         print_result(read, args.json, source, record, command="refine")
         line = reproduce_line(result, args, data)
