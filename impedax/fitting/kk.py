@@ -79,7 +79,7 @@ _JSON_KEYS = {
     "noise_estimate": "noise_estimate", "frequency_hz": "frequency", "residuals_real": "residuals_real", "residuals_imag": "residuals_imag",
     "conclusive": "conclusive", "chain_error": "chain_error", "non_passive_hz": "non_passive_frequencies",
 }
-# (added 2026-12-02) per band its flagged measured frequencies, the options that leave the
+# per band its flagged measured frequencies, the options that leave the
 # failing points out, and whether only marginal isolated points are left
 _JSON_KEYS_ADDED = {"bad_band_frequencies_hz": "band_frequencies", "suggested_options": "suggested_options", "marginal_points_only": "marginal_points_only",
                     "stray_points_hz": "stray_frequencies", "passing_band_hz": "passing_band", "passing_rms_rel": "passing_rms_rel"}
@@ -89,22 +89,22 @@ _JSON_KEYS_ADDED = {"bad_band_frequencies_hz": "band_frequencies", "suggested_op
 NON_PASSIVE_LEAVE_OUT = "leave them out (data.drop_sel(frequency=result.non_passive_frequencies))"
 """How the linear test's and Z-HIT's note on points with Re Z < 0 (`KKResult.non_passive_note`)
 ends, in Python's words; ``impedax kk`` says ``leave them out with --fmin/--fmax``
-(`cli.common.command_line_words`; both said the option until 2026-12-06, in Python too)."""
+(`cli.common.command_line_words`)."""
 
 RETEST_WITHOUT_THEM = "kk_test(data.drop_sel(frequency=result.excludable_frequencies))"
 TRIMMED_DATA_TOO = "fit, diagnose and refine take the data so trimmed"
 BAND_CUT_AT_END = {True: "data.where(data.frequency >= f, drop=True)", False: "data.where(data.frequency <= f, drop=True)"}  # (low end: True; impedax kk says --fmin, --fmax)
 """The report's ``next:`` step in Python's words (`KKResult.next_step` without the command line,
-which ``impedax kk`` gives: the run's command with ``--exclude``/``--fmin``/``--fmax``; until
-2026-12-06 the Python report gave those options alone, words no Python call takes)."""
+which ``impedax kk`` gives: the run's command with ``--exclude``/``--fmin``/``--fmax``; the options
+alone would be words no Python call takes)."""
 
 
 DIAGNOSE_MASKING = ("diagnose and refine leave KK-flagged points out by themselves only where the test passes without them (a few erratic points) "
                     "or where they are a short run at an end of the band, and say so; otherwise they keep them in every fit, as the data's problem")
 """What the ``next:`` step says diagnose and refine do with the points it suggests leaving out
-(`diagnosis.kk_outliers`, `diagnosis.end_runs`, `diagnosis.KK_MASK_MAX_FRACTION`). Until
-2026-12-07 the line said "impedax refine leaves the KK-flagged points out by itself", and on
-REAL BioLogic refine kept all four points in every fit (without them the test still fails)."""
+(`diagnosis.kk_outliers`, `diagnosis.end_runs`, `diagnosis.KK_MASK_MAX_FRACTION`). It does not
+say refine leaves them out by itself: on REAL BioLogic refine keeps all four points in every fit
+(without them the test still fails)."""
 
 
 FEW_BAND_POINTS = 3
@@ -209,20 +209,20 @@ class KKResult(FrozenResult):
     chain_error: float = 0.0
     sign_hint: str | None = None  # `io.sign_check.sign_hint`: Z'' may be stored with the opposite sign
     n_rc_given: bool = False  # M was fixed by ``n_rc=`` (not chosen by the µ rule)
-    # (added 2026-12-02) the measured frequencies [Hz] of the stray points left out of the chain's
+    # the measured frequencies [Hz] of the stray points left out of the chain's
     # fit, ascending (`kk_test`; docs/kk.md, "Stray points"); they are judged like the others
     stray_frequencies: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    # (added 2026-12-02) each point's scale max(σ/|Z|, floors) when judged by the data's stated σ
+    # each point's scale max(σ/|Z|, floors) when judged by the data's stated σ
     # (data order; ``threshold_scale`` is then its median), None when judged by ``noise_estimate``
     point_scale: np.ndarray | None = None
     noise_from: str = "residuals"  # "sigma": the chain weighted by 1/σ and each point judged by its σ (`kk_test`'s ``noise``)
-    # (added 2026-12-03) `kk_test(find_passing_band=True)` of a failed test with no point to leave
+    # `kk_test(find_passing_band=True)` of a failed test with no point to leave
     # out by the bands' rules: the lowest and highest measured frequency [Hz] of the band, left by
     # leaving points out at the ends, on which the test passes, and its rms_rel there; None when not
     # searched or none found (`PASSING_BAND_EVERY_SPLIT`)
     passing_band: tuple[float, float] | None = None
     passing_rms_rel: float | None = None
-    # (added 2026-12-05) the passing band's end(s) toward the points left out, when their |Δ|
+    # the passing band's end(s) toward the points left out, when their |Δ|
     # against its chain stands out (`EDGE_EXCESS`): lowest and highest frequency [Hz] of those
     # points, their smallest and largest |Δ| and the band's other points' median |Δ| (fractions
     # of |Z|); None otherwise (`passing_edge_words`)
@@ -274,8 +274,8 @@ class KKResult(FrozenResult):
                 "residuals_real": ("frequency", self.residuals_real, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[0]}),
                 "residuals_imag": ("frequency", self.residuals_imag, {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": ("frequency", self.flagged, {"long_name": "point flagged as not KK-consistent (a bad band may hold unflagged points)"}),
-                "point_scale": ("frequency", np.array(self.scale_per_point, float), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),  # (added 2026-12-02)
-                "stray": ("frequency", self.stray_points, {"long_name": STRAY_LONG_NAME}),  # (added 2026-12-06)
+                "point_scale": ("frequency", np.array(self.scale_per_point, float), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),
+                "stray": ("frequency", self.stray_points, {"long_name": STRAY_LONG_NAME}),
                 "bad_band_f_min": ("band", lo, {"units": "Hz"}),
                 "bad_band_f_max": ("band", hi, {"units": "Hz"}),
                 "time_constant": ("rc", self.time_constants, {"units": "s"}),
@@ -289,7 +289,7 @@ class KKResult(FrozenResult):
             },
             coords={"frequency": f},
             attrs={
-                "impedax_kind": "kk",  # (added 2026-12-06: impedax inspect names the file a KK test's, as other results)
+                "impedax_kind": "kk",  # impedax inspect names the file a KK test's, as other results
                 "method": "linear Kramers-Kronig test (Schoenleber et al. 2014), impedax validity rule",
                 "c": self.c,
                 "series_resistance_ohm": self.series_resistance,
@@ -312,20 +312,20 @@ class KKResult(FrozenResult):
             "noise_estimate_rel": self.noise_estimate, "chain_error_rel": self.chain_error, "threshold_scale_rel": self.threshold_scale,
             "point_threshold_rel": levels["point"], "run_threshold_rel": levels["run"], "run_length": int(self.thresholds["run_length"]),
             "window_threshold_rel": levels["window"], "window": int(self.thresholds["window"]), "sign_hint": self.sign_hint,
-            # (added 2026-12-01) the report's notes on what the verdict rests on, and what to heed
+            # the report's notes on what the verdict rests on, and what to heed
             # (the key fit, compare and sample give): every note, and the sign hint
             "notes": self.notes, "warnings": list(self.warnings),
-            # (added 2026-12-02) "sigma": the chain weighted by the data's σ and each point judged by
+            # "sigma": the chain weighted by the data's σ and each point judged by
             # its σ/|Z| (the threshold keys then hold the median point's levels); "residuals": one noise estimate
             "noise_from": self.noise_from,
         })
         out.update({key: getattr(self, attribute) for key, attribute in _JSON_KEYS_ADDED.items()})
         out["bad_band_frequencies_hz"] = [list(f) for f in self.band_frequencies]
-        # (added 2026-12-06) per band, its lowest and highest flagged measured frequency: the range
+        # per band, its lowest and highest flagged measured frequency: the range
         # the text names (``bad_bands_hz`` keep the edges halfway to the neighbours)
         out["measured_bands_hz"] = [[lo, hi] for lo, hi in self.measured_bands]
         out["passing_band_hz"] = None if self.passing_band is None else list(self.passing_band)
-        # (added 2026-12-05) the passing band's end that still stands off its chain (`passing_edge`)
+        # the passing band's end that still stands off its chain (`passing_edge`)
         edge = self.passing_edge
         out["passing_edge"] = None if edge is None else {"band_hz": [edge[0], edge[1]], "offset_min_rel": edge[2], "offset_max_rel": edge[3], "median_rest_rel": edge[4],
                                                         "words": self.passing_edge_words()}
@@ -333,7 +333,7 @@ class KKResult(FrozenResult):
 
     def to_table(self) -> list[dict[str, object]]:
         """One row per frequency, in the data's order (``impedax kk --out FILE.csv``,
-        `impedax.io.write_result`; added 2026-12-01): ``frequency_hz``, the measured and the
+        `impedax.io.write_result`): ``frequency_hz``, the measured and the
         KK-fitted impedance (``z_real_ohm``, ``z_imag_ohm``, ``z_kk_real_ohm``,
         ``z_kk_imag_ohm``), the residuals Δ', Δ'' (fractions of |Z|, data minus fit as
         ``residuals_real``/``residuals_imag``) and ``flagged``."""
@@ -508,7 +508,7 @@ class KKResult(FrozenResult):
         inner = (lo * 10**EDGE_DECADES, hi) if low_end else (lo, hi / 10**EDGE_DECADES)
         kept = self.frequency[(self.frequency >= inner[0]) & (self.frequency <= inner[1])]
         conditions = [f"data.frequency {'>=' if name == '--fmin' else '<='} {value}" for name, value in left_out_options(kept, np.setdiff1d(self.frequency, kept))]
-        # (Python's words; impedax kk says --fmin 1 --fmax …, `cli.common.command_line_words`: the options until 2026-12-06, in Python too)
+        # (Python's words; impedax kk says --fmin 1 --fmax …, `cli.common.command_line_words`)
         options = f"data.where({conditions[0]}, drop=True)" if len(conditions) == 1 else f"data.where(({conditions[0]}) & ({conditions[1]}), drop=True)"
         spread = f"{d_lo * 100:.2g}–{d_hi * 100:.2g} %" if f"{d_lo * 100:.2g}" != f"{d_hi * 100:.2g}" else f"{d_hi * 100:.2g} %"
         return (f"its {'lowest' if low_end else 'highest'} points ({format_band(f_lo, f_hi)}) still stand {spread} off its chain, against a median of "
@@ -613,7 +613,7 @@ class KKResult(FrozenResult):
         if self.noise_from == "sigma":
             scale = self.scale_per_point
             lines.insert(3, f"noise: the data's sigma (the chain weighted by 1/σ; each point judged against its own σ/|Z|, {scale.min() * 100:.3g}–{scale.max() * 100:.3g} %; "
-                            "kk_test(noise='residuals') judges by the noise estimate instead)")  # (impedax kk says --noise residuals: `cli.common.command_line_words`; both, in Python too, until 2026-12-06)
+                            "kk_test(noise='residuals') judges by the noise estimate instead)")  # (impedax kk says --noise residuals: `cli.common.command_line_words`)
         if self.sparse_note:
             lines.append(self.sparse_note)
         if self.bad_bands:
@@ -857,11 +857,11 @@ class KKBatchResult(ValidityGrid):
         return self.per_spectrum("n_rc", int)
 
     def summary(self) -> dict:
-        """The JSON of ``impedax kk --json`` for several spectra: ``method`` ("linear", added
-        2026-12-06 as `ZHITBatchResult.summary` has it), ``dims``, ``sizes``,
+        """The JSON of ``impedax kk --json`` for several spectra: ``method`` ("linear", as
+        `ZHITBatchResult.summary` has it), ``dims``, ``sizes``,
         ``n_spectra``, ``n_valid`` (inconclusive spectra count as valid), ``n_conclusive``,
         ``n_inconclusive`` and ``spectra`` (each spectrum's ``labels``, then the keys of
-        `KKResult.summary`); ``warnings`` (added 2026-12-01): the spectra's warnings, each once."""
+        `KKResult.summary`); ``warnings``: the spectra's warnings, each once."""
         few = sum(not r.conclusive for r in self.results)
         spectra = [{"labels": where, **r.summary()} for where, r in zip(self.labels(), self.results)]
         return {"method": "linear", "dims": list(self.dims), "sizes": dict(zip(self.dims, map(int, self.shape))), "n_spectra": len(self.results), "n_valid": sum(bool(r.valid) for r in self.results),
@@ -885,8 +885,8 @@ class KKBatchResult(ValidityGrid):
                 "residuals_real": (per_freq, stack(lambda r: r.residuals_real), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[0]}),
                 "residuals_imag": (per_freq, stack(lambda r: r.residuals_imag), {"units": "1", "long_name": RESIDUAL_LONG_NAMES[1]}),
                 "flagged": (per_freq, stack(lambda r: r.flagged).astype(bool)),
-                "point_scale": (per_freq, stack(lambda r: r.scale_per_point), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),  # (added 2026-12-02)
-                "stray": (per_freq, stack(lambda r: r.stray_points).astype(bool), {"long_name": STRAY_LONG_NAME}),  # (added 2026-12-06)
+                "point_scale": (per_freq, stack(lambda r: r.scale_per_point), {"units": "1", "long_name": POINT_SCALE_LONG_NAME}),
+                "stray": (per_freq, stack(lambda r: r.stray_points).astype(bool), {"long_name": STRAY_LONG_NAME}),
                 **self._band_variables(n_band),
                 "time_constant": ((*dims, "rc"), stack(lambda r: r.time_constants, n_rc), {"units": "s"}),
                 "resistance": ((*dims, "rc"), stack(lambda r: r.resistances, n_rc), {"units": "ohm"}),
@@ -929,7 +929,7 @@ class KKBatchResult(ValidityGrid):
         failed, a ``next:`` line: ``impedax kk DATA_PATH --select …`` tests the first failing
         one alone and names the points to leave out (``data_path``: the file the run read; "-"
         or None: save the data to a file first). What ``impedax kk`` prints for several spectra
-        (the JSON: `summary`; a method since 2026-12-02, a Python walkthrough found none)."""
+        (the JSON: `summary`)."""
         batch, lines = self, []
         few, consistent = batch._verdict_counts()
         lines.append(f"linear KK test of {counted(len(batch.results), 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {consistent} KK-consistent, {len(batch.results) - few - consistent} not"
@@ -1216,9 +1216,8 @@ def _neighbours_off(size, left_out, order, level) -> bool:
     """Whether a stray point's neighbour (in frequency order, not itself left out) stays over the
     point level (``level``: the point rule's |Δ|, per point or one) against the chain fitted
     without the stray points: the point was the edge of a drift, not a lone spike. A drift of
-    8 % over the lowest 15 of 71 points (SYNTHETIC) had its end point at 10 mHz, 2.4 times its
-    neighbour, left out as "a lone spike", that neighbour still 1.7 times the point level
-    (a KK/DRT walkthrough, 2026-12-05)."""
+    8 % over the lowest 15 of 71 points (SYNTHETIC) has its end point at 10 mHz, 2.4 times its
+    neighbour, like "a lone spike", while that neighbour stays 1.7 times the point level."""
     ranked_out = left_out[order]
     ranked_size = np.asarray(size)[order]
     ranked_level = np.broadcast_to(np.asarray(level, float), ranked_size.shape)[order] if np.ndim(level) else np.full(ranked_size.shape, float(level))
@@ -1564,17 +1563,17 @@ def kk_test(
     ``capacitance`` a series C (needed when the data are capacitive at the lowest frequency, e.g.
     blocking electrodes). Raises DataError/ParameterError on bad input.
 
-    ``noise`` (added 2026-12-02): where each point's noise comes from. ``"sigma"``: the data's
+    ``noise``: where each point's noise comes from. ``"sigma"``: the data's
     stated σ (their ``sigma`` variable, σ of Re and of Im in Ω): the chain is weighted by 1/σ
     (scaled to relative weights, `noise_shapes`) instead of 1/|Z|, and each point's |Δ| is judged
     against its own scale max(σ/|Z|, noise_floor, ``chain_error``) instead of the one global
     estimate (`KKResult.point_scale`; the estimate is still reported). ``"residuals"``: the
-    global estimate, as before, whatever the data carry. ``"auto"`` (default): ``"sigma"`` when
+    global estimate, whatever the data carry. ``"auto"`` (default): ``"sigma"`` when
     the data carry σ. Noise that differs between bands (SYNTHETIC R_s + R_p ∥ CPE, 3 % below
     10 Hz, 0.3 % above, with that σ: 0 of 12 spectra passed by the residuals, 12 of 12 by σ).
     `KKResult.noise_from` says which was used.
 
-    ``find_passing_band`` (added 2026-12-03): when the test fails and the bands' rules leave no
+    ``find_passing_band``: when the test fails and the bands' rules leave no
     point out (`KKResult.excludable_frequencies`: a failing band at an end too wide to drop, or
     one inside), test again without points at the ends (`PASSING_BAND_EVERY_SPLIT`, at most one
     tests per point beyond the first 44) and report the widest band found on which the test passes
@@ -1735,9 +1734,9 @@ class _KeptChain(NamedTuple):
 class KKChains:
     """One fit call's memory of the Voigt chains of `kk_misfits` and `kk_verdicts` (default
     options): row of the call's stack of spectra z (B, N) → its chain, each fitted once, when
-    first asked for, and shared by both (before 2026-12-02 a batch's misfit notes fitted each
-    checked spectrum's chain twice, once for its rms_rel and once in the full test: 30 + 27 ms of a
-    ~300 ms warm batch call on 1,000 noisy copies of a REAL battery cycle, 21 spectra checked).
+    first asked for, and shared by both (fitting each checked spectrum's chain twice, once for its
+    rms_rel and once in the full test, would cost 30 + 27 ms of a ~300 ms warm batch call on
+    1,000 noisy copies of a REAL battery cycle, 21 spectra checked).
     The spectra asked for together are fitted as one stack (`kk_test_batch`'s batched solves);
     the answers are those functions' on the same rows to rounding (the stack's blocks differ
     with its size). Every call must pass the same ``freq`` and ``z`` (the rows index them)."""
@@ -1892,7 +1891,7 @@ def _run(freq, z, shape, dims, coords, *, c, max_rc, n_rc, inductance, capacitan
     order = np.argsort(freq)
     n_series = 1 + int(inductance) + int(capacitance)
     # the default reference chain's misfit, whatever chain the user chose: a short one of their
-    # own is judged as strictly as before, not excused by its own coarseness
+    # own is judged as strictly as the default one, not excused by its own coarseness
     chain_floor = chain_error(freq, reference_rc(freq, n_series), bool(inductance), bool(capacitance))
     floor = max(rules["noise_floor"], chain_floor)
     dense = freq.size > {**DEFAULT_THRESHOLDS, **(thresholds or {})}["reference_points"]
