@@ -39,7 +39,7 @@ __all__ = [
 MAX_FILE_BYTES = 64 * 2**20
 #: A netCDF file's limit is this many times `max_file_bytes` (256 MB by default): it is read
 #: into ~1–3× its size in memory (no text to parse), and impedax writes larger ones itself (a
-#: joint posterior of 960,000 draws is 88 MB, which `ix.load` refused to read back, 2026-12-06).
+#: joint posterior of 960,000 draws is 88 MB, which the text files' limit would refuse to read back).
 NETCDF_LIMIT_FACTOR = 4
 #: Environment variable that raises (or lowers) `MAX_FILE_BYTES`: bytes, or with k/M/G: ``512M``.
 MAX_FILE_BYTES_ENV = "IMPEDAX_MAX_FILE_BYTES"
@@ -126,15 +126,15 @@ def missing_file_hint(path: Path) -> str:
     """What may be wrong with the name of a file that does not exist (after "file not found"):
     a file of that name in another case or a close one in its folder (``; did you mean
     'run.Z'?``), a name that ends or starts with a space, a ``~`` Python does not expand, or a
-    folder that does not exist; "" when none applies. (Until 2026-12-06 "file not found" alone:
-    ``exampleDataZPlot.Z`` for the REAL ``exampleDataZPlot.z``.)"""
+    folder that does not exist; "" when none applies (``exampleDataZPlot.Z`` for the REAL
+    ``exampleDataZPlot.z`` is told more than "file not found")."""
     import difflib
 
     name, folder = path.name, path.parent
-    if re.match(r"(?i)(https?|ftp|s3|file):/", str(path)):  # (pathlib made 'https://' 'https:/'; added 2026-12-06)
+    if re.match(r"(?i)(https?|ftp|s3|file):/", str(path)):  # (pathlib makes 'https://' 'https:/')
         return ("; it is a web address, and impedax reads files on this computer: download it first (curl -O URL), "
                 "or pipe it in with '-' for the file (curl -s URL | impedax COMMAND -)")
-    if any(c in name for c in "*?"):  # (a quoted 'data/*.csv', or one that matches nothing: added 2026-12-06)
+    if any(c in name for c in "*?"):  # (a quoted 'data/*.csv', or one that matches nothing)
         import glob
 
         matches = sorted(glob.glob(str(path)))

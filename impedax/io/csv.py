@@ -103,8 +103,8 @@ COMMENT_MARKS = ("#", "%", "!")
 it is reported among the skipped rows."""
 
 PREAMBLE_LINES_MAX = PREAMBLE_ROWS_MAX
-"""How far below the first line `read_csv` looked for a table's header when the first line is
-not one (`impedax.io.table.find_header`), until 2026-12-06: it now looks through the whole file."""
+"""Not used: `read_csv` looks through the whole file for a table's header when the first line
+is not one (`impedax.io.table.find_header`). Kept for code that imports it."""
 
 
 _QUOTED_DECIMAL_COMMA = re.compile(r"[-+]?\d*,\d+(?:[eE][-+]?\d+)?")
@@ -379,9 +379,8 @@ def _written_provenance(header: list[str], rows: list[str], delimiter: str | Non
     the spectrum's columns, the same on every row) as a netCDF file of it holds it: the attrs
     ``impedax_version``, ``written_utc``, ``provenance`` (the record as JSON text: command,
     settings, source, data_files) and ``saved_from`` (the data's own ``source``). {} for any
-    other table, or one whose cells differ from row to row. (Until 2026-12-06 these columns were
-    only listed in ``other_columns``: ``impedax inspect`` of a CSV impedax wrote did not say
-    what wrote it, where the same data saved as .nc did.)"""
+    other table, or one whose cells differ from row to row. So ``impedax inspect`` of a CSV
+    impedax wrote says what wrote it, as of the same data saved as .nc."""
     import json
 
     from .provenance import PROVENANCE_KEY

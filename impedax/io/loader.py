@@ -57,8 +57,8 @@ def _raised_at(function, exc: BaseException, origin: str = "") -> tuple[str, str
     """Where a reader's ``function`` raised ``exc``: ("" or `` of --plugin lab.py``, the reader's
     ``origin``, `Reader.origin`), then `` (FILE, line N)``, the innermost frame in the function's
     own file, FILE left out when it is the one ``origin`` names; "" when unknown. A user's read or
-    sniff is so named by its file and line, a plugin's by the plugin too (until 2026-12-06 the
-    command line wrapped a plugin's read to say so, and found no line outside the plugin file)."""
+    sniff is so named by its file and line, a plugin's by the plugin too, here rather than by a
+    wrapper on the command line (which would find no line outside the plugin file)."""
     code = getattr(inspect.unwrap(function), "__code__", None)  # (a --plugin sniff is wrapped to print to stderr)
     lines = [frame.lineno for frame in traceback.extract_tb(exc.__traceback__) if code is not None and frame.filename == code.co_filename]
     of = f" of {origin}" if origin else ""
@@ -77,8 +77,8 @@ def _named(reader: Reader) -> str:
 
 def identify(path: str | os.PathLike, readers: Sequence[Reader] | None = None) -> tuple[Reader | None, list[str]]:
     """The reader that claims ``path`` (``None`` for plain text) and the reasons of those that did
-    not; a path that is no str or os.PathLike is one `DataError`, as `load`'s (a TypeError until 2026-12-06).
-    ``-``, `load`'s standard input, is one `DataError` saying so (until 2026-12-06 "-: file not found")."""
+    not; a path that is no str or os.PathLike is one `DataError`, as `load`'s.
+    ``-``, `load`'s standard input, is one `DataError` saying so (not "-: file not found")."""
     _check_path(path)
     if str(path) == STDIN:
         raise DataError("identify looks at a file, and '-' is standard input, which only impedax.load reads (once): its attrs['format'] "
@@ -119,8 +119,8 @@ def _identify(path: str | os.PathLike, readers: Sequence[Reader] | None) -> tupl
 
 def _checked_readers(readers) -> Sequence[Reader]:
     """``readers`` as `load` and `identify` take them (None: `impedax.io.READERS`), else one
-    `ParameterError` saying what was given (a single Reader, a function, text: until 2026-12-06
-    a TypeError or AttributeError from inside the loop that tries them)."""
+    `ParameterError` saying what was given (a single Reader, a function, text: not a TypeError
+    or AttributeError from inside the loop that tries them)."""
     if readers is None:
         from .formats import READERS
 
@@ -167,7 +167,7 @@ def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sw
 def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
                identified: tuple[Reader | None, list[str], list[str]] | None = None) -> xr.Dataset:
     """`load` of a file; ``identified``: `_identify`'s answer when the caller has it already
-    (standard input, whose readers are asked once: until 2026-12-06 each sniff ran twice)."""
+    (standard input, whose readers are asked once, not again here)."""
     if sweep is not None:
         return _one_sweep(path, readers, str(sweep), identified)
     reader, tried, faults = identified if identified is not None else _identify(path, readers)
@@ -179,7 +179,7 @@ def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
         if held:  # (a saved result, e.g. of impedax gap: say how to read it, not that it lacks Z)
             raise DataError(held, path=path)
         if reader.name == NETCDF_FORMAT and "Z" not in ds.variables:
-            # (a netCDF file of the user's own layout: until 2026-12-06 "dataset has no variable 'Z'" alone)
+            # (a netCDF file of the user's own layout is told more than "dataset has no variable 'Z'")
             names = ", ".join(repr(str(v)) for v in ds.data_vars) or "none"
             raise DataError(f"a netCDF file that holds no spectrum (no variable 'Z'; its data variables: {names}): impedax loads the spectra "
                             "impedax.save writes (a saved result is read with its class's from_xarray); for data of your own layout, build the "
@@ -201,7 +201,7 @@ def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
         if any(reader is r for r in built_in):
             return _checked(ds, path)
         _recorded_conventions(ds, reader)
-        try:  # a user's reader: its Dataset's fault is named as the reader's (2026-12-06: "dataset has no variable 'Z'" alone)
+        try:  # a user's reader: its Dataset's fault is named as the reader's (not "dataset has no variable 'Z'" alone)
             return _checked(ds, path)
         except DataError as exc:
             raise DataError(f"{_named(reader)} returned a Dataset that is not a spectrum: {exc.detail} (build it with impedax.make_spectrum(frequency_hz, Z))",
@@ -210,7 +210,7 @@ def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
     if not head_text(head).strip():  # binary or blank: decided from the first 64 kB, before reading the whole file
         if head.strip(b" \t\r\n"):
             kind = _unread_kind(head)
-            if kind and not faults:  # (a .csv.gz, an .xls was "a binary file that no reader claims" until 2026-12-06)
+            if kind and not faults:  # (a .csv.gz, an .xls: named, not "a binary file that no reader claims")
                 raise DataError(f"not a recognised spectrum file: {kind} ({len(tried)} formats tried)", path=path)
             raise DataError(_unrecognised(None, tried, faults, _by_extension(path, readers, tried)), path=path)
         raise DataError("file is empty", path=path)
@@ -224,7 +224,7 @@ def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
             # (a JSON file was told "as delimited text, no frequency column in header ['{"frequency": [1', '10', ...]")
             raise DataError(_unrecognised_json(len(tried)), path=path) from None
         if not faults and _HTML_OPENING.match(head_text(head)):
-            # (a web page saved in place of the file: until 2026-12-06 "no frequency column in header ['<!DOCTYPE', 'html>']")
+            # (a web page saved in place of the file gets this, not "no frequency column in header ['<!DOCTYPE', 'html>']")
             raise DataError("not a recognised spectrum file: an HTML web page, not the data (a page that shows the file, saved in its place?): "
                             f"download the file itself (on GitHub, its Raw button); {len(tried)} formats tried", path=path) from None
         raise DataError(_unrecognised(exc.reason, tried, faults, _by_extension(path, readers, tried)), path=exc.path, line=exc.line) from None
@@ -233,9 +233,9 @@ def _load_file(path: Path, readers: Sequence[Reader] | None, sweep: str | None,
 
 def _recorded_conventions(ds: xr.Dataset, reader: Reader) -> None:
     """A user's reader that recorded no ``sign_convention`` or ``units`` (`make_spectrum` alone)
-    gets its `Reader.conventions` there, or a word that it recorded none: until 2026-12-06
-    ``impedax inspect`` then said "impedax data model: Z = Z' + jZ''" and "Hz, ohm", as if the
-    file held them (a SYNTHETIC kHz/kΩ lab file)."""
+    gets its `Reader.conventions` there, or a word that it recorded none: otherwise ``impedax
+    inspect`` would say "impedax data model: Z = Z' + jZ''" and "Hz, ohm", as if the file held
+    them (a SYNTHETIC kHz/kΩ lab file)."""
     said = f"{reader.conventions} (as {_named(reader)} declares its conventions)" if reader.conventions.strip() else ""
     for key, what in (("sign_convention", "sign convention"), ("units", "units")):
         if key not in ds.attrs:
@@ -246,10 +246,9 @@ def _read_with(reader: Reader, path: Path) -> xr.Dataset:
     """``reader.read(path)``; an exception other than impedax's own (a bug or an unchecked
     input in a user's reader) becomes one `DataError` naming the file, the reader, where it was
     declared (`Reader.origin`: a ``--plugin`` file) and the line of its code that raised, the
-    original kept as ``__cause__`` (until 2026-12-06 only the command line did this: in Python a
-    user's ``float('oops')`` came out as a bare traceback). A `DataError` raised without ``path=``
-    is given the file, so that its ``line=`` is shown too (until 2026-12-06 "impedax inspect:
-    error: no header line", naming neither)."""
+    original kept as ``__cause__`` (in Python too: a user's ``float('oops')`` is no bare
+    traceback). A `DataError` raised without ``path=`` is given the file, so that its ``line=``
+    is shown too (not "impedax inspect: error: no header line", naming neither)."""
     from ..errors import ImpedaxError
 
     try:
@@ -270,15 +269,15 @@ def _one_sweep(path: Path, readers: Sequence[Reader] | None, label: str,
     """Sweep ``label`` of file ``path`` (`load`'s ``sweep``): alone when the file's sweeps are on
     different grids (`SweepGridsDiffer.spectrum`), else picked from its sweep or cycle dimension,
     or from the one dimension its spectra lie along (a workbook's sheets, Ivium's measurements on
-    one grid: until 2026-12-06 "the file holds no sweeps to pick from", where the same label read
-    the sheet alone when the sheets' grids differed)."""
+    one grid: not "the file holds no sweeps to pick from", as the same label reads the sheet
+    alone when the sheets' grids differ)."""
     try:
         ds = _load_file(path, readers, None, identified)
     except SweepGridsDiffer as exc:
         return _sweep_of(exc, label, path)
     dims = [d for d in ("sweep", "cycle") if d in ds["Z"].dims]
     others = [d for d in ds["Z"].dims if d != "frequency"]
-    if not dims and len(others) == 1:  # (a file's sheets, curves or measurements on one grid, as on different grids: 2026-12-06)
+    if not dims and len(others) == 1:  # (a file's sheets, curves or measurements on one grid, as on different grids)
         dims = others
     if not dims:
         held = "one spectrum" if ds["Z"].ndim == 1 else f"spectra along {', '.join(others)}: pick one with data.sel({others[0]}=LABEL) (on the command line --select {others[0]}=LABEL)"
@@ -311,7 +310,7 @@ def _checked(ds: xr.Dataset, path: Path) -> xr.Dataset:
 def _by_extension(path: Path, readers: Sequence[Reader] | None, tried: Sequence[str]) -> str:
     """The reason of the one reader whose `Reader.extensions` alone hold ``path``'s suffix (any
     case: ``.DTA``), when it did not claim the file: the format the file's name promises (a
-    ``.mpt`` without its first line was told only why it is no delimited text, 2026-12-06); ""
+    ``.mpt`` without its first line is told more than why it is no delimited text); ""
     for a suffix several readers list (``.txt``, ``.csv``) or none, and for a sniff that gave no
     reason (False) or broke its contract (named apart, `_unrecognised`'s ``faults``)."""
     suffix = path.suffix.lower()
@@ -403,7 +402,7 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
         terminal = stream.isatty()
     except (OSError, ValueError):  # (a closed or detached stream: read below says so)
         terminal = False
-    if terminal:  # (impedax kk - typed with nothing piped in waited silently for the keyboard until 2026-12-06)
+    if terminal:  # (impedax kk - typed with nothing piped in would wait silently for the keyboard)
         raise DataError("standard input is a terminal, not a file: '-' reads a spectrum piped in (impedax kk - < run.csv, or another "
                         "command's output through |); give the file's path otherwise", path=STDIN_NAME)
     try:
@@ -415,7 +414,7 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
     with staging_directory(tempfile.gettempdir(), prefix=".impedax-stdin-") as folder:
         path = folder / "stdin"
         path.write_bytes(raw)
-        identified = _identify(path, readers)  # (each sniff runs once: until 2026-12-06 twice, here and in load)
+        identified = _identify(path, readers)  # (each sniff runs once, not here and again in load)
         note = _stdin_declined(readers, identified)
         try:
             ds = _load_file(path, readers, sweep, identified)
@@ -439,8 +438,8 @@ def _stdin_declined(readers: Sequence[Reader] | None, identified: tuple[Reader |
     """Why standard input (kept in a file with no suffix, whose `_identify` answer is
     ``identified``) may be read by the wrong reader: the user's readers (not built in, a
     ``--plugin``'s) that did not claim it, with their reasons, when none of them did; "" otherwise. A reader that goes by the file's extension never
-    claims standard input, which was then read as delimited text without a word (a kHz/kΩ
-    table 1000× off; until 2026-12-06). Stored as ``attrs["stdin_note"]``."""
+    claims standard input, which is then read as delimited text (a kHz/kΩ table 1000× off
+    without this word). Stored as ``attrs["stdin_note"]``."""
     from .formats import READERS as built_in
 
     own = [r for r in (readers or ()) if not any(r is b for b in built_in)]
@@ -460,8 +459,7 @@ def _named_stdin(ds: xr.Dataset, copy: str) -> xr.Dataset:
     """``ds`` read from ``copy``, the temporary file that held standard input, with every mention
     of that file (attrs ``path`` and ``source``, as every reader sets them, and any text attribute
     holding it) as `STDIN_NAME`: the JSON ``source``, the provenance and the ``--out`` columns name
-    ``<stdin>``, never a deleted temporary path (until 2026-12-01 they named
-    ``/tmp/.impedax-stdin-XXXX/stdin``)."""
+    ``<stdin>``, never a deleted temporary path (``/tmp/.impedax-stdin-XXXX/stdin``)."""
     def named(value):
         if isinstance(value, str):
             return value.replace(copy, STDIN_NAME)
@@ -492,7 +490,7 @@ def _check_path(path) -> None:
     """A file path as `load` and `save` take it (str or os.PathLike), else one `DataError`."""
     if not isinstance(path, (str, os.PathLike)):
         raise DataError(f"a file path (str or pathlib.Path) is needed, got {shown(path)} ({type(path).__name__})")
-    if isinstance(path, str) and not path:  # (Path('') is '.': until 2026-12-06 "'.': is a directory, not a spectrum file")
+    if isinstance(path, str) and not path:  # (Path('') is '.': "'.': is a directory, not a spectrum file" would not say what is wrong)
         raise DataError("empty file name: no spectrum file was named (an unset shell variable, \"$DATA\" with nothing in it?)")
     if "\x00" in str(path):
         raise DataError(f"a file name cannot contain a NUL character: {shown(str(path))}")

@@ -86,9 +86,9 @@ _EMPTY = "impedax_empty"  # (a variable of no values stored as a scalar: its [[d
 
 def _empty_placeholder(da: xr.DataArray, name) -> dict[str, xr.DataArray]:
     """A variable of no values as a scalar that netCDF3 can hold, marked with its dimensions and
-    lengths (`_EMPTY`) and dtype. A KK batch's bad bands, (cell, band) with no band in any cell,
-    wrote a file no reader opened: band was taken as the record dimension, second in the
-    variable (2026-12-05)."""
+    lengths (`_EMPTY`) and dtype. Written as it is, a KK batch's bad bands, (cell, band) with no
+    band in any cell, would make a file no reader opens: band is taken as the record dimension,
+    second in the variable."""
     attrs = _encode_attrs({**da.attrs, _EMPTY: [[str(d), int(n)] for d, n in zip(da.dims, da.shape)]}, f"variable {name!r}")
     return {"": xr.DataArray(np.float64(0.0), attrs={**attrs, "impedax_dtype": str(da.dtype)})}
 
@@ -116,8 +116,8 @@ def encode_dataset(ds: xr.Dataset) -> xr.Dataset:
 def _unmarked_part(ds: xr.Dataset, name) -> str | None:
     """``"real"`` or ``"imag"`` for a variable ``V__real`` or ``V__imag`` that another program
     wrote without impedax's ``impedax_part`` mark, when its partner is there and ``V`` is not
-    (plain xarray following the layout above); else None, the variable kept as it is. Added
-    2026-12-02: such a file had said "dataset has no variable 'Z'" whatever else was wrong."""
+    (plain xarray following the layout above); else None, the variable kept as it is. Without it
+    such a file would say "dataset has no variable 'Z'" whatever else is wrong."""
     name = str(name)
     for part, other in (("real", "imag"), ("imag", "real")):
         if name.endswith(f"__{part}"):
@@ -195,7 +195,7 @@ RESULT_KINDS = {
     "diagnosis": ("diagnosis (impedax diagnose) with its baseline fit", "Diagnosis.baseline_of"),
     "comparison": ("comparison of models on one spectrum (impedax compare)", "impedax.io.read_netcdf"),
     "batch_comparison": ("comparison of models over many spectra (impedax compare)", "BatchComparison.from_xarray"),
-    # (added 2026-12-06: these held Z and were shown as plain spectra; their data are the spectra tested)
+    # (these hold Z and would be shown as plain spectra; their data are the spectra tested)
     "kk": ("Kramers-Kronig test (impedax kk)", "impedax.io.read_netcdf"),
     "zhit": ("Z-HIT test (impedax kk --method zhit)", "impedax.io.read_netcdf"),
     "drt": ("distribution of relaxation times (impedax drt)", "impedax.io.read_netcdf"),

@@ -35,8 +35,7 @@ def provenance(*, command: str | None = None, settings: Mapping[str, object] | N
     ISO 8601 to the second with ``Z``), ``command`` (``impedax fit``; None from Python), its
     ``settings`` (option → value as used, defaults included), ``source`` (the data as the other
     outputs name them: ``path [DIM=LABEL]``, or one per input) and ``data_files`` (their
-    absolute paths, so a file moved later is still named; standard input, ``-``, as ``<stdin>``:
-    until 2026-12-01 it was left out)."""
+    absolute paths, so a file moved later is still named; standard input, ``-``, as ``<stdin>``)."""
     written = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0).isoformat().replace("+00:00", "Z")
     return {
         "impedax_version": IMPEDAX_VERSION,

@@ -33,7 +33,7 @@ __all__ = ["Reader", "ReaderDefinitionError", "given_value"]
 
 class ReaderDefinitionError(ParameterError, TypeError):
     """A `Reader` or `register_reader` given a missing or wrong argument, named with what was
-    given; a `ParameterError` (and, as it was before 2026-12-06, a TypeError)."""
+    given; a `ParameterError`, and a TypeError for code that catches those."""
 
 
 def given_value(value) -> str:
@@ -58,7 +58,7 @@ class Reader:
     Dataset records no ``sign_convention`` or ``units`` gets it there (``impedax inspect`` shows them).
     ``origin``: where the reader was declared, as a message names it before the file and line of
     its code that raised (`impedax.load`): ``--plugin lab.py`` or ``$IMPEDAX_PLUGINS lab.py`` for a
-    plugin's reader on the command line (which sets it); "" for one made in Python (added 2026-12-06).
+    plugin's reader on the command line (which sets it); "" for one made in Python.
     """
 
     name: str
@@ -69,8 +69,8 @@ class Reader:
     origin: str = ""
 
     def __post_init__(self):
-        # Every fault is one ReaderDefinitionError naming the argument (until 2026-12-06 the
-        # extensions forgotten, Reader("lab", sniff, read), said "missing 'read'", a TypeError)
+        # Every fault is one ReaderDefinitionError naming the argument (with the extensions
+        # forgotten, Reader("lab", sniff, read), Python alone would say "missing 'read'")
         usage = "Reader(name, extensions, sniff, read), e.g. Reader('My format', ('.my',), sniff_mine, read_mine)"
         if not isinstance(self.name, str) or not self.name.strip():
             raise ReaderDefinitionError(f"Reader: name must be non-empty text, got {given_value(self.name)}; {usage}")

@@ -132,7 +132,7 @@ def negative_real_hint(evidence: str | None, imaginary_too: bool = False, swappe
     """The hint for ``evidence`` (`negative_real_evidence`), or None; ``imaginary_too``: Z'' looks
     negated as well (`positive_imaginary_evidence`), the whole of Z is (−Z: the current's sign,
     or its leads, swapped); ``swapped`` (`swapped_evidence`, first): Z' and Z'' look stored in
-    each other's columns (until 2026-12-06 such a file got the real-part hint, whose fix gave
+    each other's columns (such a file would otherwise get the real-part hint, whose fix gives
     conj(Z) of the other reading)."""
     if not evidence:
         return None

@@ -119,8 +119,7 @@ _SLASHED_RAD_PER_SECOND = re.compile(r"^(?P<name>.*?\S)\s*/\s*(?:\(\s*rad\s*/\s*
 def _angular(cell: str) -> bool:
     """Whether a header cell names an angular frequency ω in rad/s: ``omega``, ``ω``, ``angular
     frequency`` without a unit or with rad/s, and ``w``, ``f``, ``frequency`` with rad/s
-    (``w (rad/s)``, ``ω/rad s-1``, ``Frequency (rad/s)``, ``omega/rad/s``: 2026-12-04, refused
-    before with the advice to name it 'omega')."""
+    (``w (rad/s)``, ``ω/rad s-1``, ``Frequency (rad/s)``, ``omega/rad/s``)."""
     slashed = _SLASHED_RAD_PER_SECOND.match(unquoted(cell))
     m = UNIT_CELL.match(unquoted(cell))
     if slashed:
@@ -242,7 +241,7 @@ class Layout:
     def other_columns(self) -> tuple[str, ...]:
         """The named columns not read, in the header's order: `ignored`, and those of a role Z is
         not read from (|Z| and the phase beside Z' and Z'': EC-Lab's ``|Z|/Ohm`` and
-        ``Phase(Z)/deg``, left out of ``attrs["other_columns"]`` until 2026-12-06)."""
+        ``Phase(Z)/deg``)."""
         read = {"frequency", "sigma", *(("real", "imag", "neg_imag") if self.cartesian else ("modulus", "phase", "neg_phase"))}
         unread = {index for role, (index, _) in self.columns.items() if role not in read}
         ignored = set(self.ignored)
@@ -408,10 +407,10 @@ def _decimal_comma_row(n_fields: int) -> re.Pattern:
     return re.compile(rf"{number}(?:,{number}){{{n_fields - 1}}}")
 
 PREAMBLE_ROWS_MAX = 100
-"""How far below the first row `find_header` looked for a table's header when the first row is
-not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``), until
-2026-12-06; it now looks through every row (a table below 120 lines of notes was refused as
-"no frequency column in header ['note', '1:', 'value']"). Kept for code that imports it."""
+"""Not used: `find_header` looks through every row for a table's header when the first row is
+not one (an instrument's or a user's notes above the table: ``Instrument: FooStat 3000``), so a
+table below 120 lines of notes is read, not refused as "no frequency column in header ['note',
+'1:', 'value']". Kept for code that imports it."""
 
 #: Units of columns that hold no spectrum quantity (time, potential, current, point number ...),
 #: which a units row may hold beside Hz, Ω and degrees (`with_units_row`).
@@ -516,8 +515,8 @@ def find_header(count: int, cells: Callable[[int, int], Sequence[str]], line_of:
 
 def preamble_note(first: int, header: int, text: str, word: str = "lines") -> str:
     """``attrs["preamble"]``: the lines (or sheet rows) above a table's header, not read; ``text``
-    the first of them, shown up to 60 characters, '…' when more was passed over (one line was
-    "lines 1–1: … 'sep=;' …" until 2026-12-06)."""
+    the first of them, shown up to 60 characters, '…' when more was passed over (one line is
+    "line 1: …", not "lines 1–1")."""
     one = word.rstrip("s")
     span = f"{word} {first}–{header - 1}" if header - 1 > first else f"{one} {first}"
     shown = text.strip()
@@ -800,9 +799,9 @@ def spectrum_from_rows(
         header.pop()
     n_fields = len(header)
     comma_line = _first_decimal_comma(rows, delimiter) if comma is None or comma else None
-    if comma is None:  # (every row: until 2026-12-06 the first 20, so a comma first met below them was 'not a number')
+    if comma is None:  # (every row: with the first 20 only, a comma first met below them would be 'not a number')
         comma = comma_line is not None
-    if comma:  # (as delimited text says it: an instrument's table read here said nothing until 2026-12-06)
+    if comma:  # (as delimited text says it; an instrument's table read here says it too)
         attrs["decimal_mark"] = "comma"
     polar = ("modulus", "phase", "neg_phase")
     wanted = {role: col for role, col in layout.columns.items() if not (layout.cartesian and role in polar)}
