@@ -84,8 +84,8 @@ class _Structure:
 @functools.lru_cache(maxsize=16)
 def _log_prob_functions(st: _Structure):
     """(batched (W, P) → (W,), single) jitted log-posteriors of ``st``, kept across processes
-    (`stored.StoredProgram`, ``bayes-shared-…``, keyed by ``st``; since 2026-12-06, as a single
-    spectrum's, `logprob.log_prob_functions`)."""
+    (`stored.StoredProgram`, ``bayes-shared-…``, keyed by ``st``; as a single spectrum's,
+    `logprob.log_prob_functions`)."""
     compiled = compile_circuit(st.circuit, st.registry)
     names = compiled.parameter_names
     n_shared, n_own, m = len(st.shared_positions), len(st.own_positions), st.n_spectra
@@ -236,7 +236,7 @@ class SharedPosterior(PiledUp, FrozenResult):
         """With proportional noise one ``sigma_rel`` is sampled for every spectrum; where the
         spectra's own scales (`spectrum_noise_scales`) differ by more than `NOISE_SCALE_RATIO`,
         that common scale is too large for some and too small for others, and so are their
-        intervals: said, with the spectra at both ends (added 2026-12-06)."""
+        intervals: said, with the spectra at both ends."""
         if self.noise != NoiseModel.PROPORTIONAL or len(self.spectra) < 2:
             return []
         scales = self.spectrum_noise_scales()
@@ -272,8 +272,8 @@ class SharedPosterior(PiledUp, FrozenResult):
         unidentified groups (`SharedFitResult.unidentified_groups_of`), a relative standard error
         above 100 %, or run to a bound by a term that vanishes from Z (`branches.left_to_priors`:
         the battery cycles' R2[cycle=64] at ∞); a shared parameter by its global fit, in any
-        spectrum's group (added 2026-12-03)."""
-        stored = self.fit._stored_groups() or {}  # (a global fit saved before 2026-12-01 records none)
+        spectrum's group."""
+        stored = self.fit._stored_groups() or {}  # (a global fit saved by an older version records none)
         grouped = {label: {n for g in parameter_groups(stored.get(label, ())) for n in g} for label in self.spectra}
         start = _start_of(self.fit.dataset, self.over, self.spectra, self.names)
         out = []
@@ -307,14 +307,14 @@ class SharedPosterior(PiledUp, FrozenResult):
             "autocorr": dict(self.autocorr),
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
-            "undetermined": list(self.undetermined),  # (added 2026-12-03, as `Posterior.summary`'s)
-            "at_prior_edge": self.at_prior_edge,  # (added 2026-12-06, as `Posterior.summary`'s)
+            "undetermined": list(self.undetermined),  # (as `Posterior.summary`'s)
+            "at_prior_edge": self.at_prior_edge,  # (as `Posterior.summary`'s)
             "piled_up": self.piled_up,
-            "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01, as `Posterior.summary`'s)
-            "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (added 2026-12-01, as `Posterior.summary`'s)
+            "straggler_walkers": list(self.stragglers.walkers),  # (as `Posterior.summary`'s)
+            "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (as `Posterior.summary`'s)
             "noise": self.noise.value,
             "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as `Posterior.summary`)
-            "walkers_kept": self.n_walkers,  # (added 2026-12-01: those whose draws the posterior holds)
+            "walkers_kept": self.n_walkers,  # (those whose draws the posterior holds)
             "draws": self.n_draws,
             "draws_total": self.n_walkers * self.n_draws,
             **{k: self.settings.get(k) for k in ("steps", "burn", "thin", "seed")},
@@ -322,7 +322,7 @@ class SharedPosterior(PiledUp, FrozenResult):
             "step_cap": self.settings.get("step_cap"),
             "stopped": self.settings.get("stopped"),
             "fixed": self.fixed,
-            "start_fit": self._start_fit_summary(),  # (added 2026-12-06, as `Posterior.summary`'s)
+            "start_fit": self._start_fit_summary(),  # (as `Posterior.summary`'s)
         }
 
     def _start_fit_summary(self) -> dict:
@@ -361,7 +361,7 @@ class SharedPosterior(PiledUp, FrozenResult):
                 + (f"{unit_text(self.units[i]):<{unit_width}}  {marks[n]}" if n in marks else unit_text(self.units[i]))
             )
         specs = self.circuit.parameter_specs(self.registry)
-        for n, value in fixed.items():  # (as a single spectrum's report: the model's values need them too; added 2026-12-06)
+        for n, value in fixed.items():  # (as a single spectrum's report: the model's values need them too)
             lines.append(f"{n:<{width}}  {exact_number(value):>11}  {'(fixed)':>11}  {'':>11}  {'':>9}  {'':>7}  {unit_text(specs[n].unit) if n in specs else ''}".rstrip())
         lines += footnotes
         lines += [f"warning: {w}" for w in self.warnings]
@@ -501,11 +501,11 @@ class SharedPosterior(PiledUp, FrozenResult):
         return [n for n in self.names if _spectrum_row(n, self.spectra) in (None, 0)]
 
     def to_table(self) -> list[dict[str, object]]:
-        """One row per sampled parameter: name, the summary quantiles, unit, and (added
-        2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``, None where unknown,
-        and (added 2026-12-06) ``undetermined``, as `Posterior.to_table`: the rows the report marks
-        NOT DETERMINED; then the fixed parameters' rows and the column ``fixed`` (added 2026-12-06,
-        `fixed_rows`); last ``at_prior_edge`` (added 2026-12-06): the rows it marks AT PRIOR EDGE."""
+        """One row per sampled parameter: name, the summary quantiles, unit, and (as the
+        JSON's keys) ``autocorr`` (τ [steps]) and ``ess``, None where unknown, and
+        ``undetermined``, as `Posterior.to_table`: the rows the report marks NOT DETERMINED; then
+        the fixed parameters' rows and the column ``fixed`` (`fixed_rows`); last
+        ``at_prior_edge``: the rows it marks AT PRIOR EDGE."""
         q = self.quantiles()
         marks, _ = marked_rows(self.undetermined, self.set_by_prior_edge)
         return last_at_prior_edge([
@@ -602,7 +602,7 @@ class SharedPosterior(PiledUp, FrozenResult):
             priors={n: priors[n] for n in names}, noise=NoiseModel(ds.attrs["noise"]), fit=fit_result,
             sigma=np.asarray(ds["sigma"].transpose(*fit_ds["Z"].dims).values, float) if "sigma" in ds else None, notes=tuple(ds.attrs.get("notes", ())),
             settings=dict(ds.attrs["settings"]), registry=registry,
-            stragglers=Stragglers.from_attr(ds.attrs.get("stragglers")),  # (a file written before 2026-12-01: none)
+            stragglers=Stragglers.from_attr(ds.attrs.get("stragglers")),  # (a file written by an older version: none)
         )
 
 
@@ -745,7 +745,7 @@ def sample_shared(
     _check_joint_size(circuit, ds, shared=shared, over=over, fixed=fixed, noise=noise, registry=registry)  # (before the global fit: the refusal came after it)
     specs = circuit.parameter_specs(registry)
     user = coerce_priors(priors)
-    for n in user:  # (before the global fit too: a misspelt --prior name cost the fit, 2026-12-06)
+    for n in user:  # (before the global fit too: a misspelt --prior name would cost the fit)
         if n not in specs and n != "sigma_rel":
             raise ParameterError(f"prior for unknown parameter {n!r} (parameters: {', '.join(specs)})")
         if n in (fixed or {}):
