@@ -362,7 +362,7 @@ class BatchComparison(FrozenResult):
         rival at least `DECISIVE_DELTA_AIC` behind: essentially no support, Burnham & Anderson
         2002, §2.6; a win with no such rival, every rival reducing to it or its fit in another
         writing (`_same_as_winner`), is not decisive: it is
-        counted in ``wins_over_reducing_only``, added 2026-12-01), ``lead_median``, ``lead_min``, ``lead_max``
+        counted in ``wins_over_reducing_only``), ``lead_median``, ``lead_min``, ``lead_max``
         (the lead over its wins, `_leads`; null without wins or where only reducing rivals
         trail), ``aic_sum`` with ``delta_aic_sum`` and ``akaike_weight_sum``,
         ``median_delta_aic``, ``converged_fraction`` and ``rms_rel_median``."""
@@ -395,7 +395,7 @@ class BatchComparison(FrozenResult):
         rival's ΔAIC; null when every rival is one of those), ``weak_evidence`` (that lead below `WEAK_DELTA_AIC`) and
         ``models``: each model's `PER_SPECTRUM_CRITERIA` with its ``model``, ``label``,
         ``misses_structure`` (`BatchFitResult.misses_structure` on that spectrum, as a batch fit's
-        rows; added 2026-12-06) and ``warnings`` (its fit's warnings on that spectrum,
+        rows) and ``warnings`` (its fit's warnings on that spectrum,
         `BatchFitResult.warnings`; [] if none)."""
         best, runner_up = self._winners()
         _, reduces, lead = self._leads()
@@ -424,9 +424,9 @@ class BatchComparison(FrozenResult):
         ("aic_sum"), ``aic_form`` (`criteria`), ``weighting``, ``sizes`` (dimension → number of
         spectra), ``n_spectra``, ``weak_spectra`` (spectra whose winner leads by less than
         `WEAK_DELTA_AIC`), ``note`` (`SUM_NOTE`) and ``not_at_optimum`` (`not_at_optimum`: models
-        that fit some spectra worse than a model they contain; added 2026-12-02) and ``warnings``
+        that fit some spectra worse than a model they contain) and ``warnings``
         (each model's distinct warnings over the spectra, "LABEL: warning", `labelled_warnings`;
-        which spectra: ``spectra[].models[].warnings``; added 2026-12-06)."""
+        which spectra: ``spectra[].models[].warnings``)."""
         spectra = self.spectra()
         return {
             "models": self.models(), "spectra": spectra, "best": self.best, "best_label": self.labels[self.best_index], "ranked_by": "aic_sum",
@@ -434,8 +434,8 @@ class BatchComparison(FrozenResult):
             "sizes": {d: int(self.dataset.sizes[d]) for d in self.dims}, "n_spectra": self.n_spectra,
             "weak_spectra": sum(r["weak_evidence"] for r in spectra), "weak_threshold": WEAK_DELTA_AIC, "note": SUM_NOTE,
             "not_at_optimum": self.not_at_optimum(),
-            "best_misfit_hints": self.best_misfit_hints(),  # (added 2026-12-03: None unless a winner still misses structure, small as its misfit looks)
-            # (added 2026-12-06: each model's distinct warnings over the spectra, as a batch fit's JSON, with its label)
+            "best_misfit_hints": self.best_misfit_hints(),  # (None unless a winner still misses structure, small as its misfit looks)
+            # (each model's distinct warnings over the spectra, as a batch fit's JSON, with its label)
             "warnings": labelled_warnings((label, sorted({w for ws in batch.warnings.values() for w in ws})) for batch, label in zip(self.batches, self.labels)),
         }
 
@@ -449,7 +449,7 @@ class BatchComparison(FrozenResult):
         ``by_model`` (winner label → how many), ``worst`` (``labels``, ``model`` (label),
         ``rms_rel``, ``chain_rms_rel``, ``ratio``: the spectrum of the largest ratio), ``note``
         (the report's line) and ``labels`` (every such spectrum's labels, in the batch's order,
-        which the note names too; added 2026-12-06, as `BatchFitResult.misfit_hints`)."""
+        which the note names too; as `BatchFitResult.misfit_hints`)."""
         if self.dataset.attrs["weighting"] != "modulus" or "Z" not in self.batches[0].dataset:
             return None
         best, _ = self._winners()
@@ -478,17 +478,17 @@ class BatchComparison(FrozenResult):
         """One row per spectrum and model (``compare --out FILE.csv``): the spectrum's labels,
         ``model`` (the label), ``circuit``, `PER_SPECTRUM_CRITERIA` and ``best`` (whether it is
         that spectrum's best by AIC), then ``warnings`` (that fit's warnings joined by "; ", as
-        `spectra`' list; "" if none) and ``misses_structure`` (`spectra`'; added 2026-12-06)."""
+        `spectra`' list; "" if none) and ``misses_structure`` (`spectra`')."""
         best, _ = self._winners()
         return [{**{d: v for d, v in r["labels"].items()}, **{k: v for k, v in m.items() if k not in ("model", "label", "warnings", "misses_structure")}, "model": m["label"], "circuit": m["model"], "best": bool(best[s] == j), "warnings": "; ".join(m["warnings"]),
-                 "misses_structure": m["misses_structure"]}  # (last: added 2026-12-06, after the columns readers already count)
+                 "misses_structure": m["misses_structure"]}  # (last, after the columns readers count by position)
                 for s, r in enumerate(self.spectra()) for j, m in enumerate(r["models"])]
 
     def to_xarray(self) -> xr.Dataset:
         """``dataset`` (the criteria over (model, *dims), the sums over model) and each batch of
         fits in full (`BatchFitResult.to_xarray`, its variables, dimensions other than the
         batch's and ``frequency``, and attributes named `BATCH_PREFIX` + its own: ``batch0_value``
-        over ``batch0_param``, ...; added 2026-12-03), ``impedax_kind`` "batch_comparison":
+        over ``batch0_param``, ...), ``impedax_kind`` "batch_comparison":
         `BatchComparison.from_xarray` reads it back."""
         keep = {*self.dims, "frequency"}
         parts = [self.dataset.copy(deep=True)]
