@@ -6,8 +6,8 @@ preview."""
 from __future__ import annotations
 
 # what a file saved from data built in Python (``attrs["saved_from"]`` the marker `IN_MEMORY`,
-# "memory") is said to come from (2026-12-06: the REAL benchmarks/data/autoeis_battery_130.nc
-# showed "saved_from: memory")
+# "memory") is said to come from (the REAL benchmarks/data/autoeis_battery_130.nc would
+# otherwise show "saved_from: memory")
 _SAVED_IN_SESSION = "data built in a Python session (impedax.make_spectrum), not read from a file"
 
 _HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit_note", "polar_columns_note", "decimal_mark", "point_count_note")
@@ -30,7 +30,7 @@ def register(sub) -> None:
     p.add_argument("file", metavar="FILE", help=data_help("spectrum file"))
     add_select_option(p)
     add_output_options(p, json="machine-readable output", plot="write a Nyquist and Bode preview of the data", out="also save the spectrum in impedax's canonical form; '-' the CSV to standard output", out_metavar="FILE.csv|.nc")
-    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
+    add_quiet_option(p)  # (every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 
@@ -60,7 +60,7 @@ def run(args) -> int:
     summary = {
         "file": str(ds.attrs.get("path", args.file)) if args.file == "-" else str(args.file),
         "format": ds.attrs.get("format", "netCDF"),
-        "data_format": ds.attrs.get("data_format"),  # (added 2026-12-01: for a netCDF file, the format its data were first read from, else null)
+        "data_format": ds.attrs.get("data_format"),  # (for a netCDF file, the format its data were first read from, else null)
         "dims": {k: int(v) for k, v in ds["Z"].sizes.items()},
         "points": int(freq.size),
         "frequency_min_hz": float(freq.min()),
@@ -71,15 +71,15 @@ def run(args) -> int:
         "sign_convention": str(ds.attrs.get("sign_convention", "impedax data model: Z = Z' + jZ''")),
         # (a saved result's own ``units`` are its parameters': its spectrum is in Hz and ohm)
         "units": "Hz, ohm" if kind else str(ds.attrs.get("units", "Hz, ohm")),
-        # (added 2026-12-01) each column used by its role (frequency, z_real, z_imag or z_modulus
+        # each column used by its role (frequency, z_real, z_imag or z_modulus
         # and z_phase, sigma): {"column", "unit", "scale" to Hz/Ω/deg, "negated"}, as the reader
         # recorded it; {} when it recorded none
         "columns": _columns(ds),
-        # (added 2026-12-01) files stacked into one series whose columns differ (Hz in one, kHz in
+        # files stacked into one series whose columns differ (Hz in one, kHz in
         # another: "columns" is {} then): each file's record as "columns" holds it, by file path
         # as in attrs "sources"; {} when the files agree or nothing was stacked
         "columns_by_file": _columns_by_file(ds),
-        # (added 2026-12-04) files stacked with --common-frequencies: the frequencies [Hz] each file
+        # files stacked with --common-frequencies: the frequencies [Hz] each file
         # lost, by file path; {} when none was left out or nothing was stacked
         "frequencies_left_out": _frequencies_left_out(ds),
         "skipped_rows": skipped,
@@ -88,12 +88,12 @@ def run(args) -> int:
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
         "sign_hint": _sign_hint(ds, extra),
         # the first and last rows as read, in the file's order (of the first spectrum of several):
-        # the values themselves, to set beside the file (added 2026-12-01)
+        # the values themselves, to set beside the file
         "first_point": _point(ds, extra, 0),
         "last_point": _point(ds, extra, -1),
     }
     if kind:  # a saved result (impedax fit/sample --out FILE.nc): its data are what is shown
-        # (read_with added 2026-12-01: the call that reads it, naming registry= for an element of the user's own)
+        # (read_with: the call that reads it, naming registry= for an element of the user's own)
         summary.update({"result_kind": kind, "result": RESULT_KINDS[kind][0], "parameter_units": _parameter_units(ds), "read_with": _read_with(kind, ds)})
     record = command_provenance(args, source=data_source(ds), data_files=[args.file])
     outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": figure_writer(lambda: _preview(ds, summary["format"], summary["file"]), **figure_options(args))})
@@ -148,8 +148,8 @@ def run(args) -> int:
 def _repeats_labels(text: str, dim: str, labels) -> bool:
     """Whether the attribute ``dim`` says no more than the labels along ``dim`` (a workbook's
     ``sheet A: A; sheet B: B``), which the report lists already. Files stacked along a dimension
-    named as one of their attributes (``impedax stack --dim instrument``) keep theirs: ``instrument
-    dfr: Metrohm Autolab (FRA); ...`` was left out of the report (2026-12-06)."""
+    named as one of their attributes (``impedax stack --dim instrument``) keep theirs in the
+    report: ``instrument dfr: Metrohm Autolab (FRA); ...``."""
     parts = {f"{dim} {label}: {label}" for label in labels}
     return text in {str(label) for label in labels} or all(part in parts for part in text.split("; "))
 
@@ -157,8 +157,8 @@ def _repeats_labels(text: str, dim: str, labels) -> bool:
 def _provenance_text(value) -> str:
     """A saved file's provenance record (JSON text, `impedax.io.provenance`) as one line to read:
     the command, when and by which impedax, its settings given, the data files; the text as it
-    is when it is not such a record. (Until 2026-12-06 the JSON itself, ``\\u2026`` escapes and
-    nulls included; ``--json`` keeps it so.)"""
+    is when it is not such a record (``--json`` keeps the JSON itself, ``\\u2026`` escapes and
+    nulls included)."""
     import json
 
     try:
@@ -239,7 +239,7 @@ def _first_labels(ds, extra) -> str:
 def _parameter_units(ds) -> dict[str, str]:
     """The units of a saved result's parameters, by name: its ``unit`` coordinate along
     ``param`` (what a fit's ``to_xarray`` stores), else its attrs ``units``, one per ``param``
-    (until 2026-12-01 only the attrs were read, and a saved fit showed ``{}``)."""
+    (the attrs alone would show ``{}`` for a saved fit)."""
     names = ds["param"].values if "param" in ds.coords else ()
     if "unit" in ds.coords and ds["unit"].dims == ("param",):
         return {str(n): str(u) for n, u in zip(names, ds["unit"].values)}
@@ -268,9 +268,9 @@ def _foreign_models(ds) -> list[str]:
 
 def _points_text(summary: dict) -> str:
     """``21 frequencies 3 kHz–300 kHz, |Z| 148.2 Ω–628.8 Ω`` (frequencies as impedax writes them,
-    `format_band`, |Z| with its SI prefix: until 2026-12-06 "3000–3e+05 Hz", and REAL
-    exampleDataParstat.txt's "10–1e+04 Hz, |Z| 0.0165–0.03349 Ω"); for one point ``1 frequency,
-    1 Hz, |Z| 3.606 Ω`` (it read "1 frequencies 1–1 Hz, |Z| 3.606–3.606 Ω" until 2026-12-06)."""
+    `format_band`, |Z| with its SI prefix: not "3000–3e+05 Hz", nor for REAL
+    exampleDataParstat.txt "10–1e+04 Hz, |Z| 0.0165–0.03349 Ω"); for one point ``1 frequency,
+    1 Hz, |Z| 3.606 Ω`` (not "1 frequencies 1–1 Hz, |Z| 3.606–3.606 Ω")."""
     from ..data import format_band, format_quantity
 
     low, high = (format_quantity(summary[k], "Ω", 4) for k in ("z_abs_min_ohm", "z_abs_max_ohm"))
@@ -378,8 +378,8 @@ def _preview(ds, fmt, name: str | None = None):
 def _next_line(run, data) -> str:
     """The report's last line: what to run next on these points. ``impedax kk`` then ``impedax
     drt``; on fewer points than the DRT takes (`DRT_POINTS_MIN`), a fit of at most 2N real
-    parameters (1 point was told to run `impedax kk`, which needs 4: a walkthrough, 2026-12-05);
-    below `CONCLUSIVE_POINTS_MIN` the KK test's verdict is inconclusive, and the line says so."""
+    parameters, not ``impedax kk`` (1 point is too few for it); below `CONCLUSIVE_POINTS_MIN`
+    the KK test's verdict is inconclusive, and the line says so."""
     from ..constants import CONCLUSIVE_POINTS_MIN, DRT_POINTS_MIN
     from .common import fit_command
 
