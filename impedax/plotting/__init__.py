@@ -137,8 +137,8 @@ def plot_nyquist(ax, data=None, model=None, *, data_label="data", model_label="m
     model's curve and ``curves`` (complex Z of further curves the caller draws on ``ax``)
     widening it by at most `MODEL_OVERSHOOT` of the data's span, ``points`` (complex Z the
     caller draws as data, masked points) held inside. A model alone is followed as data are,
-    a capacitive tail zoomed on as theirs (`impedax simulate --plot` of Meyer's finger drew a
-    vertical line on a GΩ axis until 2026-12-06)."""
+    a capacitive tail zoomed on as theirs (else `impedax simulate --plot` of Meyer's finger would
+    draw a vertical line on a GΩ axis)."""
     d = _as_arrays(data, "data", "plot_nyquist", frequency_needed=False)
     m = _as_arrays(model, "model", "plot_nyquist", frequency_needed=False)
     if d is not None:
@@ -218,9 +218,9 @@ TAIL_RATIO = 100.0
 # ... the panel then shows −Z'' up to this many times that Z' span above the lowest −Z''
 TAIL_VIEW = 3.0
 # a tail from this ratio on where the structure sits at the bottom: the points within `TAIL_VIEW`
-# spans of the lowest −Z'' cover at least `TAIL_COVER` of the structure's Z' span (2026-12-06:
-# a SYNTHETIC R0 + R1 || CPE1 + Wo1 + G1 from 10 mHz, its Wo a capacitor at low frequency,
-# reached 58× and was drawn as a strip 2 mm wide under a legend that spilled over its axis).
+# spans of the lowest −Z'' cover at least `TAIL_COVER` of the structure's Z' span (a SYNTHETIC
+# R0 + R1 || CPE1 + Wo1 + G1 from 10 mHz, its Wo a capacitor at low frequency, reaches 58×;
+# unzoomed it is a strip 2 mm wide under a legend that spills over its axis).
 # A blocking electrode's CPE line covers only TAIL_VIEW/tan(α·90°) of its Z' span there (24 %
 # at α = 0.95) and keeps its whole line
 STRUCTURED_TAIL_RATIO = 10.0
@@ -308,10 +308,9 @@ def nyquist_view(ax, z_data, *z_models, frequency=None, frame: tuple[float, floa
     over all that is drawn with ``frame="drawn"``. For data with a capacitive tail beside the
     model curves (`tail_frame`): zoomed on the structure with the tail marked (`mark_tail`,
     ``frequency`` [Hz] of the data when known). Every Nyquist panel of a single spectrum (fit,
-    KK, DRT, diagnosis, refinement, comparison) is framed here; before 2026-12-06 only the
-    comparison's was, and equal scales over a panel capped in height (`TALLEST_PANEL`) widened
-    the others' range past the data: REAL ZPlot's fit to 900 Ω beside data that end at 615 Ω,
-    Gamry's KK test to 23 kΩ beside 18 kΩ."""
+    KK, DRT, diagnosis, refinement, comparison) is framed here: framed otherwise, equal scales
+    over a panel capped in height (`TALLEST_PANEL`) would widen the range past the data: REAL
+    ZPlot's fit to 900 Ω beside data that end at 615 Ω, Gamry's KK test to 23 kΩ beside 18 kΩ."""
     if isinstance(frame, str) and frame != "drawn":
         raise ParameterError(f"nyquist_view: frame must be (Z' min, Z' max, −Z'' min, −Z'' max), None (the data's) or \"drawn\"; got {frame!r}")
     zoom = tail_frame(z_data, *z_models)
@@ -405,7 +404,7 @@ class _PrefixedFormatter(ScalarFormatter):
 
 
 # the unit in an axis label's brackets that `prefixed_axis` scales: [Ω], [kΩ], [µF], [m] → [µm]
-# (a gap thickness u, 2026-12-03: it read 2.8055 ×10⁻⁶ m beside matplotlib's 1e−6), and a
+# (a gap thickness u, which would read 2.8055 ×10⁻⁶ m beside matplotlib's 1e−6), and a
 # compound unit led by one of them, [F s^(α-1)] → [nF s^(α-1)] (a CPE's Q) ...
 _BRACKETED_UNIT = re.compile(r"\[(T|G|M|k|m|µ|n|p|f)?(Ω|F|H|m)((?: [^\]]*)?)\]")
 
@@ -900,17 +899,17 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True) -> None:
     printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
     minor ticks (an axis over about a decade) would not fit between each other (`_MinorLogLabels`);
     those count in an SI prefix from 1000 up (2k, 3k next to 10k, 20k: "2000 3000 4000 6000"
-    ran into one string beside "20k 30k"). An axis in % (``[%]`` in its label, `percent_axis`)
-    gets no prefix: ``1e-6`` (2026-12-03: a comparison's residuals read "1µ, 100p" of a percent).
+    would run into one string beside "20k 30k"). An axis in % (``[%]`` in its label, `percent_axis`)
+    gets no prefix: ``1e-6`` (a comparison's residuals would read "1µ, 100p" of a percent).
 
     ``nyquist``: the Nyquist panel (Axes) of the same figure; the axis, in Ω (``|Z| [Ω]``), then
     counts in that panel's prefix (`view_prefix` of its two axes, as `equal_aspect` counts it),
     named in its label (``|Z| [mΩ]``, ticks 20, 30, 40), and writes no prefix of its own on a
-    tick (``1e-4`` of MΩ): REAL exampleData.csv's comparison had a Nyquist panel in mΩ beside
-    |Z| in Ω ticked 0.02, 0.03, 0.04 (2026-12-06).
+    tick (``1e-4`` of MΩ): else REAL exampleData.csv's comparison would have a Nyquist panel in
+    mΩ beside |Z| in Ω ticked 0.02, 0.03, 0.04.
 
     ``prefixes`` False: no SI prefix on any tick (``1e-5``, ``1e5``), for a dimensionless
-    quantity, which a prefix misreads: a corner plot's CPE exponent α read "10µ" (2026-12-06)."""
+    quantity, which a prefix misreads: a corner plot's CPE exponent α would read "10µ"."""
     from matplotlib.ticker import LogFormatter
 
     def scaled(formatter, x, prefix_from=1e4):

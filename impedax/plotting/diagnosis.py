@@ -177,7 +177,7 @@ def noise_levels(steps) -> list[tuple[int, float]]:
 
 REFINEMENT_RESIDUAL_LABEL = "(Z_model − Z)/|Z| [%]"
 """The y label of the refinement figure's residual panels: model minus data, `FitResult.residuals`,
-as the fit and diagnosis figures name it ("res. [%]", no sign, until 2026-12-06)."""
+as the fit and diagnosis figures name it (not "res. [%]", which gives no sign)."""
 
 
 def plot_refinement(refinement, *, title: str | None = None):
@@ -215,7 +215,7 @@ def plot_refinement(refinement, *, title: str | None = None):
         # each step's label stands upright above its point and just right of it: no wider than a
         # step, so labels of steps of close rms_rel do not write over each other, and clear of the
         # line, which comes in from the upper left and leaves downwards (REAL exampleData.csv's 7
-        # steps, 2026-12-06: level labels ran leftwards into each other, "extra_relaxation − W1"
+        # steps: level labels would run leftwards into each other, "extra_relaxation − W1"
         # across "diffusion"), and right of the step's noise mark, which reaches NOISE_MARK_POINTS/2
         # either side (the demo's "electrode_polarization" ran up through it); the start's reads across
         upright = i > 0
@@ -261,7 +261,7 @@ def plot_refinement(refinement, *, title: str | None = None):
         change = "start" if s.change == "(start)" else s.change
         # (no break inside "(rms_rel 1.72 %)": REAL VersaStudio's step 2 wrapped as "(rms_rel / 1.72 %)")
         head = wrap_model(f"step {i}: {change}  (rms_rel\u00a0{s.fit.rms_rel * 100:.3g}\u00a0%)", title_chars)
-        if row == 0 and shown[0] > 0:  # (steps left out: said above the first row shown, where 7 steps showed 2–6 without a word until 2026-12-06)
+        if row == 0 and shown[0] > 0:  # (steps left out: said above the first row shown, so 7 steps shown as 2–6 say so)
             head = wrap_model(f"residuals of the last {len(shown)} of {n} steps ({shown[0]}–{shown[-1]}; all {n} in the error panel)", title_chars) + "\n" + head
         a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=font_size("title", 8))
         a.set_ylabel(REFINEMENT_RESIDUAL_LABEL, fontsize=font_size("label", 8))

@@ -20,14 +20,14 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     where a parameter spans decades; and a Nyquist panel of data and fits (`_plot_fits`) in
     the last row's free places (a row of its own when fewer than two are free). ``figsize``
     (width, height) [in]: the figure's size, the panels keeping their proportions. ``params``:
-    the parameters to draw, in that order (a list of names, or one name; None: every free one;
-    added 2026-12-01), the rms_rel panel after them; an unknown name is a `ParameterError`
+    the parameters to draw, in that order (a list of names, or one name; None: every free one),
+    the rms_rel panel after them; an unknown name is a `ParameterError`
     naming the circuit's parameters. ``x``: a batch dimension with a numeric coordinate
     (``"voltage"``) to draw against, its coordinate on the x axis and one series (colour,
     shifted sideways by a few % of the coordinate's smallest step so that bars of one x stay
-    apart) per label of the other dimensions (`_x_series`; added 2026-12-02). ``spectra``:
+    apart) per label of the other dimensions (`_x_series`). ``spectra``:
     the spectra panel, "nyquist", "phase" (against frequency) or "auto" (the phase where the
-    spectra have a capacitive tail, `phase_panel`; added 2026-12-02). Returns a matplotlib Figure."""
+    spectra have a capacitive tail, `phase_panel`). Returns a matplotlib Figure."""
     import matplotlib.pyplot as plt
 
     from . import characters_across, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
@@ -126,8 +126,8 @@ MISSES_STRUCTURE_LABEL = "model misses structure\n(a warning or the misfit hint)
 def _ring_missing_structure(ax, batch, x, rms) -> None:
     """Ring the rms_rel of each fit whose model misses structure the data hold
     (`BatchFitResult.misses_structure`: a warning or the misfit hint says so), named in the
-    panel's legend; none where none does. Added 2026-12-06: on the REAL 130 battery cycles the
-    hint named 49 fits the figure did not tell from the others."""
+    panel's legend; none where none does. On the REAL 130 battery cycles the hint names 49 fits
+    the figure would not otherwise tell from the others."""
     misses = getattr(batch, "misses_structure", None)
     flags = np.zeros(rms.size, bool) if misses is None else np.asarray(misses.transpose(*batch.dims).values, bool).ravel()
     if flags.any():
@@ -138,7 +138,7 @@ def _ring_missing_structure(ax, batch, x, rms) -> None:
 def _shared_band(ax, batch, name: str) -> None:
     """A global fit's shared parameter ``name`` as its value ± standard error, a band across the
     panel per global fit (its value's points drawn by the caller), labelled with the number: the
-    same bar drawn at each of the REAL 130 battery cycles read as a wall of bars until 2026-12-06."""
+    same bar drawn at each of the REAL 130 battery cycles would read as a wall of bars."""
     value = batch.values(name).values.ravel()
     error = batch.stderr(name).values.ravel()
     for v, e in zip(value, error):
@@ -270,7 +270,7 @@ def _mark_undetermined(ax, x, y, determined, label: str) -> None:
     """Values the data do not determine (`BatchFitResult.undetermined`) as open grey markers
     without error bars (theirs span decades and flattened the panel: a battery's idle R2 at
     1e30 ± 1e52 Ω), the axis scaled to the determined ones; values beyond it sit at its edge as
-    ▲ / ▼, each named in the legend (until 2026-12-06 they had no entry)."""
+    ▲ / ▼, each named in the legend."""
     if determined.size:
         ax.autoscale_view()
         lo, hi = ax.get_ylim()
@@ -382,10 +382,9 @@ def sharing_text(batch) -> str:
 def residuals_shown(batch) -> tuple[np.ndarray, str, str]:
     """The residuals a batch's residual map draws, (spectra, frequency as stored): in units of
     the data's σ, (Z_model − Z)/σ, where the fits were weighted by it (``sigma``: what they
-    minimised, judged against the noise; until 2026-12-06 the map showed them relative to |Z|
-    too), else relative to |Z| in % (`plot_residual_map`); with the colour bar's quantity
-    and unit. Model minus data, as `FitResult.residuals` and a single fit's figure (docs/physics.md;
-    until 2026-12-06 the map drew data minus model, the opposite colour of the same residual)."""
+    minimised, judged against the noise), else relative to |Z| in % (`plot_residual_map`); with
+    the colour bar's quantity and unit. Model minus data, as `FitResult.residuals` and a single
+    fit's figure (docs/physics.md), so that one residual has one colour in both."""
     ds = batch.dataset
     dims = tuple(batch.dims)
     z = ds["Z"].transpose(*dims, "frequency").values.reshape(batch.n_spectra, -1)
@@ -423,7 +422,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     so a few outliers do not pale the rest; beyond it the colour saturates), and each fit's
     rms_rel below (in σ: its chi2_red, a dashed line at 1). ``excluded``: frequencies [Hz] left
     out of the fits (``--exclude``), each drawn as a hatched grey row of its own and named in a
-    legend, where their neighbours' cells had stretched over them (added 2026-12-06). A model
+    legend, where their neighbours' cells would stretch over them. A model
     that misses an effect leaves the same
     sign pattern at the same frequencies in spectrum after spectrum, where noise leaves speckle
     (`BatchFitResult.plot_residual_map`; ``impedax fit FILE --residual-map FIG.png``). Returns a
@@ -477,8 +476,8 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     bar.set_label(f"{quantity} [{unit}]\n(± {scale:.3g} {unit}: the 99th percentile{beyond})")  # (two lines: one ran past the figure's top)
     places = [coordinate_labels(ds, d) for d in dims]
     labels = [", ".join(drawn_label(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
-    # (in σ, each fit's chi2_red, about 1 at the noise σ states, as the report gives it since
-    # 2026-12-06; else rms_rel [%])
+    # (in σ, each fit's chi2_red, about 1 at the noise σ states, as the report gives it; else
+    # rms_rel [%])
     per_fit = "chi2_red" if unit == "σ" and "chi2_red" in ds else "rms_rel"
     rms = ds[per_fit].transpose(*dims).values.reshape(-1) * (100 if per_fit == "rms_rel" else 1)
     ax_rms.plot(np.arange(batch.n_spectra), rms, "o-", ms=3, lw=0.8)

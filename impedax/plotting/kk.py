@@ -27,7 +27,7 @@ def plot_kk(result, *, title: str | None = None):
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="not KK-consistent")
     levels = result.rule_levels
     t = result.thresholds
-    # (judged by the data's σ: each point's own levels, t·σ/|Z|, added 2026-12-02)
+    # (judged by the data's σ: each point's own levels, t·σ/|Z|)
     per_point = None if getattr(result, "point_scale", None) is None else (result.frequency[order], result.point_scale[order] * t["point"], result.point_scale[order] * t["run"])
     verdict = "valid" if result.valid else "not valid"
     fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {format_percent(result.rms_rel)}, µ {result.mu:.2f}")  # (before the legend is placed off the labels on the final layout)

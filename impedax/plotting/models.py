@@ -85,7 +85,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     title = ("air-gap thickness" if identified else "air-gap thickness: NOT determined (lower bound only)" if bounded
              else "air-gap thickness: NOT determined (no bound: the model misfits)" if getattr(gap, "gap_bound_withheld", None) is not None
              else "air-gap thickness: NO AIR GAP (see the heading)")
-    # (the density of u in µm: its bars' areas sum to 1 over the axis in µm; "density" alone until 2026-12-06)
+    # (the density of u in µm: its bars' areas sum to 1 over the axis in µm; not "density" alone)
     ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "probability density [1/µm]", title=title)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]
@@ -131,8 +131,8 @@ def force_unit(force_n) -> tuple[float, str]:
 
 FORCE_LOG_SPAN = 100.0
 """The gap figure's force axis is logarithmic when the force's 90 % band and median span more
-than this factor (`force_span`): on REAL data.dfr (no air gap) the band reached from pN to 6.6 N,
-and a linear axis drew the median, 6.31 µN, on the zero line (2026-12-06)."""
+than this factor (`force_span`): on REAL data.dfr (no air gap) the band reaches from pN to 6.6 N,
+and a linear axis would draw the median, 6.31 µN, on the zero line."""
 
 
 def force_span(force) -> float:
@@ -210,12 +210,12 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
 
     fig, ax = plt.subplots(figsize=(6, 4))
     # in the SI prefix of the largest force (`force_unit`): Vezzoli's model with a thin layer
-    # drew 14,000 mN in mN (walkthrough 2026-12-06)
+    # would otherwise draw 14,000 mN in mN
     unit_scale, unit = force_unit(force)
     ax.semilogx(freq, np.asarray(force) / unit_scale, marker="o" if np.size(freq) < 3 else None)
     # a force of one sign is drawn from zero, so that the axis shows its size: over a narrow band
-    # (Vezzoli's eq 10 at 10–50 kHz, 74.44–74.49 mN) the autoscaled axis drew a change of 0.07 %
-    # as a steep rise across the whole panel (2026-12-06)
+    # (Vezzoli's eq 10 at 10–50 kHz, 74.44–74.49 mN) an autoscaled axis would draw a change of
+    # 0.07 % as a steep rise across the whole panel
     largest = float(np.max(np.asarray(force))) / unit_scale if np.size(force) else 0.0
     if np.all(np.asarray(force) >= 0) and np.isfinite(largest):
         ax.set_ylim(bottom=0.0, top=max(ax.get_ylim()[1], 1.05 * largest) if largest > 0 else 1.0)
