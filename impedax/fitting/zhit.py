@@ -116,7 +116,7 @@ class ZHITResult(FrozenResult):
     band_rules: tuple[tuple[str, ...], ...] = ()
     end_slope_local: np.ndarray | None = field(default=None)
     sign_hint: str | None = None  # `io.sign_check.sign_hint`: Z'' may be stored with the opposite sign
-    noise_floor: float = 0.01  # s = max(noise_estimate, noise_floor): the floor `zhit` was given (added 2026-12-05)
+    noise_floor: float = 0.01  # s = max(noise_estimate, noise_floor): the floor `zhit` was given
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -174,18 +174,18 @@ class ZHITResult(FrozenResult):
             "noise_estimate": self.noise_estimate, "noise_estimate_rel": self.noise_estimate, "point_threshold_rel": self.threshold, "run_threshold_rel": self.run_threshold, "run_length": self.run_length,
             "frequency_hz": self.frequency, "modulus_zhit_ohm": self.modulus, "residuals_modulus": self.residuals,
             "end_slope_local_hz": np.sort(self.frequency[end_local]), "sign_hint": self.sign_hint,
-            "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),  # (added 2026-12-01, as the linear test's)
-            # (added 2026-12-05) s = max(noise estimate, floor), what the rules' levels are multiples of
+            "notes": self.notes, "warnings": self.notes + ([self.sign_hint] if self.sign_hint else []),  # (as the linear test's)
+            # s = max(noise estimate, floor), what the rules' levels are multiples of
             "noise_floor_rel": self.noise_floor, "threshold_scale_rel": max(self.noise_estimate, self.noise_floor),
-            # (added 2026-12-06, as the linear test's) per band its flagged measured frequencies, and
+            # (as the linear test's) per band its flagged measured frequencies, and
             # their lowest and highest: the range the text names (``bad_bands_hz`` keep the edges)
             "bad_band_frequencies_hz": [list(f) for f in self.band_frequencies], "measured_bands_hz": [[lo, hi] for lo, hi in self.measured_bands],
-            "non_passive_hz": self.non_passive_frequencies,  # (added 2026-12-06, as the linear test's: points with Re Z < 0)
+            "non_passive_hz": self.non_passive_frequencies,  # (as the linear test's: points with Re Z < 0)
         }
 
     def to_table(self) -> list[dict[str, object]]:
         """One row per frequency, in the data's order (``impedax kk --method zhit --out
-        FILE.csv``; added 2026-12-01): ``frequency_hz``, ``z_abs_ohm`` (|Z| measured),
+        FILE.csv``): ``frequency_hz``, ``z_abs_ohm`` (|Z| measured),
         ``modulus_zhit_ohm`` (reconstructed from the phase), ``residual_modulus`` and ``flagged``."""
         return [
             {"frequency_hz": float(f), "z_abs_ohm": float(abs(z)), "modulus_zhit_ohm": float(m), "residual_modulus": float(r), "flagged": bool(flag)}
