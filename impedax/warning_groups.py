@@ -58,8 +58,8 @@ def labels_text(labels: Sequence) -> str:
 # prefix (``1.58 kHz``, as `impedax.data.format_frequency` writes frequencies; ``677 µΩ s^-1/2``,
 # ``2.81 nF s^(α-1)``, as `impedax.data.format_quantity` writes parameters); the same quantity
 # with another prefix is the same wording (`_template`), and a range of it is one value scale.
-# Until 2026-12-06 only Hz: on the REAL 130 battery cycles above 3 kHz, "W1.sigma = 1.14 µΩ
-# s^-1/2 runs to its lower bound 0" and the same note in nΩ and mΩ were three kinds of warning.
+# Not only Hz: on the REAL 130 battery cycles above 3 kHz, "W1.sigma = 1.14 µΩ s^-1/2 runs to
+# its lower bound 0" and the same note in nΩ and mΩ are one kind of warning, not three.
 # The compound units first, so that a quantity takes its whole unit.
 _SCALED_UNITS = ("Ω s^-1/2", "F s^(α-1)", "Hz", "Ω", "F", "H", "s")
 _PREFIXES = {"T": 1e12, "G": 1e9, "M": 1e6, "k": 1e3, "": 1.0, "m": 1e-3, "µ": 1e-6, "u": 1e-6, "n": 1e-9, "p": 1e-12, "f": 1e-15}  # (SI prefixes, as impedax.data.SI_PREFIXES)
@@ -140,7 +140,7 @@ def _spread(texts: Sequence[str]) -> str:
     """One text for warnings that differ only in their numbers (and the SI prefixes of their
     quantities, `_template`): the numbers that differ become their range (``r = -0.993 to
     -0.990``), a quantity's with its unit once (``1.58–10 kHz``) and a band's as one band with
-    how its ends vary (`_band_range`; until 2026-12-02 each end was ranged number by number:
+    how its ends vary (`_band_range`; not each end ranged number by number:
     "at 1.58 to 10 kHz – 7.94 to 100 kHz")."""
     if len(set(texts)) == 1:
         return texts[0]
@@ -196,8 +196,8 @@ def _is_spectrum(key: str) -> bool:
 def _scopes_text(scopes: Sequence[str]) -> str:
     """Global fits' keys (`scope_key`) as one text: each dimension set shared over once, with the
     groups it is over as spectra are named (`_spectra_text`): ``shared over cycle (group a, b)``
-    for "shared over cycle (group=a)" and "shared over cycle (group=b)" (until 2026-12-03 they were
-    counted as spectra and their labels cut at "=": "2 of 6 spectra: shared over cycle (group a), b)")."""
+    for "shared over cycle (group=a)" and "shared over cycle (group=b)" (not counted as spectra
+    with their labels cut at "=": "2 of 6 spectra: shared over cycle (group a), b)")."""
     by_over: dict[str, list[str]] = {}
     for key in scopes:
         m = _SCOPE.fullmatch(key)
@@ -240,8 +240,8 @@ def _segments(text: str) -> list[str] | None:
 
 def _template(text: str) -> str:
     """A text with its numbers as ``#`` and its quantities as ``# Hz`` whatever their SI prefix
-    (`_QUANTITY`; ``1 Hz`` and ``1.58 kHz`` were two kinds of warning until 2026-12-02): texts of
-    one wording have one template."""
+    (`_QUANTITY`; ``1 Hz`` and ``1.58 kHz`` are one kind of warning): texts of one wording have
+    one template."""
     return _NUMBER.sub("#", _QUANTITY.sub(lambda m: "# " + m.group(3), text))
 
 
@@ -306,8 +306,7 @@ def warning_kinds(warnings: Mapping[str, Sequence[str]]) -> list[dict]:
     their number (and ``scope``: the keys that name no spectrum, a global fit's "shared over
     trial"); the most frequent kind first, every kind. A kind worded in several ways (by a
     detail in brackets, `_kind_key`) also has ``wordings``: each wording's text (numbers as
-    ranges) and its spectra, the most frequent first (added 2026-12-01; before, each wording
-    was a kind of its own)."""
+    ranges) and its spectra, the most frequent first; the wordings are one kind, not a kind each."""
     out = []
     for members in _kinds(warnings):
         places = list(dict.fromkeys(place for place, _ in members))
@@ -344,8 +343,8 @@ def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, h
         if not spectra_of:  # not spectra: global fits' own notes (`scope_key`)
             where = _scopes_text(scopes)
         elif len(spectra_of) == n_spectra:
-            # (one spectrum: named by its labels, as a batch's other lines name theirs; until
-            # 2026-12-06 "the 1 spectrum", which said neither which nor that it was the only one)
+            # (one spectrum: named by its labels, as a batch's other lines name theirs; "the 1
+            # spectrum" would say neither which nor that it is the only one)
             where = _spectra_text(spectra_of) if n_spectra == 1 else f"all {n_spectra} spectra"
         elif spectra is not None and 2 * len(spectra_of) > n_spectra and (others := [p for p in spectra if p not in set(spectra_of)]):
             where = f"{len(spectra_of)} of {n_spectra} spectra: all but {_spectra_text(others)}"
