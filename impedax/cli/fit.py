@@ -31,7 +31,7 @@ def add_exclude_option(p, *, of_every_file: bool = False) -> None:
     """``--exclude F,F``, as `impedax.cli.common.exclude_points` reads it (fit, compare,
     diagnose, refine, kk, drt, sample: the points refine and diagnose masked can be left out of each;
     gap and remaining, ``of_every_file``: of each input file, `gap.files_without_points`);
-    repeated, the lists join (until 2026-12-03 the last one alone was kept, without a word)."""
+    repeated, the lists join (not the last one alone)."""
     import argparse
 
     class Joined(argparse.Action):
@@ -68,8 +68,7 @@ def note_solver_step_limit(n: int, command: str) -> None:
     from ..fitting.least_squares.solvers import SCREEN_STEPS
 
     if n < SCREEN_STEPS:
-        # (diagnose adds no effect: its note says what the limit does, not refine's option; a
-        # walkthrough of 2026-12-04 found refine's words under diagnose)
+        # (diagnose adds no effect: its note says what the limit does, not refine's option)
         meant = "the number of effects refine may add is --max-effects" if command == "refine" else "so few steps stop most fits before they converge"
         print(
             f"impedax {command}: note: --max-steps {n} is the solver's step limit per fit (below the {SCREEN_STEPS} steps each start is screened for); {meant}",
@@ -166,11 +165,11 @@ def run(args) -> int:
     n_spectra = int(data["Z"].size // max(data.sizes.get("frequency", 1), 1))
     if args.residual_map and n_spectra == 1:
         raise ParameterError(f"--residual-map maps the residuals of several spectra, and {args.data} holds one: --plot FIG.png draws its data against the model with the residuals")
-    if latex and n_spectra == 1:  # (several: a row per spectrum, `BatchFitResult.to_latex`, since 2026-12-06; a list or range that picks one, --select cycle=0:20 of cycles 0, 64, 129: that spectrum, fitted alone, as compare takes it; a batch of one has no LaTeX table and ended in a traceback until 2026-12-06)
+    if latex and n_spectra == 1:  # (several: a row per spectrum, `BatchFitResult.to_latex`; a list or range that picks one, --select cycle=0:20 of cycles 0, 64, 129: that spectrum, fitted alone, as compare takes it; a batch of one has no LaTeX table)
         data = data.isel({d: 0 for d in data["Z"].dims if d != "frequency"})
     if plot_params is not None and n_spectra == 1:
         raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
-    if args.plot_x is not None:  # (checked before the fit, as every argument: added 2026-12-02)
+    if args.plot_x is not None:  # (checked before the fit, as every argument)
         check_plot_x(args.plot_x, data, args.data, given_plot=bool(args.plot))
     try:  # (fit says its stages: the first line, then a batch's start search, local fits, statistics)
         result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, registry=args.registry, **sharing)
@@ -178,17 +177,17 @@ def run(args) -> int:
         progress.close()
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
-    # (hints added 2026-12-02: a single fit's misfit that looks small and is many times what the data allow, `misfit_hint`)
+    # (hints: a single fit's misfit that looks small and is many times what the data allow, `misfit_hint`)
     hint = misfit_hint(result) if isinstance(result, FitResult) else None
-    batch_hints = result.misfit_hints() if isinstance(result, BatchFitResult) else None  # (added 2026-12-03)
+    batch_hints = result.misfit_hints() if isinstance(result, BatchFitResult) else None
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {}),
-                                    **({"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {})})  # (the JSON's, as inspect --json's: added 2026-12-01)
+                                    **({"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {})})  # (the JSON's, as inspect --json's)
     outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None and args.plot_x is None else lambda: result.plot(params=plot_params, x=args.plot_x), source, **figure_options(args)),
                   "--residual-map": figure_writer(lambda: result.plot_residual_map(excluded=left_out or None), source, **figure_options(args))})
-    if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr, as before 2026-12-02)
+    if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
-    else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once; added 2026-12-02)
-        # (a batch's report groups its warnings by kind, naming the spectra, and ends with the hints computed above, not again; a global fit's too since 2026-12-06)
+    else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once)
+        # (a batch's report groups its warnings by kind, naming the spectra, and ends with the hints computed above, not again; a global fit's too)
         given_hints = {"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {}
         print_result(read, args.json, source, record, command="fit", written=args.out, **given_hints)
         if not args.json:
