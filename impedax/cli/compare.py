@@ -102,7 +102,7 @@ def run(args) -> int:
     finally:
         progress.close()
     started = [{"model": str(circuits[i]), "from": str(circuits[j])} for i, j in sorted(started_from.items())]
-    comparison = WithSummaryKeys(compare(fits), {"skipped_rows": skipped_rows(data), "started_from_contained": started})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01; started_from_contained 2026-12-02)
+    comparison = WithSummaryKeys(compare(fits), {"skipped_rows": skipped_rows(data), "started_from_contained": started})  # (the JSON's, as fit's and inspect --json's)
     # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them; a `BatchComparison`'s alike)
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
@@ -114,18 +114,17 @@ def run(args) -> int:
         where = each_spectrum_written(args.out, rows="a row per spectrum and model", netcdf="each model's criteria and fits over the spectra") or "--out FILE.csv (a row per spectrum and model) or --json's spectra"  # (not the options the run used)
         report = comparison.report(each_spectrum_where=f"{where}; one spectrum's full comparison: {pick}")
         warned = [batch.model for batch in comparison.batches if any(batch.warnings.values())]
-        if warned:  # (the command that lists them, this run's file and options: "impedax fit FILE --model MODEL" until 2026-12-06)
+        if warned:  # (the command that lists them, with this run's file and options, not "impedax fit FILE --model MODEL")
             import shlex
 
             from .common import fit_command
 
-            # (each warned model's command, "; " between them: the first alone until 2026-12-06, and "each batch's report()
-            # lists them", the Python API's words, before it)
+            # (each warned model's command, "; " between them)
             commands = "; ".join(f"{fit_command(args)} --model {shlex.quote(model)}" for model in warned)
             report = report.replace(f"each batch's report() lists them; from the command line, {FIT_COMMAND_WORDS}", f"impedax fit lists them: {commands}")
         print(report)
         hints = comparison.best_misfit_hints()
-        if hints is not None:  # (the report's line says it; the command for its worst spectrum: added 2026-12-03)
+        if hints is not None:  # (the report's line says it; the command for its worst spectrum)
             from .common import diagnose_command
 
             print(f"next: {diagnose_command(args, data, hints['worst']['labels'], comparison.batches[comparison.labels.index(hints['worst']['model'])].model)} (where the best model fails on the worst of those spectra and what it misses)")
@@ -139,7 +138,7 @@ def run(args) -> int:
             if fit_result.bounds:  # (--bound: the table's rows do not show them either)
                 print(f"bounded in {fit_result.model}: " + user_bounds_text(fit_result))
         print("\n".join(warning_lines(comparison)))
-        if comparison.best_misfit_hint() is not None:  # (the table's line says it; the command that shows what is missing: added 2026-12-03)
+        if comparison.best_misfit_hint() is not None:  # (the table's line says it; the command that shows what is missing)
             import shlex
 
             from .common import fit_command
@@ -155,8 +154,8 @@ def nesting_order(circuits, registry, held=None) -> list[int]:
     in it (`comparison.nested_as_held`, ``held``: each model's parameters held by ``--fix``, name
     → value; each contains more of the others than any model nested in it does), the order given
     among the rest. A held parameter the reduction needs breaks the nesting, as the comparison
-    judges it (``--fix L1=3u``: R0 + R1 || CPE1 + L1 no longer contains R0 + R1 || C1; until
-    2026-12-03 the command nested by circuit alone)."""
+    judges it (``--fix L1=3u``: R0 + R1 || CPE1 + L1 no longer contains R0 + R1 || C1, though its
+    circuit does)."""
     contained = [sum(j != i and _nested(j, i, circuits, registry, held) for j in range(len(circuits))) for i in range(len(circuits))]
     return sorted(range(len(circuits)), key=lambda i: (contained[i], i))
 
@@ -181,7 +180,7 @@ def _nested(j: int, i: int, circuits, registry, held) -> bool:
 
 
 OUT_SUFFIXES = (".csv", ".json")
-BATCH_OUT_SUFFIXES = (".nc",)  # (a comparison over several spectra only: `BatchComparison.from_xarray` reads it back; added 2026-12-03)
+BATCH_OUT_SUFFIXES = (".nc",)  # (a comparison over several spectra only: `BatchComparison.from_xarray` reads it back)
 
 
 def out_path(path: str | None, several: bool = True) -> str | None:
