@@ -32,7 +32,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     """The spectra of ``paths`` (each read by `impedax.load`) as one spectrum Dataset with Z over
     (``dim``, frequency), in the order given; files that each hold spectra over the same extra
     dimensions (per-material files over voltage) give Z over (``dim``, *those dimensions*,
-    frequency), each file's spectra lined up by their labels (in any order; added 2026-12-01).
+    frequency), each file's spectra lined up by their labels (in any order).
 
     ``coords``: one label per file (`stack_labels`: text that reads as numbers becomes numbers);
     default the file names without extension (``day01``). The files must share one frequency
@@ -47,7 +47,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     ``dim``, another grid, sigma in some files only).
     ``readers``: as `impedax.load`'s (None: the built-in ones).
 
-    ``common_frequencies`` (added 2026-12-04): files whose grids differ keep the frequencies every
+    ``common_frequencies``: files whose grids differ keep the frequencies every
     file has (each within `SWEEP_RTOL` of the first file's) and leave out the rest, measured
     points only (nothing is interpolated); ``attrs["frequencies_left_out"]`` maps each file that
     lost points to their frequencies [Hz]. A file that would keep fewer than half its points
@@ -61,7 +61,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         raise ParameterError(f"paths must be a list of files, got {shown(paths)} ({type(paths).__name__})") from None
     if not paths:
         raise ParameterError("paths is empty: give at least one spectrum file")
-    for i, path in enumerate(paths):  # (a number ended in os.fspath's TypeError until 2026-12-07)
+    for i, path in enumerate(paths):  # (a number: this message, not os.fspath's TypeError)
         if not isinstance(path, (str, os.PathLike)):
             raise ParameterError(f"paths: item {i + 1} of {len(paths)} is not a file name: {shown(path)} ({type(path).__name__})")
     if not isinstance(dim, str) or not dim.strip():
@@ -72,7 +72,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         raise ParameterError(f"dim: {dim!r} is the name of a variable of every spectrum; name the new dimension otherwise, e.g. 'day'")
     labels = None if coords is None else stack_labels(coords, len(paths))  # (the labels given are checked first, as any argument)
     _refuse_repeated(paths)
-    if labels is None:  # (standard input, "-", is named as load names it, <stdin>, and labelled "stdin"; added 2026-12-01)
+    if labels is None:  # (standard input, "-", is named as load names it, <stdin>, and labelled "stdin")
         labels = stack_labels([STDIN_LABEL if str(p) == STDIN else Path(str(p)).stem for p in paths], len(paths), given=False)
     spectra = [_spectra_of(path, dim, readers) for path in paths]
     paths = [STDIN_NAME if str(p) == STDIN else p for p in paths]
@@ -99,8 +99,8 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
             sigma[i][..., order0] = ds["sigma"].transpose(*extra, "frequency").values[..., order]
     attrs = merged_attrs([(str(label), ds.attrs) for label, ds in zip(labels, spectra)], dim)
     # each file's own (the list below names them all); and what says a file is a saved result or
-    # what wrote it: the stack holds their spectra alone (2026-12-06: two KK tests' files stacked
-    # were shown by impedax inspect as "a saved Kramers-Kronig test", with the first test's provenance)
+    # what wrote it: the stack holds their spectra alone (else two KK tests' files stacked
+    # would be shown by impedax inspect as "a saved Kramers-Kronig test", with the first test's provenance)
     for key in ("path", "saved_from", "impedax_kind", *PROVENANCE_ATTRS):
         attrs.pop(key, None)
     attrs["sources"] = [str(p) for p in paths]
@@ -122,8 +122,8 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
 
 def _refuse_repeated(paths: Sequence) -> None:
     """`DataError` when one file is given twice (the same file by any path to it): its spectrum
-    would stand in the series twice as two measurements. Until 2026-12-03 the message on the
-    repeated label sent the user to --coords, which then wrote the two copies without a word."""
+    would stand in the series twice as two measurements. A message on the repeated label
+    alone would send the user to --coords, which would write the two copies without a word."""
     seen: dict[str, int] = {}
     for i, path in enumerate(paths):
         if str(path) == STDIN:
