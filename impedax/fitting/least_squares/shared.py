@@ -371,8 +371,8 @@ def joint_null_sets(jac: np.ndarray, own: Sequence[int], shared: Sequence[int], 
     ((I − U_iU_iᵀ) S̃_i)_i stacked (the square root of the Schur complement, without squaring the
     condition number as JᵀJ does). Its singular value is ‖J̃v‖/‖v‖ of v = (x, y). An
     overflowed Jacobian (an inf or NaN entry) has none, as a single fit's. Two directions over
-    the same parameters are one group (`statistics.add_null_group`, as `null_sets`; until
-    2026-12-03 a Havriliak–Negami element's four parameters were listed and warned twice)."""
+    the same parameters are one group (`statistics.add_null_group`, as `null_sets`: a
+    Havriliak–Negami element's four parameters are listed and warned once)."""
     jac = np.asarray(jac, float)
     own, shared = np.asarray(own, int), np.asarray(shared, int)
     m = jac.shape[0]
@@ -489,12 +489,12 @@ class SharedFitResult(BatchFitResult):
         return super().stderr(name)
 
     def to_table(self) -> list[dict[str, object]]:
-        """`BatchFitResult.to_table` with a ``shared`` column after ``fixed`` (added 2026-12-02):
+        """`BatchFitResult.to_table` with a ``shared`` column after ``fixed``:
         True on the rows of a shared parameter (the JSON's ``shared``), whose value and stderr
         each row of its group repeats (one estimate, not one per spectrum: average the rows with
         ``shared`` False only, or take one row per group). Its ``warnings`` are the spectrum's
         and then its global fit's ("shared CPE2.alpha is at its upper bound 1", "the spectra
-        disagree with sharing ..."; added 2026-12-06: a CSV had no word of them)."""
+        disagree with sharing ...")."""
         out = []
         for row in super().to_table():
             at = list(row).index("fixed") + 1
@@ -532,7 +532,7 @@ class SharedFitResult(BatchFitResult):
         independent fits)."""
         out = super().summary()
         ds = self.dataset
-        specs = self.circuit.parameter_specs(self.registry)  # (each shared parameter's unit, as a single fit's: added 2026-12-01)
+        specs = self.circuit.parameter_specs(self.registry)  # (each shared parameter's unit, as a single fit's)
         out["over"] = list(self.over)
         groups = {"labels": self.group_labels()} if self.keep else {}  # (which group each list entry is)
         out["shared"] = {
@@ -546,8 +546,8 @@ class SharedFitResult(BatchFitResult):
     def report(self, *, misfit_hints=None) -> str:
         """The batch's table, the shared parameters' (one row per global fit), the test of
         sharing, the warnings and, given ``misfit_hints`` (`BatchFitResult.misfit_hints`, which
-        ``impedax fit`` computes once), its hint line: until 2026-12-06 the command line printed
-        the diagnose command of the worst such spectrum without the line saying why."""
+        ``impedax fit`` computes once), its hint line, which says why the command line prints
+        the diagnose command of the worst such spectrum."""
         lines = [*self._parameter_lines(), "", f"shared over {', '.join(self.over)} (one global fit{'' if not self.keep else ' per ' + ', '.join(self.keep)}):"]
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
@@ -802,8 +802,8 @@ def _solve_group(solver, table: ParameterTable, layout: SharedLayout, freq, z, i
             best = (total, sol, out)
     # spectra the global fit leaves far above their own fits: each refitted alone under the shared
     # values, then solved again; with every free parameter shared there is nothing of a spectrum's
-    # own to refit (the refit's solver, with no own columns, ended in JAX's "Need at least one
-    # array to stack" on spectra that differ, 2026-12-07)
+    # own to refit (the refit's solver, with no own columns, would end in JAX's "Need at least one
+    # array to stack" on spectra that differ)
     if refit is not None and len(own):
         chi2_rows = np.sum(best[2][3] ** 2, axis=1) / scale**2
         poor = np.flatnonzero(np.isfinite(chi2_independent) & (chi2_rows > POOR_SPECTRUM_CHI2_RATIO * chi2_independent))
@@ -1055,7 +1055,7 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
             warnings[key] = tuple(note)
         if null_groups is not None and null_groups[flat]:
             unidentified[key] = [list(g) for g in null_groups[flat]]
-    if null_groups is not None:  # (added 2026-12-01; a global fit saved before has none)
+    if null_groups is not None:  # (a global fit saved by an older version has none)
         ds.attrs["unidentified_groups"] = unidentified
     for gi, index in enumerate(np.ndindex(*keep_shape)):
         if group_notes[gi]:

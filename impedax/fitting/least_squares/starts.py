@@ -254,10 +254,10 @@ def data_driven_guess(circuit: Circuit, table: ParameterTable, features: Spectru
 # a start outside a parameter's bounds (a data-driven guess beyond a bound you set, a random
 # draw over the data's ranges) is placed this fraction of the solver's span inside the bound it
 # crossed (the span of the logistic's argument: log x for a positive bounded parameter, x for
-# an exponent). Nudged just inside (1e-6, before 2026-11-29), it sat where the logistic is flat:
-# its gradient in the solver's coordinates was ~1e-4 of the parameter's, Levenberg–Marquardt
-# stopped there, and a fit with bounds R0 ∈ (63, 64) around the optimum 63.56 of BioLogic's
-# real file ended at R0 = 63.99994, "at its upper bound" (docs/fitting.md, "Convergence and bounds")
+# an exponent). Nudged just inside (1e-6), it would sit where the logistic is flat:
+# its gradient in the solver's coordinates ~1e-4 of the parameter's, Levenberg–Marquardt
+# stopping there, and a fit with bounds R0 ∈ (63, 64) around the optimum 63.56 of BioLogic's
+# real file ending at R0 = 63.99994, "at its upper bound" (docs/fitting.md, "Convergence and bounds")
 INSIDE_FRACTION = 0.1
 
 
@@ -501,8 +501,8 @@ def rung_draws(circuit, table, features, n_starts, seeds, registry) -> list[np.n
     """`random_starts`' ``n_starts`` starts for each of ``seeds`` (parameter values; the
     numbers of `multistart` with each seed), the guess and the draws' ranges computed once;
     some of the random starts with an element at its limit (`_some_at_limits`). Where nothing
-    is jittered, each draw holds the guess once and its random starts (`draw_size`): the
-    copies, the guess again, ran the same local fit 8 times per draw of 16 until 2026-12-07."""
+    is jittered, each draw holds the guess once and its random starts (`draw_size`): copies
+    of the guess would run the same local fit 8 times per draw of 16."""
     guess = data_driven_guess(circuit, table, features, registry)
     ranges = _draw_ranges(table, features)
     limits = _limits_of_free_elements(circuit, table, registry)
