@@ -154,8 +154,8 @@ def _lambda_note(method: str, choice: float, index: int) -> str:
 
 def _share_below_one(value: float, name: str) -> float:
     """A share of the DRT's area (``min_peak_fraction``): at least 0 (checked before) and below 1,
-    one message for both ends, as the command line's (it said "at most 1" for 5 and "in [0, 1)"
-    for 1.0 until 2026-12-03)."""
+    one message for both ends, as the command line's (not "at most 1" for 5 and "in [0, 1)"
+    for 1.0)."""
     if value >= 1:
         raise ParameterError(f"{name} must be at least 0 and below 1 (a share of the DRT's area, e.g. 0.05), got {value:g}")
     return value

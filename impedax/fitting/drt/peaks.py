@@ -146,8 +146,8 @@ def _vertex(ln_tau, values, k) -> float:
 def _vertices(ln_tau, rows, k) -> np.ndarray:
     """`_vertex` of each row of ``rows`` (S, K) at its index ``k`` (S,): the draws' peak τ
     between grid points, as the peak's own. On the grid alone (20 points a decade) the draws of
-    a clean spectrum's peak all fell on one point and ``log10_tau_sd`` was exactly 0, printed
-    "±0.00 dec" (a KK/DRT walkthrough, 2026-12-05)."""
+    a clean spectrum's peak would all fall on one point and ``log10_tau_sd`` be exactly 0, printed
+    "±0.00 dec"."""
     k = np.asarray(k)
     inner = (k > 0) & (k < rows.shape[1] - 1)
     at = np.clip(k, 1, rows.shape[1] - 2)
@@ -242,9 +242,9 @@ def split_peaks(ln_tau, gamma, *, signed, window, samples=None, min_rel_height=0
                 break
             peaks.pop(smallest)
     if signed and len(peaks) == 1:
-        # ... and a single peak's share is the whole axis, its lobes included (it kept the area
-        # of its positive lobe alone: 128.4 Ω for an exact 100 Ω ∥ 100 µF arc whose R_pol read
-        # 99.87 Ω, and passed it on as the suggested fit's R1; walkthrough 2026-12-05)
+        # ... and a single peak's share is the whole axis, its lobes included (the area
+        # of its positive lobe alone is 128.4 Ω for an exact 100 Ω ∥ 100 µF arc whose R_pol reads
+        # 99.87 Ω, and would be passed on as the suggested fit's R1)
         (p,) = peaks
         r = float(np.trapezoid(gamma, ln_tau))
         peaks = [dataclasses.replace(p, r_ohm=r, resolved=_told_from_zero(r, p.r_ohm_sd))]

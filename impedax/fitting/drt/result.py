@@ -189,7 +189,7 @@ class DRTResult(FrozenResult):
             },
             coords={"tau": ("tau", self.tau, {"units": "s"}), "frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={
-                "impedax_kind": "drt",  # (added 2026-12-06: impedax inspect names the file a DRT's, as other results)
+                "impedax_kind": "drt",  # (impedax inspect names the file a DRT's, as other results)
                 "method": "Tikhonov-regularised DRT on a Gaussian RBF basis (impedax, docs/drt.md)",
                 "lambda_method": self.lambda_method,
                 "lambda_note": self.lambda_note,
@@ -356,7 +356,7 @@ class DRTResult(FrozenResult):
     def to_table(self) -> list[dict]:
         """γ over τ as tidy rows ``tau_s, gamma_ohm, gamma_q05_ohm, gamma_q95_ohm``, then
         ``warnings`` (`warnings` joined by "; ", "" if none, on every row, as a fit's table has
-        them; added 2026-12-06: the CSV lost REAL PowerSuite's "R_inf < 0" warning) (the ``.csv``
+        them, so that the CSV keeps REAL PowerSuite's "R_inf < 0" warning) (the ``.csv``
         of `impedax.write_result` and of ``impedax drt --out``, whose provenance columns come
         before ``warnings``: it stays the last column)."""
         warned = "; ".join(self.warnings)
@@ -442,7 +442,7 @@ def _beyond_noise(rms_rel: float, difference_noise: float) -> bool:
 
 
 def _suggestion_keys(suggestion) -> dict:
-    """The JSON keys of `DRTResult.suggested_circuit` (added 2026-12-02)."""
+    """The JSON keys of `DRTResult.suggested_circuit`."""
     return {"suggested_model": suggestion.model, "suggested_init": dict(suggestion.init), "suggestion_reasons": list(suggestion.reasons)}
 
 
@@ -478,7 +478,7 @@ def _setting_variables(dims: tuple, shape: tuple, results) -> dict:
 
 def _warnings_variable(dims: tuple, shape: tuple, results) -> dict:
     """Each spectrum's `DRTResult.warnings` joined by "; " ("" for none), as the variable
-    ``warnings`` over ``dims`` (added 2026-12-06: the .nc, as the CSV, had lost them: REAL
+    ``warnings`` over ``dims`` (so that the .nc, as the CSV, keeps them: REAL
     PowerSuite's "R_inf … is negative")."""
     text = np.asarray(["; ".join(r.warnings) for r in results], object).reshape(shape)
     return {"warnings": (dims, text, {"long_name": "the DRT's warnings, joined by '; ' ('' when none)"})}
@@ -651,7 +651,7 @@ class DRTBatchResult(ResultGrid):
         """The JSON of ``impedax drt --json`` for several spectra: ``dims`` (their names),
         ``sizes`` ({dimension: length}, the shape `impedax fit --json` gives its ``dims``),
         ``n_spectra`` and ``spectra``, each spectrum's ``labels`` then its `DRTResult.summary` keys;
-        then (added 2026-12-06) the starting circuit ``impedax drt``'s last line gives: the one most
+        then the starting circuit ``impedax drt``'s last line gives: the one most
         spectra suggest (`suggest.most_common_suggestion`), as ``suggested_model``,
         ``suggested_init`` and ``suggestion_reasons`` of the first spectrum that suggests it, whose
         ``labels`` are ``suggested_from``, and ``n_suggesting``, how many suggest it; and

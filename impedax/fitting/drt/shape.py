@@ -48,8 +48,8 @@ SYNTHETIC (R0 + R1‖C1 + σ/√(jω) and Randles, 10 mHz–100 kHz at 10 and 7 
 (σ 5, |Z|/|Im Z| 6.6) −0.50 ± 0.056–0.064, standard error ≈ 0.05, 96–98 % called (0.05 alone:
 57–62 %); a series CPE of α 0.4 or 0.6 of the same size ± 0.02, called a Warburg in ≤ 1 % at 10
 points a decade (α 0.4 at 7 a decade: 9 %), α 0.35 and 0.65 never. REAL: impedance.py's
-exampleData.csv −0.515 ± 0.004 (a Warburg), exampleDataGamry.DTA −0.367 ± 0.009 (before
-2026-12-02 called "ω^−½"; its phase stays at −20 to −22° there: a constant-phase tail)."""
+exampleData.csv −0.515 ± 0.004 (a Warburg), exampleDataGamry.DTA −0.367 ± 0.009 (not
+"ω^−½": its phase stays at −20 to −22° there: a constant-phase tail)."""
 
 _ETA = 1e-10  # diagonal added to Γ so that it factors (as the DRT solve does, tikhonov.py)
 

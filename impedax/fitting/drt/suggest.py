@@ -189,7 +189,7 @@ def most_common_suggestion(results) -> tuple[SuggestedCircuit, int]:
 
 def most_common_suggestion_at(results, suggestions=None) -> tuple[int, SuggestedCircuit, int]:
     """`most_common_suggestion` with, first, the index in ``results`` of the spectrum whose starts
-    it gives (the batch JSON's ``suggested_from``, added 2026-12-06); ``suggestions``: each
+    it gives (the batch JSON's ``suggested_from``); ``suggestions``: each
     result's `DRTResult.suggested_circuit` when already read (default: read here)."""
     taking = [i for i, r in enumerate(results) if not (r.sign_hint or r.over_smoothed)] or list(range(len(results)))
     suggestions = [(i, results[i].suggested_circuit() if suggestions is None else suggestions[i]) for i in taking]
