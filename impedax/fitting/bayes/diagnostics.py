@@ -84,7 +84,7 @@ class Stragglers(NamedTuple):
 
     @classmethod
     def from_attr(cls, attr) -> "Stragglers":
-        """`to_attr`'s dict back (None, from a file written before 2026-12-01: none)."""
+        """`to_attr`'s dict back (None, from a file written by an older version: none)."""
         if not attr or not attr.get("walkers"):
             return NO_STRAGGLERS
         others = attr.get("others_acceptance")
@@ -488,13 +488,13 @@ def prior_edges(
             where = f"{100 * share:{'.0f' if dense else '.2g'}} % of the draws lie in the {'lowest' if side == 'lower' else 'highest'} {100 * band:.2g} % of its prior's range" + (" (log scale)" if prior.kind == "loguniform" else "" if prior.bounded else " (by prior mass)")
             if not dense:
                 where += f", as densely as in the {100 * 4 * band:.2g} % next to them: the draws run flat to the edge"
-            at = format_bound(end, units[i])  # (the bound and q as the report writes quantities: 10 kΩ, not 10000 Ω; until 2026-12-06 :g)
+            at = format_bound(end, units[i])  # (the bound and q as the report writes quantities: 10 kΩ, not 10000 Ω)
             interval = f"the {side} end of its 90 % interval ({'q05' if side == 'lower' else 'q95'} = {format_quantity(q, units[i])})"
             if not prior.bounded:
                 out.append(f"{n} follows its prior {prior} into the {side} tail ({where}): the data do not cut that tail off, so the prior, not the data, sets {interval}")
             elif end == bound and side in user_sides.get(n, ()):
                 out.append(
-                    f"{n} piles up against its {side} bound {at}, the bound you set (bounds=) ({where}): your bound, not the data, sets {interval}; "  # (impedax sample: "(--bound)", `cli.common.command_line_words`; both, in Python too, until 2026-12-06)
+                    f"{n} piles up against its {side} bound {at}, the bound you set (bounds=) ({where}): your bound, not the data, sets {interval}; "  # (impedax sample: "(--bound)", `cli.common.command_line_words`)
                     f"the data want {beyond} values — widen {n}'s bound if they are plausible"
                 )
             elif end == bound and reductions.get(n, ("",))[0] == side:
@@ -521,8 +521,8 @@ def short_advice(circuit: Circuit, registry: Registry, values: Mapping[str, floa
     a term of a series chain, is a short beyond that side (`reductions.series_shorts`, the
     element's other parameters at ``values``, at the frequencies ``freq``), with the circuit
     without it, as a user would type it. On REAL exampleDataBioLogic.mpt with
-    R0 + R1 || CPE1 + W1, W1.sigma piled up at its prior's lower end and the warning asked only
-    for a prior that says how small it can be (2026-12-07)."""
+    R0 + R1 || CPE1 + W1, W1.sigma piles up at its prior's lower end, where a warning without it would ask only
+    for a prior that says how small it can be."""
     specs = circuit.parameter_specs(registry)
     out = {}
     for n, (side, element, reduced) in series_shorts(circuit, registry, values, freq).items():
@@ -567,7 +567,7 @@ class PiledUp:
     @property
     def at_prior_edge(self) -> list[str]:
         """The rows the reports mark AT PRIOR EDGE: `set_by_prior_edge` less those the start fit's
-        rule leaves undetermined (``undetermined``, marked NOT DETERMINED) (added 2026-12-06)."""
+        rule leaves undetermined (``undetermined``, marked NOT DETERMINED)."""
         loose = set(getattr(self, "undetermined", ()))
         return [n for n in self.set_by_prior_edge if n not in loose]
 
@@ -631,8 +631,8 @@ def interval_warnings(
     error is a local approximation at the fit — unless the chain has not converged
     (``chain_converged`` false), when neither is to be trusted yet. ``tied`` (`tied_to_bound`):
     a parameter with no reason of its own is named with the one at a bound it is correlated with,
-    whose linearised error, passing the bound, widens its own (REAL Gamry's R1 at 3.9× was named
-    with no reason before 2026-12-06)."""
+    whose linearised error, passing the bound, widens its own (REAL Gamry's R1 at 3.9× would otherwise be named
+    with no reason)."""
     tied = tied or {}
     flagged = []
     for n, lin in linearised.items():

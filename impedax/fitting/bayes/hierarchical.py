@@ -675,8 +675,8 @@ def _rhat(x: np.ndarray) -> np.ndarray:
 def mixing_name(key: str) -> str:
     """A key of `HierarchicalPosterior.rhat`/``ess`` as its report and prior-edge warnings word
     it: ``mu[R1]`` → ``R1 (population median)``, ``spread[R1]`` → ``R1 (spread)``, ``delta`` →
-    ``discrepancy δ``; a shared parameter's name is its own (the warnings named the keys, which
-    the report never shows, until 2026-12-06)."""
+    ``discrepancy δ``; a shared parameter's name is its own (the warnings name these, not the keys,
+    which the report never shows)."""
     for prefix, words in (("mu[", "population median"), ("spread[", "spread")):
         if key.startswith(prefix) and key.endswith("]"):
             return f"{key[len(prefix):-1]} ({words})"
@@ -693,7 +693,7 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
     ``shared`` (chains, draws, S); ``delta`` (chains, draws) the discrepancy floor (zeros when off).
     ``mu_prior_centre`` (K,) and ``shared_prior_centre`` (S,): the centres (ln) of the normal
     priors of μ and of the log-sampled shared parameters (None: not recorded, a file written
-    before 2026-11-30), which the prior-edge check (`piled_up`) needs for those.
+    by an older version), which the prior-edge check (`piled_up`) needs for those.
     """
 
     __str__ = report_text  # (print(result): its report)
@@ -844,7 +844,7 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         """The sampling's health and the prior edges, their remedies in the keywords of
         `sample_hierarchical` (``target_accept=``, ``warmup=``, ``draws=``, ``chains=``); the gap
         analysis puts them in its own words (`models.gap.hierarchical_advice_of_gap`) and
-        ``impedax gap`` in its options. Until 2026-12-06 Python read "impedax gap: --steps"."""
+        ``impedax gap`` in its options (Python's text never reads "impedax gap: --steps")."""
         notes = []
         if self.divergences:
             notes.append(f"{self.divergences} divergent NUTS transitions of {self.n_draws} draws: the intervals may be biased; sample with a higher "
@@ -857,7 +857,7 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             notes.append(f"R-hat above 1.05 for {', '.join(f'{mixing_name(k)} ({r:.3g})' for k, r in bad.items())}: the chains disagree, so the intervals are not yet the posterior's; {more}")
         low = {k: e for k, e in {**self.ess(), **other_ess}.items() if e < 100}
         if low:
-            whose = "their medians are uncertain and their 90 % intervals' ends" if len(low) > 1 else "its median is uncertain and its 90 % interval's ends"  # (one quantity: singular, 2026-12-06)
+            whose = "their medians are uncertain and their 90 % intervals' ends" if len(low) > 1 else "its median is uncertain and its 90 % interval's ends"  # (one quantity: singular)
             notes.append(f"effective sample size below 100 for {', '.join(f'{mixing_name(k)} ({e:.0f})' for k, e in low.items())} of {self.n_draws} draws: "
                          f"{whose} more so; {more}")
         notes.extend(self._prior_edges.warnings)
@@ -913,7 +913,7 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             "warnings": list(self.warnings),
             "piled_up": self.piled_up,
             "fixed": {n: float(v) for n, v in self.fixed.items()},
-            # (added 2026-12-06: the values above had no unit, and the run's size was not said)
+            # (the units of the values above, and the run's size)
             "units": {n: self._bounds_and_unit(n)[2] for n in (*self.trial_names, *self.shared_names)},
             "chains": int(self.mu.shape[0]),
             "draws": int(self.mu.shape[1]),
@@ -921,8 +921,8 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         }
 
     def to_table(self) -> list[dict[str, object]]:
-        """The report's rows as a tidy table (`impedax.write_result` .csv; added 2026-12-06: the
-        CSV was refused): per quantity ``name``, ``level`` (``population`` for a per-trial one,
+        """The report's rows as a tidy table (`impedax.write_result` .csv): per
+        quantity ``name``, ``level`` (``population`` for a per-trial one,
         ``shared``, or ``discrepancy`` for δ), ``median`` and ``q05``/``q95`` (of the population
         median exp(μ), of a shared value, of δ), ``spread`` (sd of ln between trials),
         ``new_trial_q05``/``new_trial_q95`` (`new_trial`: of a new session too when there is a

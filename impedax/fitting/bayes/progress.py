@@ -46,8 +46,8 @@ class ProgressLine:
     ``settle``: the number of first steps that cost more than the rest (a NUTS warm-up before its
     first mass-matrix adaptation takes long trajectories: on the demo's hierarchical run, steps
     1–96 0.31 s each, steps 96–800 0.048 s). Until they are done the time left, from the rate so
-    far, says so ("~223 s left at the warm-up's pace (faster from step 100)"; until 2026-12-01
-    "≤ ~223 s left", a bound that grew 7× in a walkthrough's run on a busy machine); from then on it uses the rate since
+    far, says so ("~223 s left at the warm-up's pace (faster from step 100)", not
+    "≤ ~223 s left", a bound that grew 7× in a run on a busy machine); from then on it uses the rate since
     step ``settle`` alone (on the demo: "~43 s left" at step 152, 30 s before the end, where the
     rate since step 1 said ~146 s)."""
 

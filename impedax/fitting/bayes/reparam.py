@@ -122,7 +122,7 @@ class Reparametrization:
 
 
 LEGACY_GAP_BOUNDS_M = (1e-9, 1e-3)
-"""The bounds of u [m] every area had before 2026-12-01 (1 nm–1 mm): a posterior saved then
+"""The bounds of u [m] every area had in older versions (1 nm–1 mm): a posterior they saved
 without its bounds is rebuilt with them (`rebuild`)."""
 
 
@@ -250,7 +250,7 @@ def rebuild(description: Mapping) -> Reparametrization:
     """A built-in reparametrization from its `Reparametrization.describe` form."""
     kind, constants, replaces, names = description["kind"], dict(description["constants"]), list(description["replaces"]), list(description["names"])
     if kind == ReparametrizationKind.GAP_THICKNESS:
-        bounds = dict(zip(("lower", "upper"), LEGACY_GAP_BOUNDS_M))  # (saved before 2026-11-29 without them: the default bounds of then)
+        bounds = dict(zip(("lower", "upper"), LEGACY_GAP_BOUNDS_M))  # (saved by older versions without them: those versions' default bounds)
         bounds.update({k: description[k][0] for k in ("lower", "upper") if k in description})
         return gap_thickness_reparametrization(replaces[0], area=constants["area"], eps_r=constants["eps_r"], name=names[0], **bounds)
     if kind == ReparametrizationKind.STRATUM_CORNEUM:
