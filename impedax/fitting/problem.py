@@ -278,8 +278,8 @@ def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -
     n_points = data.sizes["frequency"]
     k = int((~table.fixed).sum())
     if k >= 2 * n_points:
-        # (the band the user's limits left, when they left out points: "1 frequency" alone sent
-        # the user to the file, which holds 31; added 2026-12-01)
+        # (the band the user's limits left, when they left out points: "1 frequency" alone would send
+        # the user to the file, which holds 31)
         frequencies = f"{n_points} frequenc{'y' if n_points == 1 else 'ies'}" + (f" {spectrum.band}" if spectrum.band else "")
         where = "" if source in (None, "", "dataset", IN_MEMORY) else f"{source}: "  # (the file, when the data came from one)
         raise FitError(f"{where}{k} free parameters but only {2 * n_points} real data values ({frequencies}); fix parameters or use more data" + (" (a wider band)" if spectrum.band else ""))
@@ -288,9 +288,9 @@ def fit_problem(circuit, spectrum: Spectrum, *, init, fixed, bounds, registry) -
 
 def _refuse_repeated_labels(data: xr.Dataset, source) -> None:
     """`DataError` when a dimension of a batch repeats a label: its fits are kept and found by
-    label (warnings by spectrum, `fit_of`, ``init=batch``), and ten spectra labelled cycle=1 were
-    fitted, their warnings folded into one entry and `fit_of(cycle=1)` gave one of them without a
-    word (2026-12-03)."""
+    label (warnings by spectrum, `fit_of`, ``init=batch``), and ten spectra labelled cycle=1 would be
+    fitted, their warnings folded into one entry and `fit_of(cycle=1)` give one of them without a
+    word."""
     for d in data["Z"].dims:
         if d == "frequency" or d not in data.coords:
             continue
@@ -364,7 +364,7 @@ def frequency_and_z(data):
 
 def frequency_z_and_sigma(data):
     """`frequency_and_z`'s five, then the data's stated σ [Ω] (of Re and of Im) broadcast to Z's
-    shape (*extra, N), or None when the data carry no ``sigma`` variable (added 2026-12-02: the
+    shape (*extra, N), or None when the data carry no ``sigma`` variable (the
     KK test weighs and judges by it)."""
     if is_pair(data):
         data = spectrum_of_pair(data)

@@ -134,7 +134,7 @@ def _column_peaks(magnitudes: np.ndarray) -> np.ndarray:
 def null_sets(s: np.ndarray, vt: np.ndarray, names: Sequence[str]):
     """Groups of parameters along near-null directions of one equilibrated Jacobian, each group
     once (two directions over the same parameters, a Havriliak–Negami element's four on REAL
-    CHInstruments data, gave the group and its warning twice until 2026-12-03), and the
+    CHInstruments data, give the group and its warning once), and the
     smallest-to-largest singular value ratio."""
     s_max = s[0] if s.size and s[0] > 0 else 1.0
     null: list[list[str]] = []
@@ -146,7 +146,7 @@ def null_sets(s: np.ndarray, vt: np.ndarray, names: Sequence[str]):
 def add_null_group(groups: list[list[str]], group: list[str]) -> None:
     """Add the parameters of one near-null direction to ``groups`` unless a direction over the
     same parameters gave it already: two such directions are one group and one warning
-    (`null_sets`; `shared.joint_null_sets` alike since 2026-12-03)."""
+    (`null_sets`; `shared.joint_null_sets` alike)."""
     if group not in groups:
         groups.append(group)
 
