@@ -181,7 +181,7 @@ def checked_frequencies(freq, name: str = "freq", *, ndim_max: int | None = 1, s
 CHECKED_FILE = "impedax_checked_file"
 
 # what to do about a non-finite Z, one spectrum (False) or a batch (True): every check runs as the
-# data are read, before --select or --exclude could act (2026-12-03: the message offered nothing)
+# data are read, before --select or --exclude could act
 NON_FINITE_ADVICE = {
     False: "; leave that point out of the file (Python: out of the arrays given to make_spectrum)",
     True: "; every spectrum needs a value at every frequency: leave that point or spectrum out of the file (Python: out of the arrays given to "
@@ -193,7 +193,7 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
     """Check the data model; raise `DataError` naming the problem. Returns ``ds`` unchanged.
     Data `impedax.load` read from ``source`` passed these checks then: a failure now says that
     they were changed in memory since, so that no one looks for the fault in the file."""
-    if not isinstance(ds, xr.Dataset):  # (before ds.attrs: a list ended in AttributeError until 2026-12-07)
+    if not isinstance(ds, xr.Dataset):  # (before ds.attrs: a list would end in AttributeError)
         raise DataError(f"expected an xarray.Dataset, got {type(ds).__name__}", path=source or "dataset")
     source = source or str(ds.attrs.get("source", "dataset"))
     try:
@@ -216,7 +216,7 @@ _FREQUENCY_ALIASES = ("freq", "f", "freqs", "frequencies", "frequency_hz", "freq
 def frequency_dimension_problem(dims: tuple[str, ...], has_dimension: bool = False) -> str:
     """What is wrong with a ``Z`` over ``dims`` that lacks the ``frequency`` dimension (or, with
     ``has_dimension``, its coordinate), and how to fix it: the one message of `impedax.save`
-    and `impedax.load` (added 2026-12-02: a file had said only "dataset has no variable 'Z'")."""
+    and `impedax.load` (more than "dataset has no variable 'Z'")."""
     if has_dimension:
         return "'Z' has a 'frequency' dimension but no coordinate on it: give it the frequencies in Hz, e.g. ds = ds.assign_coords(frequency=f_hz)"
     if not dims:
@@ -393,8 +393,8 @@ def unit_text(unit: str) -> str:
 
 def counted(n: int, singular: str, plural: str | None = None) -> str:
     """``n`` and the noun in its number: ``1 spectrum``, ``3 spectra``, ``1 free parameter``
-    (``plural`` default: ``singular`` + "s"). The CLI's counts read so (until 2026-12-01 some
-    said "1 free parameters", "1 spectra")."""
+    (``plural`` default: ``singular`` + "s"). The CLI's counts read so (never
+    "1 free parameters", "1 spectra")."""
     return f"{n} {singular if n == 1 else plural or singular + 's'}"
 
 
@@ -451,8 +451,8 @@ def format_bound(value: float, unit: str) -> str:
     """A parameter's bound (the element's, or one the user gave: ``--bound R1=1m:10m``) for text:
     as `format_quantity` writes it where that text is the same number (``10 kΩ``, ``10 mΩ``,
     ``10 µF s^(α-1)``, ``0.9``), else with up to 6 significant digits, as many as keep it that
-    number (``99.999 kΩ``, not ``100 kΩ``; 6 as ``:g`` wrote bounds until 2026-12-06, without
-    their unit: "its upper bound 10000"); 0 as ``0`` and an infinite bound as ``∞``, in any unit."""
+    number (``99.999 kΩ``, not ``100 kΩ``; 6 as ``:g`` writes them, but with
+    their unit, not "its upper bound 10000"); 0 as ``0`` and an infinite bound as ``∞``, in any unit."""
     if value == 0 or not math.isfinite(value):
         return "0" if value == 0 else "∞" if value > 0 else "-∞" if value < 0 else str(value)
     for digits in range(3, 7):
@@ -469,8 +469,8 @@ def format_uncertain(value: float, stderr: float, unit: str) -> str:
     unit in that of its leading unit: ``20.0 ± 3.0 µF s^(α-1)``); without a prefix where
     `format_quantity` gives none (zero, not finite, a unit led by a power: then
     ``(2.00 ± 0.30)e-05 m^2``). An error that is not finite or not positive leaves the
-    value to 3 significant digits (``3.94 ± nan kΩ``). (Until 2026-12-01 the value always had
-    3 digits whatever its error: ``1.15 ± 0.0056 Ω`` beside ``773 ± 5.1 mΩ``.)"""
+    value to 3 significant digits (``3.94 ± nan kΩ``). (A value with 3 digits whatever its error
+    would read ``1.15 ± 0.0056 Ω`` beside ``773 ± 5.1 mΩ``.)"""
     stderr = abs(stderr)  # (an error is a size)
     if not (math.isfinite(value) and math.isfinite(stderr) and stderr > 0):
         number, scale, label = _quantity_parts(value, unit, 3)
@@ -637,8 +637,8 @@ def concise_repr(result) -> str:
 
 def report_text(result) -> str:
     """``str(result)``, what ``print(result)`` shows: its ``report()``, the text the command line
-    prints (the repr stays `concise_repr`; a walkthrough of 2026-12-04 found ``print(fit)``
-    giving the fields, the first thing a user types)."""
+    prints (the repr stays `concise_repr`; ``print(fit)``, the first thing a user types,
+    gives the report, not the fields)."""
     return result.report()
 
 
