@@ -128,7 +128,7 @@ _FREQUENCY_SCALES = {"GHz": 1e9, "MHz": 1e6, "kHz": 1e3, "Hz": 1.0, "mHz": 1e-3}
 
 
 def format_frequency(f: float) -> str:
-    """A frequency [Hz] for text: ``1.5 kHz``, ``20 mHz``, ``3 MHz``, ``1 GHz`` (three significant digits; "1e+03 MHz" until 2026-12-06). Also
+    """A frequency [Hz] for text: ``1.5 kHz``, ``20 mHz``, ``3 MHz``, ``1 GHz`` (three significant digits, not "1e+03 MHz"). Also
     `impedax.data.format_frequency`; defined here for the messages of the argument checks
     (`reversed_band_message`), which `impedax.data` imports."""
     for unit, scale in _FREQUENCY_SCALES.items():
@@ -150,7 +150,7 @@ def format_given_frequency(f: float) -> str:
 def reversed_band_message(fmin: float, fmax: float, names: tuple[str, str] = ("fmin", "fmax")) -> str:
     """"fmax (10 Hz) is below fmin (10 kHz)" (``names``: the two ends' words, the CLI's
     ``("--fmin", "--fmax")``): the ends [Hz] as the user gave them (`format_given_frequency`:
-    "fmax (100 Hz) is below fmin (9999 Hz)", not "(10 kHz)", 2026-12-06)."""
+    "fmax (100 Hz) is below fmin (9999 Hz)", not "(10 kHz)")."""
     return f"{names[1]} ({format_given_frequency(fmax)}) is below {names[0]} ({format_given_frequency(fmin)})"
 
 
@@ -200,7 +200,7 @@ def real(*, minimum: float | None = None, maximum: float | None = None, positive
             raise ParameterError(f"{name} must be a number, got {shown(value)} ({type(value).__name__})")
         try:
             value = float(value)
-        except OverflowError:  # (an int beyond floating point, 10**400: until 2026-12-07 Python's OverflowError)
+        except OverflowError:  # (an int beyond floating point, 10**400: this message, not Python's OverflowError)
             raise ParameterError(f"{name} must be finite, got an integer of {len(str(abs(int(value))))} digits, beyond floating point") from None
         if not math.isfinite(value):
             raise ParameterError(f"{name} must be finite, got {value}")
@@ -311,8 +311,8 @@ def progress_line_flag(value, name):
     """The ``progress`` of a run that draws its own progress line (`sample`), as `fit`,
     `diagnose` and `refine` take it: None (the default) or True, the lines on stderr; False, none;
     a function of one line of text (``progress=print``), called with each line instead (a log
-    file's lines, never rewritten in place). Until 2026-12-06 None and a function were refused,
-    so that code passing ``progress=None`` to every call failed at sample alone."""
+    file's lines, never rewritten in place). None and a function are taken, so that code passing
+    ``progress=None`` to every call runs at sample too."""
     if value is None:
         return True
     if callable(value):
@@ -537,7 +537,7 @@ skin's stratum corneum some 10³, Vezzoli et al. Table 2): below it a value is u
 def relative_permittivity(value, name):
     """A relative permittivity ε_r (numbers, as `numeric_array`) of at least
     `RELATIVE_PERMITTIVITY_MIN`; below it a `ParameterError` naming ``name`` and the value
-    (2026-12-03: ``impedax force vezzoli --param eps_i=0.5`` computed without a word)."""
+    (``impedax force vezzoli --param eps_i=0.5`` would otherwise be computed without a word)."""
     value = numeric_array()(value, name)
     if _is_tracer(value):
         return value
@@ -553,8 +553,8 @@ def relative_permittivity(value, name):
 def drive_amplitude(value, name):
     """A drive's voltage amplitude [V] (numbers, as `numeric_array`): a real one must be ≥ 0,
     as ``impedax gap --v0`` and ``impedax force --param v_a``/``v_m`` require (complex numbers
-    pass unchanged, as before). A negative amplitude, a sign slip, is a `ParameterError` naming
-    ``name`` (2026-12-06: the force functions squared it away without a word)."""
+    pass unchanged). A negative amplitude, a sign slip, is a `ParameterError` naming
+    ``name`` (the force functions would otherwise square it away without a word)."""
     value = numeric_array()(value, name)
     if _is_tracer(value):
         return value
@@ -653,7 +653,7 @@ def autoeis_parameter(name: str, known: Sequence[str]) -> list[str]:
 OTHER_PARAMETER_NAMES = {"n": "alpha", "p": "alpha", "t": "Q", "y0": "Q"}
 """Other tools' and papers' names of an element's parameter (case aside) → impedax's, where the
 element has it: a CPE's exponent n (ZView's CPE-P) and magnitude T (ZView) or Y0 (Gamry).
-``CPE1.n`` was told "did you mean CPE1.Q?", the closer spelling (2026-12-06)."""
+Without it ``CPE1.n`` would be told "did you mean CPE1.Q?", the closer spelling."""
 
 
 def unknown_parameter(what: str, name, known, circuit: object = None, *, impedance_py_symbols: Mapping[str, str] | None = None) -> ParameterError:
@@ -834,7 +834,7 @@ OTHER_SAMPLER_KEYWORDS = {
 }
 """Other samplers' keywords → the impedax keywords that mean the same, in order of preference
 (the first a function takes is named): ``num_warmup`` is no spelling of ``burn``, so difflib
-alone named nothing for `sample(num_warmup=500)` (2026-12-03)."""
+alone names nothing for `sample(num_warmup=500)`."""
 
 
 def unknown_keyword_message(label: str, key, known: Sequence[str]) -> str:
