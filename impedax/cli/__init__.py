@@ -286,8 +286,8 @@ def _end_program(code: int) -> NoReturn:
 def _repeated_file(subparser: argparse.ArgumentParser, argv: list[str]) -> str | None:
     """The error when an option that takes one file (``--out``, ``--plot``, ``-o``, ...: its
     value named FILE…, FIG… or OUT…) is given more than once, naming each value; else None.
-    argparse kept the last, so ``impedax fit DATA --out a.csv --out a.json`` wrote a.json alone
-    and said nothing of a.csv (a walkthrough, 2026-12-06): the command now stops (exit 2)."""
+    argparse keeps the last, so ``impedax fit DATA --out a.csv --out a.json`` would write a.json
+    alone and say nothing of a.csv: the command stops (exit 2)."""
     for action in subparser._actions:
         metavar = action.metavar if isinstance(action.metavar, str) else ""
         if not action.option_strings or not isinstance(action, argparse._StoreAction) or not metavar.startswith(("FILE", "FIG", "OUT")):
@@ -308,7 +308,7 @@ def _repeated_file(subparser: argparse.ArgumentParser, argv: list[str]) -> str |
 
 def _refuse_empty_file(subparser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     """Exit 2 naming the argument that names a spectrum file to read (DATA, FILE, DATA_SKIN …,
-    --frequencies) when it is empty, ``impedax kk "$DATA"`` of an unset variable: until 2026-12-06
+    --frequencies) when it is empty, ``impedax kk "$DATA"`` of an unset variable, not
     "'.': is a directory, not a spectrum file" (pathlib reads '' as the current folder)."""
     for action in subparser._actions:
         named = action.option_strings[-1] if action.option_strings else action.metavar
@@ -370,10 +370,10 @@ def _impedax_assignment(item: str, parameters: list[tuple[list[str], dict[str, s
 
 OPTION_HINT_CUTOFF = 0.7
 """The least difflib ratio of an unknown option to the one `_refuse_unknown` names: its "--" is
-shared by all, so difflib's 0.6 named --dpi for --fix (0.6) and --plot for --prior (0.62) on
+shared by all, so difflib's 0.6 would name --dpi for --fix (0.6) and --plot for --prior (0.62) on
 `impedax gap`; the slips it is for score ≥ 0.85 (--maxsteps 0.95, --quite 0.86, --fmx 0.91).
-Since 2026-12-06 the ratio is taken of the letters alone, without the dashes (`closest_options`):
-with them --fix still scored 0.73 against --fmin, which gap gained with its band options; without,
+The ratio is taken of the letters alone, without the dashes (`closest_options`): with them
+--fix would score 0.73 against --fmin, one of gap's band options; without,
 0.57, while --quite (0.8), --stps (0.89) and --fmx (0.86) keep their hints."""
 
 
@@ -453,12 +453,12 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
         hint += f"; a NAME=VALUE follows its option ({', '.join(takers)}): e.g. {example} {' '.join(assignments)}"
     if "--model" in sub._option_string_actions:  # (refine DATA 'R0 + R1 || C1': its --model is optional)
         hint += model_option_hint(sub.prog, circuit_words(unknown))
-    if command == "sample" and any(item.split("=", 1)[0] == "--weighting" for item in unknown):  # (fit's option, reached for on sample: 2026-12-06)
+    if command == "sample" and any(item.split("=", 1)[0] == "--weighting" for item in unknown):  # (fit's option, reached for on sample)
         hint += f"; impedax sample has no --weighting: its noise model is {SAMPLE_NOISE_WORDS}"
     files = [item for item in unknown if not item.startswith("-") and os.path.isfile(item)]
     if files and command in SERIES_COMMANDS:  # (fit day01.csv day02.csv: one DATA per run)
         hint += f"; {command} reads one DATA file: join files of one spectrum each into one series with impedax stack FILE ... --out SERIES.nc, then impedax {command} SERIES.nc"
-    elif files and command in ONE_FILE_COMMANDS:  # (inspect a.csv b.csv: said "unrecognized arguments: b.csv" alone until 2026-12-06)
+    elif files and command in ONE_FILE_COMMANDS:  # (inspect a.csv b.csv: more than "unrecognized arguments: b.csv")
         what = "" if command == "inspect" else "DATA "
         hint += f"; {command} reads one {what}file: run impedax {command} once per file"
     elif files and command in CONTACT_COMMANDS:

@@ -54,7 +54,7 @@ def effects_option(text):
     ids = [t for t in items if t]
     if not ids:
         raise ParameterError(f"--effects {text!r} names no effect: leave it out for all of them, or give ids from {known}")
-    if len(ids) < len(items):  # ("diffusion,,constant_phase": a dropped id, as --select refuses its empty item; taken silently until 2026-12-06)
+    if len(ids) < len(items):  # ("diffusion,,constant_phase": a dropped id, as --select refuses its empty item, not taken silently)
         empty = items.index("")
         raise ParameterError(f"--effects {text!r}: item {empty + 1} of {len(items)} is empty; give effect ids separated by single commas, from {known}")
     return DEFAULT_EFFECTS.select(ids)
@@ -140,7 +140,7 @@ def run_spectrum_command(args, command: str, analyse, **settings):
                          fixed=fixed or None, bounds=bounds or None, registry=args.registry, mask=not args.keep_all_points, **settings)
         source = data_source(data)
         record = command_provenance(args, source=source, data_files=[args.data])
-        read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01)
+        read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's)
         if args.plot:  # (refine's figure, a residual panel per step with each model's curve, took 39 s after its last line on a 2-core machine at load 8, REAL CH Instruments)
             progress(f"drawing {args.plot}")
         outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})

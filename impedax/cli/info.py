@@ -11,7 +11,7 @@ def register(sub) -> None:
     p = sub.add_parser("info", help="list a model's parameters", description="List the parameters of MODEL with units, defaults and bounds.")
     add_model_argument(p, positional=True)
     p.add_argument("--json", action="store_true", help="machine-readable output")
-    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
+    add_quiet_option(p)  # (every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 
@@ -31,8 +31,8 @@ def run(args) -> int:
                 "unit": p.unit, "default": p.default, "lower": p.lower, "upper": p.upper,
                 "upper_inclusive": p.upper_inclusive, "description": p.description,
             })
-    # each kind of element in the circuit, once, in order, with its formula (added 2026-12-06: a
-    # user's element and a built-in Gerischer or Havriliak–Negami were listed by name only)
+    # each kind of element in the circuit, once, in order, with its formula (a
+    # user's element and a built-in Gerischer or Havriliak–Negami too, not by name only)
     kinds = list({registry[e.symbol].symbol: registry[e.symbol] for e in circuit.elements()}.values())  # (an alias, Q1 beside CPE2, is its element's kind)
     elements = [{"symbol": spec.symbol, "element_kind": spec.name, "equation": spec.equation} for spec in kinds]
     if args.json:

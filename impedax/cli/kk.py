@@ -31,7 +31,7 @@ def register(sub) -> None:
     add_select_option(p)
     # (the test prints no progress lines, 2.5 s of CPU for the 130 REAL battery cycles: --quiet is
     # taken as the other analysis commands take it, so that a pipeline passing it to each of them
-    # runs; a walkthrough's `impedax kk --quiet` was "unrecognized arguments", 2026-12-02)
+    # runs)
     add_quiet_option(p)
     p.set_defaults(run=run)
 
@@ -55,7 +55,7 @@ def run(args) -> int:
             )
     outputs = plan_outputs([("--out", args.out, "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     # a file of several spectra: every one tested (one table row each), as `fit` fits them
-    # all, by either method (Z-HIT too since 2026-12-06), and --plot maps their residuals
+    # all, by either method (Z-HIT too), and --plot maps their residuals
     data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
@@ -70,8 +70,8 @@ def run(args) -> int:
         result = zhit_batch(data) if several else zhit(data)
     else:
         result = kk_test_batch(data, **options) if several else kk_test(data, **options, find_passing_band=True)
-    # the reader's skipped rows in the JSON, as inspect --json gives them (added 2026-12-01); --out as
-    # fit's and drt's (added 2026-12-01: docs/io.md listed kk --out, which kk refused)
+    # the reader's skipped rows in the JSON, as inspect --json gives them; --out as
+    # fit's and drt's (docs/io.md lists kk --out)
     command, options = _next_command(args, result, data) if not several and args.method == "linear" else (None, None)
     if command and args.data == "-":
         command += "  (with the data saved to a file, named in place of -: standard input is read once)"
@@ -90,8 +90,8 @@ def run(args) -> int:
     else:
         print(command_line_words(result.report(command) if args.method == "linear" else result.report(), "kk"))
         if args.method == "linear" and result.valid and result.conclusive and not result.sign_hint:
-            # (the next step as impedax inspect names it, on the points tested: until 2026-12-07 a
-            # valid verdict was the one step of the walkthrough that said nothing of the next)
+            # (the next step as impedax inspect names it, on the points tested: a
+            # valid verdict names the next step too)
             from .common import fit_command
 
             stdin = "; with the data saved to a file, named in place of -: standard input is read once" if args.data == "-" else ""

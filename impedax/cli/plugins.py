@@ -116,13 +116,13 @@ def _execute(path_text: str, where: str) -> ModuleType:
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module  # (dataclasses and pickling look their module up by name)
     # its folder first on the import path while it runs, as Python puts a script's: a plugin
-    # imports the modules beside it (``from formulas import dc``) from any working folder (until
-    # 2026-12-06 only when run from its own folder, else ModuleNotFoundError)
+    # imports the modules beside it (``from formulas import dc``) from any working folder (not
+    # only from its own folder: from another, ModuleNotFoundError)
     folder = os.path.dirname(os.path.abspath(path))
     sys.path.insert(0, folder)
     try:
         # what it prints goes to stderr: standard output carries the command's JSON or CSV (a
-        # plugin's print("loaded") came before them, and a pipe's reader failed; until 2026-12-06)
+        # plugin's print("loaded") would come before them, and a pipe's reader fail)
         with contextlib.redirect_stdout(sys.stderr):
             loader.exec_module(module)
     except SyntaxError as exc:
@@ -169,8 +169,8 @@ def _claims(spec) -> list[tuple[str, str]]:
 def _quiet_reader(reader, where: str):
     """``reader`` with its ``origin`` ``where`` (`_where`: ``impedax.load`` names it, with the line
     that raised, in the one `DataError` a failing read or sniff becomes), printing to stderr, not
-    stdout: a sniff's or read's ``print`` came before ``inspect --json``'s JSON (until 2026-12-06 a
-    wrapper of its own here turned the read's exceptions into that message, besides the loader's)."""
+    stdout: a sniff's or read's ``print`` would come before ``inspect --json``'s JSON (the loader,
+    not a wrapper here, turns the read's exceptions into that message)."""
     import dataclasses
 
     return dataclasses.replace(reader, read=_quiet(reader.read), sniff=_quiet(reader.sniff), origin=where)
@@ -183,8 +183,8 @@ _QUIET: dict = {}
 
 def _quiet_formula(formula):
     """``formula`` printing to stderr, not stdout: a user's formula runs while JAX traces it,
-    and a ``print`` there (a debugging line) came before the command's JSON or CSV (until
-    2026-12-06). The wrapper keeps the formula's signature and names it (``__wrapped__``) for
+    and a ``print`` there (a debugging line) would come before the command's JSON or CSV.
+    The wrapper keeps the formula's signature and names it (``__wrapped__``) for
     the messages that give its file and line."""
     if formula is None:
         return None

@@ -42,7 +42,7 @@ def register(sub) -> None:
     add_band_options(p)
     add_exclude_option(p, of_every_file=True)
     p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + " (needs --out FILE): written, kind, n_trials, dims, spectra, frequencies, has_sigma, warnings, ...")
-    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
+    add_quiet_option(p)  # (every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 
@@ -51,8 +51,7 @@ def sigma_phrase(remaining) -> str:
     ``sigma_sources`` (input → "trial scatter" or "own sigma", `sirin.remaining_impedance`) and said
     in `sirin.sigma_words`' words when an input gave its own stated sigma; or why there is none
     (``sigma_method``, which then names the input). The remainder is made here, so it has the
-    sources whenever it has a sigma; until 2026-12-06 the choice searched ``sigma_method``'s words
-    for "stated sigma", and before that said "no sigma (an input has one spectrum or no scatter)"."""
+    sources whenever it has a sigma; the choice reads them, not ``sigma_method``'s words."""
     from ..fitting.least_squares.result import SIGMA_FROM_OWN, sigma_sources
     from ..models.sirin import sigma_words
 
@@ -94,15 +93,15 @@ def run(args) -> int:
     note = csv_sigma_note(remaining, out, "--out")
     if note:
         print(f"impedax remaining: note: {note}", file=sys.stderr)
-    if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
+    if args.json:  # (what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
         emit_json({"command": "remaining", "written": list(written), "kind": "trials" if args.trials else "mean",
                    "n_trials": {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}, "single_contact": len(paths) == 1, **spectrum_summary(remaining),
-                   "sigma_method": str(remaining.attrs.get("sigma_method", "")),  # (added 2026-12-06: what sigma is made of, or why there is none)
-                   "sigma_sources": sigma_sources(remaining.attrs) or {},  # (added 2026-12-06: the same as data, input → "trial scatter" or "own sigma"; {} without a sigma)
+                   "sigma_method": str(remaining.attrs.get("sigma_method", "")),  # (what sigma is made of, or why there is none)
+                   "sigma_sources": sigma_sources(remaining.attrs) or {},  # (the same as data, input → "trial scatter" or "own sigma"; {} without a sigma)
                    "warnings": [command_line_words(str(n), "remaining") for n in notes], "source": paths, "provenance": record})
         return 0
     n_trials = {k: int(remaining.attrs[f"n_trials_{k}"]) for k in paths}
-    averaged = any(n > 1 for n in n_trials.values())  # (one sweep each: "from 1 total spectra (their trial mean…)" until 2026-12-06)
+    averaged = any(n > 1 for n in n_trials.values())  # (one sweep each: not "from 1 total spectra (their trial mean…)")
     counts = ", ".join(f"{n} {k}" for k, n in n_trials.items()) + (" spectra" if averaged else " spectrum")
     sigma = sigma_phrase(remaining)
     if len(paths) == 1:

@@ -68,7 +68,7 @@ def noise_model_option(text: str) -> str:
     from ..arguments import reads_as_number
 
     text = text.strip()
-    if text == "modulus":  # (fit's weightings, reached for on sample: "invalid choice" named no way on, 2026-12-06)
+    if text == "modulus":  # (fit's weightings, reached for on sample: "invalid choice" would name no way on)
         raise argparse.ArgumentTypeError("'modulus' is a weighting of impedax fit: sample's --noise proportional is that weighting's noise model "
                                          "(σ_k = sigma_rel·|Z_k|, sigma_rel sampled; the start fit is weighted by |Z|); --noise sigma takes the data's own sigma")
     if text == "unit":
@@ -121,8 +121,8 @@ def check_corner_names(names, parameters, fixed, shared, noise) -> None:
     work: the model's ``parameters`` not in ``fixed``, and ``sigma_rel`` with proportional noise;
     with ``shared`` (--shared) the shared ones by name and the others as NAME[LABEL] (the labels
     are checked against the data's once they are read: `check_corner_labels`). The
-    names were checked only after the start fit and the sampler's compilation (a walkthrough's
-    ``--corner-params R7``, 2026-12-06)."""
+    names are checked before the start fit and the sampler's compilation, so that a
+    ``--corner-params R7`` costs none of them."""
     from ..arguments import unknown_parameter
     from ..errors import ParameterError
     from ..fitting.bayes.logprob import NoiseModel
@@ -146,9 +146,9 @@ def check_corner_names(names, parameters, fixed, shared, noise) -> None:
 def check_corner_labels(names, data, over) -> None:
     """A `ParameterError` for a ``--corner-params`` NAME[LABEL] whose LABEL is none of the data's
     spectra along ``over`` (--over; None: the data's only extra dimension), once the data are read
-    and before the start fit and the sampling: the labels were checked only after the sampling
-    (a walkthrough's ``R1[cycle=65]`` on the REAL battery cycles 0, 64, 129 cost the whole run,
-    2026-12-06). Data whose dimensions ``over`` does not name are left to the fit's message."""
+    and before the start fit and the sampling (checked after it, ``R1[cycle=65]`` on the REAL
+    battery cycles 0, 64, 129 would cost the whole run). Data whose dimensions ``over`` does not
+    name are left to the fit's message."""
     from ..errors import ParameterError
     from ..fitting.bayes.shared_posterior import spectrum_labels
 
@@ -232,7 +232,7 @@ def run(args) -> int:
     if getattr(posterior, "n_walkers", None) is not None:
         settled["walkers_used"] = chain.get("walkers", posterior.n_walkers)  # (the run's: with straggler walkers left out, the draws hold fewer)
     record = command_provenance(args, source=source, data_files=[args.data], **settled)
-    read = WithSummaryKeys(posterior, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's: added 2026-12-01)
+    read = WithSummaryKeys(posterior, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's)
     if corner_names is not None:  # (before any output is written)
         from ..plotting.bayes import corner_params
 

@@ -36,7 +36,7 @@ def register(sub) -> None:
                                   "each value as read) in place of --fmin/--fmax/--points"))
     add_select_option(p, several=True)  # (with --frequencies: a file of sweeps on different grids is read one sweep alone)
     add_output_options(p, json=JSON_SUMMARY_HELP + " (needs --out FILE): written, model, parameters, parameter_units, defaulted, frequencies, ...", plot="also save Nyquist/Bode plots", out="output file (.csv or .nc); stdout when omitted or '-'", out_metavar="FILE.csv")
-    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
+    add_quiet_option(p)  # (every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 
@@ -85,10 +85,10 @@ def run(args) -> int:
 
     # (no data file made it but --frequencies', whose frequencies it takes)
     record = command_provenance(args, points_used=points, params_used=params, **({"data_files": [args.frequencies]} if args.frequencies else {}))
-    # (a --title in place of the circuit keeps it on the next line when no legend names it: 2026-12-06)
+    # (a --title in place of the circuit keeps it on the next line when no legend names it)
     plot = figure_writer(figure, **figure_options(args), subtitle=None if in_legend else text)
     written = outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": plot})
-    if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
+    if args.json:  # (what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
         emit_json({"command": "simulate", "written": [p for p in written if p != "-"], "model": str(circuit), "parameters": {n: float(params[n]) for n in specs},
                    "parameter_units": {n: specs[n].unit for n in specs}, "defaulted": defaulted, **spectrum_summary(ds), "provenance": record})
     elif not args.out:

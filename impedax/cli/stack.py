@@ -31,7 +31,7 @@ def register(sub) -> None:
                    "naming them; measured points only, nothing interpolated; a file that would keep under half its points is refused")
     p.add_argument("--out", required=True, metavar="OUT.nc", help="the stacked spectra (netCDF: .nc, .nc4, .cdf); written whole or not at all")
     p.add_argument("--json", action="store_true", help=JSON_SUMMARY_HELP + ": written, files, dim, labels, dims, spectra, frequencies, ...")
-    add_quiet_option(p)  # (2026-12-03: every command takes --quiet, so a pipeline can pass it to each)
+    add_quiet_option(p)  # (every command takes --quiet, so a pipeline can pass it to each)
     p.set_defaults(run=run)
 
 
@@ -73,7 +73,7 @@ def run(args) -> int:
     record = command_provenance(args, source=data_source(stacked), data_files=args.files)
     written = outputs.save({"--out": spectrum_writer(lambda: stacked, record)})
     labels = stacked[args.dim].values.tolist()
-    if args.json:  # (added 2026-12-01: what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
+    if args.json:  # (what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
         emit_json(with_source({"command": "stack", "written": list(written), "files": [str(f) for f in args.files], "dim": args.dim, "labels": labels, **spectrum_summary(stacked),
                                "frequencies_left_out": left_out},
                               data_source(stacked), record))
