@@ -14,7 +14,7 @@
   Grids that agree are all given the total's frequencies.
 * identity: two of the three holding the same spectra (the same file given twice) are refused.
 
-A single contact (added 2026-12-02: an electroadhesive gripper pad, whose measured impedance is the
+A single contact (an electroadhesive gripper pad, whose measured impedance is the
 contact's own) gives neither skin nor touchscreen (None): the total is checked alone. Exactly one
 of them is refused (`is_single_contact`, `ONE_PART_REFUSED`).
 
@@ -22,7 +22,7 @@ Every extra dimension of a file is averaged as replicates. A dimension whose nam
 of replicates (`REPLICATE_DIM_WORDS`: ``voltage``, ``material``) may be a condition, which the
 average would mix: `condition_notes` warns of each and names ``--select DIM=LABEL``.
 
-The drive V0 follows the data (`drive_voltage`, added 2026-12-02): total spectra that carry one
+The drive V0 follows the data (`drive_voltage`): total spectra that carry one
 voltage (a scalar coordinate or attribute whose name says voltage: `VOLTAGE_NAME_WORDS`, as a
 ``--select voltage=500`` leaves it) are analysed at that voltage, taken as the drive's peak
 amplitude, unless V0 is given.
@@ -56,7 +56,7 @@ REPLICATE_DIM_WORDS = ("trial", "repeat", "repetition", "replicate", "rep", "cyc
 ``trial``, ``trials``, ``trial_id``, ``sweepIndex``): the trials and sessions of docs/models.md,
 the readers' ``sweep`` and ``cycle``, and their usual synonyms; ``location`` and ``site``: Sirin et al.
 measured the touchscreen at 5 locations × 10 trials and the stationary total at five sites, to
-cover the screen, and averaged them (added 2026-12-06: such a file drew the condition warning).
+cover the screen, and averaged them (such a file draws no condition warning).
 ``electrode`` is none: the paper's skin electrodes (hydrogel, metal) are a condition. Any other
 dimension with more than one spectrum is averaged with a warning (`condition_notes`)."""
 _SHOWN_LABELS = 5  # labels a condition warning lists before "…"
@@ -240,8 +240,8 @@ def _subtracted_in_csv(attrs) -> bool:
     """Whether a CSV that impedax wrote is a remainder: a CSV keeps no attrs, but its provenance
     columns (`read_csv` lists them in ``other_columns``) say the command and the files; their first
     row, read from ``path``, names a skin and a touchscreen in ``source`` under `REMAINDER_COMMANDS`
-    (2026-12-06: `impedax gap rem.csv` of `impedax remaining --out rem.csv` was analysed as a single
-    contact, the walkthrough's overstated force, where rem.nc was refused)."""
+    (else `impedax gap rem.csv` of `impedax remaining --out rem.csv` would be analysed as a single
+    contact, with an overstated force, where rem.nc is refused)."""
     import csv
     from pathlib import Path
 
@@ -262,9 +262,9 @@ def _subtracted_in_csv(attrs) -> bool:
 
 def check_not_a_remainder(total, skin, touchscreen) -> None:
     """Refuse a remainder given as a single contact's total (`is_remainder_file`): its gap would
-    take the whole drive V0, where it takes V0·Z_R/Z_total, and the force was overstated (17 % at
+    take the whole drive V0, where it takes V0·Z_R/Z_total, and the force would be overstated (17 % at
     its peak, 2.6× at 2.5 kHz on the demo's remaining_impedance.nc, with no frequency dependence
-    left; a walkthrough, 2026-12-04). A `DataError` naming the file and the three spectra to give."""
+    left). A `DataError` naming the file and the three spectra to give."""
     if skin is not None or touchscreen is not None or not is_remainder_file(total.attrs):
         return
     source = total.attrs.get("source") or total.attrs.get("path")
@@ -281,7 +281,7 @@ def check_not_a_remainder(total, skin, touchscreen) -> None:
 def check_spectra(total, skin, touchscreen) -> None:
     """Each input given (the total always; skin and touchscreen unless None) is a spectrum
     Dataset (`impedax.data.validate_spectrum`), else one `DataError` naming the input and what it
-    is (until 2026-12-06 `gap_analysis(None)` or a file name in place of a Dataset raised an
+    is (`gap_analysis(None)` or a file name in place of a Dataset too, not an
     AttributeError from inside the checks)."""
     from ..arguments import shown
     from ..data import validate_spectrum

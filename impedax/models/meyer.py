@@ -91,9 +91,9 @@ class MeyerPhysical:
     c_s: float = 140e-12
 
     def __post_init__(self):
-        for name in ("rho_sc", "d_sc", "d_i", "area", "r_f", "c_s"):  # (2026-12-06: area=0 raised ZeroDivisionError in r_sc)
+        for name in ("rho_sc", "d_sc", "d_i", "area", "r_f", "c_s"):  # (area=0 would raise ZeroDivisionError in r_sc)
             numeric_array(positive=True)(getattr(self, name), f"MeyerPhysical.{name} [{_PHYSICAL_UNITS[name]}]")
-        for name in ("eps_sc", "eps_i"):  # (below vacuum's 1: unphysical; 2026-12-03)
+        for name in ("eps_sc", "eps_i"):  # (below vacuum's 1: unphysical)
             relative_permittivity(getattr(self, name), f"MeyerPhysical.{name}")
 
     @property
@@ -182,7 +182,7 @@ def meyer_parameters(physical: MeyerPhysical = THESIS_PHYSICAL, *, variant: str 
     CPE: ``CPE_sc.alpha = alpha`` and ``CPE_sc.Q = C_sc ω_ref^(1−α)`` with ω_ref = 2π·1 kHz, so
     the CPE has the capacitor's impedance magnitude at 1 kHz, where ρ_sc and ε_sc were quoted.
     """
-    if not isinstance(physical, MeyerPhysical):  # (2026-12-06: an AttributeError "'str' object has no attribute 'c_s'")
+    if not isinstance(physical, MeyerPhysical):  # (not an AttributeError "'str' object has no attribute 'c_s'")
         raise ParameterError(f"physical must be a MeyerPhysical (impedax.models.MeyerPhysical(rho_sc=…, d_sc=…, …)), got {shown(physical)} ({type(physical).__name__})")
     variant = _check_variant(variant)
     params = {"C_s": physical.c_s, "C_i": physical.c_i, "R_sc": physical.r_sc, "R_f": physical.r_f}
@@ -222,7 +222,7 @@ class MeyerModel:
         return xr.Dataset(
             {
                 "force": ("frequency", np.asarray(self.force(freq, v_a=v_a)), {"units": "N", "convention": "time-average", "long_name": "electrostatic force, eq 3.6"}),
-                # (what each complex ratio is, as the force says its unit: the file said nothing of V_F/V_A until 2026-12-06)
+                # (what each complex ratio is, as the force says its unit)
                 "finger_voltage_ratio": ("frequency", np.asarray(finger_voltage(self.params, freq, variant=self.variant)), {"units": "1", "long_name": "V_F/V_A: voltage across C_i and the stratum corneum per drive volt"}),
                 "leaked_charge_ratio": ("frequency", np.asarray(leaked_charge(self.params, freq, variant=self.variant)), {"units": "C/V", "long_name": "Q_f/V_A: charge leaked through R_sc per drive volt"}),
             },
@@ -378,8 +378,8 @@ def _force_phasors(params, freq, area, v_a, variant):
 
 
 def _thickness(value, name):
-    """A layer thickness [m]: numbers ≥ 0 (0: no such layer; a negative one, a sign slip, gave a
-    force of any size without a word until 2026-12-06)."""
+    """A layer thickness [m]: numbers ≥ 0 (0: no such layer; a negative one, a sign slip, would give a
+    force of any size without a word)."""
     value = numeric_array()(value, name)
     if not isinstance(value, jax.core.Tracer) and not (np.isrealobj(np.asarray(value)) and np.all(np.asarray(value) >= 0)):
         raise ParameterError(f"{name} is a layer thickness [m] and must be ≥ 0, got {shown(value)}")
@@ -429,7 +429,7 @@ class FrictionLine:
 
 def _measured(values, name: str, *, flat: bool = True) -> np.ndarray:
     """Measured forces [N] as a float array (flattened unless ``flat`` is False), else one
-    `DataError` naming ``name`` (text where numbers go: NumPy's ValueError until 2026-12-06)."""
+    `DataError` naming ``name`` (text where numbers go: not NumPy's ValueError)."""
     try:
         array = np.asarray(values, dtype=np.float64)
     except (TypeError, ValueError):

@@ -34,7 +34,7 @@ FORCE_PLATEAU_REL = 0.01
 fraction of it over more than `FORCE_PLATEAU_SPAN` in frequency: where on the plateau the grid's
 largest value falls is then rounding's and noise's choice, not a peak (a SYNTHETIC remainder of
 tests/test_gap_force_bound.py: the force with EP within 1 % of its largest, 412 mN, from 1 Hz to
-22.4 Hz, was reported as "max 412 mN at 1 Hz"; walkthrough 2026-12-05)."""
+22.4 Hz, would be reported as "max 412 mN at 1 Hz")."""
 FORCE_PLATEAU_SPAN = 10.0
 LEVELLED_SLOPE = math.log10(1.0 + FORCE_PLATEAU_REL)
 """A force largest at an end of the band has levelled off there when its slope d ln F/d ln f
@@ -127,11 +127,11 @@ class ForceMaximum:
     "fmax"; "fmin=fmax" for a one-frequency band), "flat" for a force the same at every
     frequency, and None for a peak inside the band. ``plateau_hz`` (low, high) [Hz]: the grid
     frequencies about the grid's largest force where the force stays within 1 % of it, when they
-    span more than a decade (`force_plateau`), else None (added 2026-12-06: Vezzoli's eq 10, a
+    span more than a decade (`force_plateau`), else None (Vezzoli's eq 10, a
     high-pass, is within 1 % of its largest from 2.59 kHz to the band's 1 MHz, where "still rises
-    above it" alone read as a force still growing). ``edge_slope``: d ln F/d ln f at that end of
-    the band (`edge_slope`, over a step of 1e-3 in ln f inward), None for a peak inside the band (added
-    2026-12-06: over a band shorter than a decade, where no plateau is judged, it tells a force
+    above it" alone would read as a force still growing). ``edge_slope``: d ln F/d ln f at that end of
+    the band (`edge_slope`, over a step of 1e-3 in ln f inward), None for a peak inside the band
+    (over a band shorter than a decade, where no plateau is judged, it tells a force
     still rising, ∝ f² on eq 10's low side, from one that has levelled off)."""
 
     frequency_hz: float
@@ -154,7 +154,7 @@ class ForceMaximum:
 
 def _numbers(values, name: str) -> np.ndarray:
     """``values`` as a flat float array, else one `ParameterError` naming ``name`` (text or
-    objects that are no numbers: until 2026-12-06 NumPy's ValueError)."""
+    objects that are no numbers: not NumPy's ValueError)."""
     try:
         return np.asarray(values, float).reshape(-1)
     except (TypeError, ValueError) as exc:
@@ -189,7 +189,7 @@ def force_maximum(force_at: Callable[[float], float], freq, force=None) -> Force
     k = n - 1 if ties[-1] == n - 1 else int(ties[0])  # (on a flat top reaching fmax: the force rises to fmax)
     grid = {"grid_frequency_hz": float(freq[k]), "grid_force_n": float(force[k])}
     at_end = {"frequency_hz": float(freq[k]), "force_n": float(force[k]), **grid, "at_band_edge": True}
-    if n > 1 and force.max() == force.min():  # (flat, e.g. zero: no end to call rising; its plateau the band, as impedax gap's JSON gives it: 2026-12-06)
+    if n > 1 and force.max() == force.min():  # (flat, e.g. zero: no end to call rising; its plateau the band, as impedax gap's JSON gives it)
         return ForceMaximum(**{**at_end, "frequency_hz": float(freq[0]), "grid_frequency_hz": float(freq[0]), "at_band_edge": False, "band_edge": "flat",
                                "plateau_hz": force_plateau(freq, force, 0)})
     if n == 1 or freq[0] == freq[-1]:

@@ -53,7 +53,7 @@ Fig 8's 100–500 µm (the fingertip's range, after Fruhstorfer 2000): 10 µm–
 way of Table 2's 3.0e4 Ω m, the paper's one value (at 440 Hz; it varies between subjects and with
 frequency, Yamamoto 1976), which moves eq 8's corner 1/(2π ε0 ε_s ρ_s) (256 Hz with Table 2)
 over 2.6 Hz–26 kHz, past the paper's 100 Hz–10 kHz. A dropped µ (90 for 90 µm, ×10⁶) or k (30 for
-30 kΩ m, ×10³) falls outside each. The relative permittivities (added 2026-12-03; below 1 they
+30 kΩ m, ×10³) falls outside each. The relative permittivities (below 1 they
 are refused, `arguments.relative_permittivity`): ε_i up to 100× the paper's largest insulator,
 ε_i = 36 (Fig 9), 3600; ε_s up to 100× Table 2's 2340 (as ρ_s), 2.34e5."""
 DRIVE_PARAMETERS = {"meyer": "v_a", "vezzoli": "v_m"}
@@ -144,7 +144,7 @@ def implausible_message(model: str, name: str, value: float) -> str | None:
         return f"{name} = {value:g} is implausible (plausible {low:g}–{high:g}, {_RANGE_REASONS[name]})"
     elif name in WARNED_ONLY and unit == "V" and high < value <= DRIVE_SLIP_FACTOR * high:
         # (a drive of a few kV is a high-voltage drive as grippers use, not a unit slip: 5000 read
-        # as "5 (5 V) was likely meant", i.e. millivolts, which nobody writes for a drive; 2026-12-05)
+        # as "5 (5 V) was likely meant" would mean millivolts, which nobody writes for a drive)
         return (f"{name} = {_shown(value, unit)} is above the plausible {_shown(low, unit)}–{_shown(high, unit)} ({_RANGE_REASONS[name]}): "
                 "a high-voltage drive, as some electroadhesive grippers use, not a unit slip; the value is in V")
     elif name in WARNED_ONLY:

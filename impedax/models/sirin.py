@@ -202,14 +202,14 @@ def remaining_impedance(total: xr.Dataset, skin: xr.Dataset | None, touchscreen:
     method, have_sigma = _sigma_method({name: m.attrs["sigma_from"] for name, m in means.items()}, sigma)
     sigma = sigma if have_sigma else None
     single = not subtracted
-    # (a mean over trials only when some input holds several; 2026-12-06: one sweep was called "trial means")
+    # (a mean over trials only when some input holds several: one sweep is no "trial means")
     averaged = ", trial means" if any(n > 1 for n in counts.values()) else ", one spectrum" if single else ", one spectrum each"
     attrs = {
         "quantity": (SINGLE_CONTACT_QUANTITY if single else "remaining impedance Z_R = Z_total - Z_skin - Z_TS (Sirin et al. eq 5)") + averaged,
         "sigma_method": method,
         **{f"n_trials_{name}": n for name, n in counts.items()},
     }
-    if have_sigma:  # (what sigma is made of, as data: sigma_method's words for a reader; added 2026-12-06)
+    if have_sigma:  # (what sigma is made of, as data: sigma_method's words for a reader)
         attrs[SIGMA_SOURCES_ATTR] = {name: str(m.attrs["sigma_from"]) for name, m in means.items()}
     if single:
         attrs["single_contact"] = 1
@@ -697,8 +697,8 @@ def magnitude_ratio(z_i, z_total):
 
 
 def _impedances(values, name: str) -> np.ndarray:
-    """Impedances [Ω] as a NumPy array, else one `ParameterError` naming ``name`` (text: NumPy's
-    UFuncTypeError until 2026-12-06)."""
+    """Impedances [Ω] as a NumPy array, else one `ParameterError` naming ``name`` (text: not NumPy's
+    UFuncTypeError)."""
     array = np.asarray(values)
     if array.dtype == bool or not np.issubdtype(array.dtype, np.number):
         raise ParameterError(f"{name} must be impedances (complex numbers), got {shown(values)} (dtype {array.dtype})")
@@ -745,6 +745,6 @@ def force_from_friction_coefficients(mu_off, mu_on, normal_force=1.0):
     if not (np.all(mu_on > 0) and np.all(mu_off > 0)):
         raise ParameterError("friction coefficients must be positive")
     normal_force = np.asarray(normal_force, dtype=np.float64)
-    if not np.all(np.isfinite(normal_force) & (normal_force > 0)):  # (2026-12-06: F_n = -1 N gave a force of the opposite sign without a word)
+    if not np.all(np.isfinite(normal_force) & (normal_force > 0)):  # (F_n = -1 N would give a force of the opposite sign without a word)
         raise ParameterError(f"normal_force is the finger's normal force F_n [N] (1 N in the paper) and must be positive, got {shown(normal_force.tolist())}")
     return (1.0 - mu_off / mu_on) * normal_force

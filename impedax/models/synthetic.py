@@ -227,7 +227,7 @@ def example_spectra(ds: xr.Dataset | None = None) -> dict[str, xr.Dataset]:
     """The example as standard spectrum Datasets (complex ``Z`` over ``frequency`` with dims
     ``session``, ``trial``): keys ``total_sliding``, ``total_stationary``, ``skin``,
     ``touchscreen``. ``ds`` defaults to `load_example`; another Dataset is a `DataError` saying
-    what it lacks (until 2026-12-06 a KeyError from inside xarray; a spectrum's ``Z`` is no example)."""
+    what it lacks (not a KeyError from inside xarray; a spectrum's ``Z`` is no example)."""
     ds = load_example() if ds is None else ds
     _check_example(ds)
     out = {}

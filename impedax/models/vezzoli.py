@@ -71,7 +71,7 @@ frequency f_r and wavelength, finger force range, air viscosity η, atmospheric 
 def skin_time_constant(eps_s=TABLE2["eps_s"], rho_s=TABLE2["rho_s"]):
     """τ = ε0 ε_s ρ_s [s] of the stratum corneum (eq 8). Its arguments, and those of
     `effective_voltage`, `instantaneous_force` and `insulator_capacitance_ratio`, are checked as
-    `electrovibration_force`'s (since 2026-12-06: ``rho_s=-1`` gave τ < 0, ``area=-1e-4`` a
+    `electrovibration_force`'s (unchecked, ``rho_s=-1`` would give τ < 0, ``area=-1e-4`` a
     negative force, ``h_i=-1e-6`` a ratio of −0.5, without a word)."""
     return EPSILON_0 * eps_s * rho_s
 
@@ -169,7 +169,7 @@ def electrovibration_force_peak(freq, *, h_i=TABLE2["h_i"], h_s=TABLE2["h_s"], a
 
 def _force_target(value, name):
     """A time-averaged force to reach [N]: numbers ≥ 0 (eq 10 is a square, ≥ 0; a negative
-    target has no voltage, and √ of it was NaN without a word until 2026-12-06)."""
+    target has no voltage, and √ of it would be NaN without a word)."""
     value = numeric_array()(value, name)
     if not isinstance(value, jax.core.Tracer) and not (np.isrealobj(np.asarray(value)) and np.all(np.asarray(value) >= 0)):
         raise ParameterError(f"{name} must be ≥ 0 N (eq 10's time-averaged force is a square: no voltage gives a negative one), got {shown(value)}")
@@ -237,8 +237,8 @@ def friction_coupling(mu, delta_mu, normal_force, electrostatic_force):
     """Eq 11: tangential force F_t = (µ − Δµ)(F_n + F_e) [N] — ultrasound lowers µ by Δµ,
     electrovibration adds F_e to the normal force F_n. Refused (`ParameterError`, naming the
     argument): µ ≤ 0, Δµ outside [0, µ] (ultrasound lowers friction at most to none: µ − Δµ < 0
-    gave a tangential force against the motion's sense, F_t = −0.22 N for µ = 0.5, Δµ = 0.7,
-    2026-12-06), and F_n or F_e below 0 (eq 10's force is a square, attracting the finger)."""
+    gives a tangential force against the motion's sense, F_t = −0.22 N for µ = 0.5,
+    Δµ = 0.7), and F_n or F_e below 0 (eq 10's force is a square, attracting the finger)."""
     values = (mu, delta_mu, normal_force, electrostatic_force)
     if not any(isinstance(v, jax.core.Tracer) for v in values):
         mu_a, delta_a = np.asarray(mu, float), np.asarray(delta_mu, float)
@@ -287,7 +287,7 @@ def squeeze_number(amplitude, *, area=TABLE2["area"], length=None, freq=TABLE1["
     Refuses what `squeeze_film_lift` refuses (a `ParameterError` naming the argument): an
     amplitude below 0, a geometry or air value that is not positive (h_e ≥ 0)."""
     amplitudes = numeric_array()(amplitude, "amplitude")
-    if not isinstance(amplitudes, jax.core.Tracer) and not (np.isrealobj(amplitudes) and np.all(np.asarray(amplitudes) >= 0)):  # (2026-12-06: -1e-6 m gave σ = 20.7, area=-1e-4 "math domain error")
+    if not isinstance(amplitudes, jax.core.Tracer) and not (np.isrealobj(amplitudes) and np.all(np.asarray(amplitudes) >= 0)):  # (unchecked, -1e-6 m would give σ = 20.7, area=-1e-4 "math domain error")
         raise ParameterError(f"squeeze_number: amplitude is the vibration amplitude h_v and must be ≥ 0 m, got {shown(amplitude)}")
     _check_film_inputs(area=area, length=length, h_r=h_r, h_e=h_e, freq=freq, eta=eta, p0=p0, points=2, caller="squeeze_number")
     l0 = math.sqrt(area) if length is None else length
@@ -318,8 +318,8 @@ def _check_film_inputs(*, points, caller: str = "squeeze_film_lift", **values) -
     fingerprints is a flat finger), ``length`` None or positive, ``points`` an integer ≥ 2. The
     plate's roughness h_r > 0 keeps the film open: at h_r = 0 a fingerprint ridge touches the plate
     at the bottom of the stroke and eq 6's pressure diverges. A `ParameterError` naming the
-    argument and its unit (2026-12-06: ``area=0`` said "lift must be finite", ``area<0`` raised
-    "math domain error", ``l_e=0`` ZeroDivisionError, ``freq<0`` gave σ < 0 without a word)."""
+    argument and its unit (unchecked, ``area=0`` would say "lift must be finite", ``area<0`` raise
+    "math domain error", ``l_e=0`` ZeroDivisionError, ``freq<0`` give σ < 0 without a word)."""
     for name, value in values.items():
         if value is None and name == "length":
             continue
