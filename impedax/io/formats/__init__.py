@@ -44,8 +44,8 @@ def register_reader(reader: Reader, readers: Sequence[Reader] | None = None, *, 
     """A new registry: ``readers`` (default `READERS`) with ``reader`` added — tried before the
     built-in ones when ``first`` (so its sniff wins), else after them. A reader of the same name
     is replaced. Nothing global changes: pass the result to ``load(path, readers=...)``.
-    A wrong argument is a `ReaderDefinitionError` (a `ParameterError`) naming it (until
-    2026-12-06 a TypeError, and ``first='yes'`` was taken as true)."""
+    A wrong argument is a `ReaderDefinitionError` (a `ParameterError`) naming it (not a
+    TypeError, and ``first='yes'`` is not taken as true)."""
     if not isinstance(reader, Reader):
         raise ReaderDefinitionError(f"register_reader expects an impedax.io.Reader, got {given_value(reader)}: "
                                     "build one with impedax.io.Reader(name, extensions, sniff, read)")

@@ -75,12 +75,12 @@ def read_biologic(path: str | Path) -> xr.Dataset:
         elif key == "Electrode surface area":
             attrs["electrode_surface_area"] = value.strip()
             area = _AREA_CM2.fullmatch(value.strip())
-            if area:  # (as a number, under Gamry's key: "0.001 cm²" → 0.001; added 2026-12-06)
+            if area:  # (as a number, under Gamry's key: "0.001 cm²" → 0.001)
                 attrs["area_cm2"] = float(area.group(1).replace(",", "."))
         elif key == "Run on channel":
             attrs["channel"] = value.strip()
     if dates:
-        record_date(attrs, dates)  # (ISO 8601 when the file establishes the order of day and month; until 2026-12-06 as written)
+        record_date(attrs, dates)  # (ISO 8601 when the file establishes the order of day and month, else as written)
     _check_header_count(path, lines, n_header)
     return _columns(path, lines, n_header - 1, attrs, cut_line=cut_last_line(text, lines))
 

@@ -71,7 +71,7 @@ def read_gamry(path: str | Path) -> xr.Dataset:
         elif len(cells) >= 3 and key in _ATTR_KEYS:
             value = cells[2].strip()
             if len(cells) > 1 and cells[1].strip() in ("QUANT", "IQUANT", "POTEN"):  # (a number, a potential: "-5.00000E-002" read as -0.05)
-                number = value.replace(",", ".") if value.count(",") == 1 and "." not in value else value  # (a decimal comma's locale: "1,00000E+000"; 2026-12-06)
+                number = value.replace(",", ".") if value.count(",") == 1 and "." not in value else value  # (a decimal comma's locale: "1,00000E+000")
                 try:
                     value = float(number)
                 except ValueError:
@@ -82,7 +82,7 @@ def read_gamry(path: str | Path) -> xr.Dataset:
         raise DataError("no ZCURVE table (is this an impedance experiment?)" + cut_short_note(text), path=path)
     if "date" in attrs and "time" in attrs:
         attrs["date"] = f"{attrs['date']} {attrs.pop('time')}"
-    if "date" in attrs:  # (ISO 8601 when the file's dates, its calibration dates too, establish the order of day and month; 2026-12-06)
+    if "date" in attrs:  # (ISO 8601 when the file's dates, its calibration dates too, establish the order of day and month)
         record_date(attrs, [str(attrs["date"]), *calibrated])
     if notes:
         attrs["comments"] = "\n".join(notes)
@@ -138,7 +138,7 @@ def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: b
             break  # end of the table: the next KEY line (EXPERIMENTABORTED, another table ...)
         rows.append((k + 1, line.split("\t")))
     comma = decimal_comma([c for _, cells in rows for c in cells], "\t")
-    if comma:  # (attrs["decimal_mark"], as every table reader says it; 2026-12-06)
+    if comma:  # (attrs["decimal_mark"], as every table reader says it)
         attrs["decimal_mark"] = "comma"
     wanted = {"Freq": index["Freq"], "Zreal": index["Zreal"], "Zimag": index["Zimag"]}
     if "Time" in index:

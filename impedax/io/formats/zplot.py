@@ -77,7 +77,7 @@ def read_zplot(path: str | Path) -> xr.Dataset:
                 attrs["software"] = f"{key.split(',')[-1].strip()} {value}".strip()
             elif key == "Data Points" and value.isdigit():
                 announced = int(value)
-        if date or time:  # (ISO 8601 when the order of day and month is established; 2026-12-06)
+        if date or time:  # (ISO 8601 when the order of day and month is established)
             record_date(attrs, [" ".join(v for v in (date, time) if v)])
         names_line = lines[end - 1] if end > 0 else ""
     rows = [(k + 1, split_row(lines[k])) for k in range(end + 1, len(lines)) if lines[k].strip()]
