@@ -266,7 +266,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None,
         ix.io.write_netcdf(gap.to_xarray(), staging / "force_bands.nc")
         fig = plot_force_bands(gap)
         story.figure(_save(fig, staging, "step5_force.png"))
-        # (as `impedax gap`'s report words it: "1e+03 Hz" until 2026-12-06, and no word of a plateau)
+        # (as `impedax gap`'s report words it, its plateau included)
         facts["peak force with EP"] = f"{force_maximum_text(with_ep['median'])} (V0 = {V0:g} V, peak convention)"
 
         story.step(6, "Report")

@@ -95,7 +95,7 @@ def _value_text(element: Element, values: Mapping[str, float], registry: Registr
         v = float(values[name])
         if p.suffix is None and p.unit in _SI:
             parts.append(_si(v, p.unit))
-        else:  # (with its unit, as a fit's report writes it: τ=1 ms, Q=15 µF s^(α-1); until 2026-12-06 τ=0.001, Q=1.5e-05)
+        else:  # (with its unit, as a fit's report writes it: τ=1 ms, Q=15 µF s^(α-1), not τ=0.001, Q=1.5e-05)
             parts.append(f"{_GREEK.get(p.suffix, p.suffix or element.name)}={format_quantity(v, p.unit)}")
     return "\n".join(parts)
 
@@ -111,7 +111,7 @@ def _element(elm, element: Element, registry: Registry):
         import difflib
 
         parts = [name for name in dir(elm) if name[:1].isupper() and isinstance(getattr(elm, name), type)]
-        close = difflib.get_close_matches(spec.draw, parts, n=1, cutoff=0.6)  # (2026-12-06: a misspelt part was named without the one meant)
+        close = difflib.get_close_matches(spec.draw, parts, n=1, cutoff=0.6)  # (a misspelt part is named with the one meant)
         hint = f": did you mean {close[0]!r}?" if close else ""
         raise ImpedaxError(f"element {spec.symbol} ({spec.name}) is drawn as {spec.draw!r} (its ElementSpec's draw=), which schemdraw does not have{hint} "
                            "(a name of schemdraw.elements, e.g. 'Resistor', 'Capacitor', 'Inductor2', 'CPE'; none draws a labelled box)")
@@ -160,7 +160,7 @@ def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = No
     labelled with its name and, for the parameters given in ``values`` (name → value, SI units,
     e.g. fitted values), its value. Needs the optional ``schemdraw`` (``pip install impedax[draw]``).
     """
-    if not isinstance(circuit, (str, Circuit)):  # (a list ended in AttributeError until 2026-12-07)
+    if not isinstance(circuit, (str, Circuit)):  # (a list: this message, not AttributeError)
         raise ParameterError(f"circuit must be circuit text or a Circuit, got {shown(circuit)} ({type(circuit).__name__})")
     circuit = parse(circuit, registry) if isinstance(circuit, str) else circuit
     values = dict(values or {})
@@ -178,9 +178,9 @@ def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = No
     _place(d, elm, circuit, _STUB, 0.0, values, registry, widths)
     d.add(elm.Line().at((_STUB + width, 0.0)).to((2 * _STUB + width, 0.0)))
     d.add(elm.Dot(open=True).at((2 * _STUB + width, 0.0)))
-    # (the figure sized by the drawing's scale, `getfig`: the bare ``.fig`` kept matplotlib's
-    # default 6.4 × 4.8 in, so a wide circuit was shrunk into it under labels of full size, which
-    # ran into each other, and a small one was blown up around small labels; until 2026-12-06)
+    # (the figure sized by the drawing's scale, `getfig`: the bare ``.fig`` keeps matplotlib's
+    # default 6.4 × 4.8 in, so a wide circuit would be shrunk into it under labels of full size, which
+    # run into each other, and a small one blown up around small labels)
     fig = d.draw(show=False).getfig()
     for line in fig.axes[0].lines:  # (no snapping to the pixel grid: a straight wire snapped, the parts' leads did not, and met them a pixel off)
         line.set_snap(False)

@@ -61,8 +61,7 @@ def reported(progress) -> Iterator[Callable[[str], None] | None]:
     """The progress callback of a public call given ``progress``: a function is the caller's
     own; False, none (`SilentPrinter`); None outside any reporting call (`reporting`), lines on
     stderr once the call has run `PROGRESS_AFTER_S` (`progress_printer`), as the command line
-    prints them: a first batch fit or a diagnosis ran 12-50 s silent in Python (two
-    walkthroughs, 2026-12-02); None inside one, None (its callback stays). Within the block the
+    prints them: a first batch fit or a diagnosis would run 12-50 s silent in Python; None inside one, None (its callback stays). Within the block the
     calls beneath report nothing of their own (`silenced`) unless they are given this callback:
     a diagnosis says its stages, not those of each fit it makes, as on the command line."""
     if progress is None and reporting():
@@ -116,8 +115,8 @@ def progress_printer(after_s: float = PROGRESS_AFTER_S, stream=None, *, quiet: b
     have passed. The lines said before then are printed, in order and with their own times, at
     ``after_s`` or at the first line after it, whichever comes first (the first diagnosis says
     its line at 0 s and may run for several seconds): a slow run is never silent past
-    ``after_s``, and every run starts with the same lines (until 2026-11-30 only the last of them
-    was kept: refine of AutoEIS's battery cycle 10 began at "[  1.8 s]   the DRT of the data…",
+    ``after_s``, and every run starts with the same lines (keeping only the last of them,
+    refine of AutoEIS's battery cycle 10 would begin at "[  1.8 s]   the DRT of the data…",
     without its step 0 and baseline lines). Its ``close()`` ends the wait; a line is printed at
     most once. ``quiet``: a printer that prints nothing (`SilentPrinter`)."""
     if quiet:
