@@ -510,10 +510,11 @@ def test_compare_marks_an_unreliable_log_evidence_and_lists_the_posterior_s_warn
     piled = rng.random(draws.shape[:2]) < 0.3
     draws[..., post.names.index("CPE1.alpha")][piled] = 1 - 1e-5 * rng.random(int(piled.sum()))
     note = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is not Gaussian at the MAP along CPE1.alpha"
-    edgy = dataclasses.replace(post, draws=draws, notes=(note,))
+    edgy = dataclasses.replace(post, draws=draws, notes=(note,), log_evidence_unreliable_reason="not_gaussian", model_comparison_notes=(note,))  # (as `sample` carries the note's cause)
     assert any(w.startswith("CPE1.alpha piles up against its upper bound 1") for w in edgy.warnings)  # (the case)
     c = ix.compare([post, edgy])
     assert [r["log_evidence_reliable"] for r in c.rows] == [math.isfinite(post.log_evidence) and not any(w.startswith(EVIDENCE_NOTE_LEAD) for w in post.warnings), False]
+    assert c.rows[1]["log_evidence_unreliable_reason"] == "not_gaussian" and (c.rows[0]["log_evidence_unreliable_reason"] is None) == c.rows[0]["log_evidence_reliable"]
     row = next(line for line in c.table().splitlines() if line.startswith(c.rows[1]["label"] + " "))
     assert f"{edgy.log_evidence:.2f}*" in row.split()
     assert f"* log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {c.rows[1]['label']}; compare these models by WAIC" in c.table()

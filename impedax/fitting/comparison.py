@@ -19,7 +19,7 @@ from ..data import column_width, format_quantity, report_text
 from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
-from .bayes.evidence import EVIDENCE_NOTE_LEAD, WaicDoubt
+from .bayes.evidence import EvidenceDoubt, WaicDoubt
 from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
 from .frozen import FrozenResult, freeze_fields
 from .problem import WEIGHTING_SCALES
@@ -677,7 +677,9 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
             if value is not None:
                 row[extra] = float(value() if callable(value) else value)
         if "log_evidence" in row:
-            row["log_evidence_reliable"] = math.isfinite(row["log_evidence"]) and not any(w.startswith(EVIDENCE_NOTE_LEAD) for w in _own_warnings(item))
+            reason = _evidence_unreliable_reason(item)
+            row["log_evidence_reliable"] = math.isfinite(row["log_evidence"]) and reason is None
+            row["log_evidence_unreliable_reason"] = reason  # (added 2026-12-07: `Posterior.log_evidence_unreliable_reason`; None when sound)
         if "waic" in row:
             reason = _waic_unreliable_reason(item, row["waic"])
             row["waic_reliable"] = reason is None  # (added 2026-12-06)
@@ -725,12 +727,24 @@ def _waic_unreliable_reason(item, value: float) -> str | None:
     return WaicDoubt(reason).value if reason is not None else None if math.isfinite(value) else WaicDoubt.UNDEFINED.value
 
 
+def _evidence_unreliable_reason(item) -> str | None:
+    """Why a posterior's Laplace log evidence is undefined or unreliable, None when it is sound:
+    its ``log_evidence_unreliable_reason`` (`Posterior.log_evidence_unreliable_reason`, the cause
+    `laplace_evidence` gave beside its note, not read from the note's words)."""
+    reason = getattr(item, "log_evidence_unreliable_reason", None)
+    return None if reason is None else EvidenceDoubt(reason).value
+
+
 def _own_warnings(item) -> list[str]:
     """The warnings of a posterior (an item with a ``fit``) that are its own, not its start
-    fit's (``least-squares start: …``, which the fit itself carries); [] for a fit."""
+    fit's (``least-squares start: …``, which the fit itself carries): `Posterior.own_warnings`
+    (an item without them: its warnings less those that begin so); [] for a fit."""
     fit = getattr(item, "fit", None)
     if fit is None or fit is item:
         return []
+    own = getattr(item, "own_warnings", None)
+    if own is not None:
+        return list(own)
     return [w for w in getattr(item, "warnings", ()) if not w.startswith("least-squares start: ")]
 
 

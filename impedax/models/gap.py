@@ -46,7 +46,6 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
-from ..fitting.bayes.evidence import MODEL_COMPARISON_NOTE_LEADS
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.kk import KKChains
 from ..fitting.least_squares.branches import undetermined_names
@@ -1087,7 +1086,7 @@ def gap_analysis(
     u_draws = posterior.parameter_draws()["u"]
     restating = _bound_notes(u_draws, reparametrization, area, single)  # (left out under the alarm NO AIR GAP, which says them: `_no_air_gap_said_once`)
     notes += restating + _gap_breakdown_notes(force, float(np.median(u_draws)), area, eps_gap)
-    sampled = _sampling_notes(posterior.warnings, reparametrization, posterior.parameter_draws()["u"])
+    sampled = _sampling_notes(_gap_sampling_warnings(posterior), reparametrization, posterior.parameter_draws()["u"])
     known_kk = KKChains()
     sampled = _prior_edge_advice(sampled, posterior.piled_up, posterior.parameter_draws())
     notes += _edl_fit_warnings(edl, remaining, known_kk) + [f"sampling: {w}" for w in _correlation_advice(sampled, posterior.strong_correlations, posterior.parameter_draws(), circuit, single, weighting=weighting)]
@@ -1110,18 +1109,27 @@ def _series_impedances(skin: xr.Dataset | None, touchscreen: xr.Dataset | None) 
     return trial_mean(skin)["Z"].values, trial_mean(touchscreen)["Z"].values
 
 
+def _gap_sampling_warnings(posterior) -> list[str]:
+    """The pooled sampling's ``posterior``'s warnings the gap analysis may pass on: its own
+    (`Posterior.own_warnings`: not the least-squares start's, as the EDL fit's own are), less the
+    Laplace evidence's and WAIC's (`Posterior.model_comparison_notes`), which speak to comparing
+    models, and the gap analysis compares none (a walkthrough's ``impedax gap`` said "Do not
+    compare models by this WAIC"; 2026-12-02). Told apart as `impedax.sample` made them, not by
+    their words (their leads, `MODEL_COMPARISON_NOTE_LEADS`, until 2026-12-07)."""
+    comparing = set(posterior.model_comparison_notes)
+    return [w for w in posterior.own_warnings if w not in comparing]
+
+
 def _sampling_notes(warnings, reparametrization=None, u_draws=None) -> list[str]:
-    """The pooled sampling's warnings the gap analysis passes on: not the least-squares start's
-    (the EDL fit's own are), nor the Laplace evidence's and WAIC's (`MODEL_COMPARISON_NOTE_LEADS`),
-    which speak to comparing models, and the gap analysis compares none (a walkthrough's
-    ``impedax gap`` said "Do not compare models by this WAIC"; 2026-12-02). With the sampling's
+    """The pooled sampling's warnings the gap analysis passes on, of those it may (``warnings``,
+    `_gap_sampling_warnings`). With the sampling's
     ``reparametrization`` and ``u_draws`` [m]: nor its note that u is no air gap
     (`implausible_gap_notes`), which the alarm NO AIR GAP always says then (the same median, the
     same `PLAUSIBLE_GAP_M`); and the cause it gives of u piled up at a bound is the gap analysis's
     (`_gap_bound_cause`), not `gap_thickness_reparametrization`'s, whose "then the bounds
     (lower=, upper=)" named keywords neither `gap_analysis` nor ``impedax gap`` takes (REAL
     exampleDataBioLogic.mpt and exampleData.csv as single contacts, 2026-12-06)."""
-    kept = [w for w in warnings if not w.startswith(("least-squares start", *MODEL_COMPARISON_NOTE_LEADS))]
+    kept = list(warnings)
     if reparametrization is None:
         return kept
     from ..fitting.bayes.reparam import implausible_gap_notes

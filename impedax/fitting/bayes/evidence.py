@@ -18,7 +18,7 @@ from ...data import format_frequency
 from .diagnostics import kept_draws_text, more_draws_advice
 from .logprob import LogProbArgs, LogProbFunctions
 
-__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "START_UNEVEN_NOISE", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS", "short_chain_waic_note", "WAIC_REMEDY", "evidence_note_beside_waic", "WaicDoubt", "waic_doubts", "SHORT_CHAIN_REMEDY", "DOUBTED_WAIC_REMEDY", "evidence_remedy"]
+__all__ = ["LaplaceEvidence", "WAIC", "waic_cause", "START_BEYOND_SIGMA", "START_UNEVEN_NOISE", "WAIC_FIT_DISTANCE", "WAIC_MAX_DRAWS", "WAIC_POINT_LIMIT", "WAIC_PARAMETER_FACTOR", "LAPLACE_WIDTH_RATIO", "laplace_evidence", "waic", "EVIDENCE_NOTE_LEAD", "WAIC_NOTE_LEAD", "MODEL_COMPARISON_NOTE_LEADS", "short_chain_waic_note", "WAIC_REMEDY", "evidence_note_beside_waic", "WaicDoubt", "waic_doubts", "SHORT_CHAIN_REMEDY", "DOUBTED_WAIC_REMEDY", "evidence_remedy", "EvidenceDoubt", "evidence_doubt_of_notes", "model_comparison_notes_of"]
 
 LAPLACE_WIDTH_RATIO = 2.0
 """The Laplace log evidence is flagged unreliable when, for some parameter, the Gaussian at the
@@ -46,12 +46,33 @@ region holds it. Further off, the posterior has moved away from the fit (a prior
 or the chain is still moving)."""
 
 
+class EvidenceDoubt(enum.StrEnum):
+    """Why a posterior's Laplace log evidence is undefined or no score to compare models by, as a
+    value, not words: `LaplaceEvidence.reason`, `Posterior.log_evidence_unreliable_reason`,
+    ``impedax sample --json``'s and ``impedax compare --json``'s ``log_evidence_unreliable_reason``,
+    and what `impedax.compare`'s ``log_evidence_reliable`` reads. Each has its note in words
+    (`laplace_evidence`'s, beginning with `EVIDENCE_NOTE_LEAD`)."""
+
+    HESSIAN_NOT_FINITE = "hessian_not_finite"
+    """Undefined: the Hessian at the MAP is not finite."""
+    NOT_PEAKED = "not_peaked"
+    """Undefined: the log-posterior is not peaked at the MAP (−H not positive definite)."""
+    NEARLY_FLAT = "nearly_flat"
+    """Unreliable: −H's eigenvalues span over 12 decades (a nearly flat direction)."""
+    NOT_GAUSSIAN = "not_gaussian"
+    """Unreliable: some parameter's Gaussian width at the MAP and its draws' width differ by more
+    than `LAPLACE_WIDTH_RATIO`."""
+
+
 class LaplaceEvidence(NamedTuple):
-    """ln Z (NaN when undefined), the MAP in the sampled space, and a note ("" when none)."""
+    """ln Z (NaN when undefined), the MAP in the sampled space, a note ("" when none), and why the
+    value is undefined or unreliable (`EvidenceDoubt`; None when it is sound), the note's cause as
+    a value."""
 
     log_evidence: float
     map_y: np.ndarray
     note: str
+    reason: EvidenceDoubt | None = None
 
 
 class WAIC(NamedTuple):
@@ -65,14 +86,47 @@ class WAIC(NamedTuple):
 
 
 EVIDENCE_NOTE_LEAD = "Laplace log evidence "
-"""How the notes of `laplace_evidence` begin, each saying the value is unreliable or undefined:
-`impedax.compare` marks the log evidence of a posterior that carries one."""
+"""How the notes of `laplace_evidence` begin, each saying the value is unreliable or undefined.
+`impedax.compare` marks the log evidence of a posterior by its reason (`EvidenceDoubt`,
+`Posterior.log_evidence_unreliable_reason`), not by these words; they give the reason only of a
+posterior file written without it (`evidence_doubt_of_notes`)."""
 WAIC_NOTE_LEAD = "WAIC "
 """How the notes of `waic` begin, each saying the value is unreliable or undefined (whether WAIC
 is one to compare models by is `waic_doubts`'s value, not these words)."""
 MODEL_COMPARISON_NOTE_LEADS = (EVIDENCE_NOTE_LEAD, WAIC_NOTE_LEAD)
-"""The leads of the notes that speak only to comparing models (the Laplace evidence, WAIC): a
-command that compares none (`impedax gap`) leaves them out of its warnings."""
+"""The leads of the notes that speak only to comparing models (the Laplace evidence, WAIC). A
+command that compares none (`impedax gap`) leaves those notes out of its warnings by
+`Posterior.model_comparison_notes`, which holds them apart; the leads pick them out only of a
+posterior file written without it (`model_comparison_notes_of`)."""
+
+
+def _old_evidence_reason(note: str) -> EvidenceDoubt:
+    """The `EvidenceDoubt` of a note of `laplace_evidence` as the notes have read since the lead
+    was set (for a posterior file written without the reason: `evidence_doubt_of_notes`)."""
+    rest = note[len(EVIDENCE_NOTE_LEAD):]
+    if rest.startswith("undefined: the Hessian"):
+        return EvidenceDoubt.HESSIAN_NOT_FINITE
+    if rest.startswith("undefined"):
+        return EvidenceDoubt.NOT_PEAKED
+    if rest.startswith("is unreliable: the posterior is nearly flat"):
+        return EvidenceDoubt.NEARLY_FLAT
+    return EvidenceDoubt.NOT_GAUSSIAN
+
+
+def evidence_doubt_of_notes(notes: Sequence[str]) -> EvidenceDoubt | None:
+    """The `EvidenceDoubt` a posterior's ``notes`` hold in words (the first note beginning with
+    `EVIDENCE_NOTE_LEAD`), None without one: only for a posterior file written without
+    ``log_evidence_unreliable_reason`` (`Posterior.from_xarray`), whose notes are all there is;
+    a posterior in memory carries the reason `laplace_evidence` gave."""
+    note = next((n for n in notes if n.startswith(EVIDENCE_NOTE_LEAD)), None)
+    return None if note is None else _old_evidence_reason(note)
+
+
+def model_comparison_notes_of(notes: Sequence[str]) -> tuple[str, ...]:
+    """The ``notes`` that begin with a lead of `MODEL_COMPARISON_NOTE_LEADS`: only for a posterior
+    file written without ``model_comparison_notes`` (`Posterior.from_xarray`); a posterior in
+    memory holds them apart as `sample` made them."""
+    return tuple(n for n in notes if n.startswith(MODEL_COMPARISON_NOTE_LEADS))
 
 
 class WaicDoubt(enum.StrEnum):
@@ -165,17 +219,17 @@ def laplace_evidence(chain_y, log_prob, args: LogProbArgs, functions: LogProbFun
     h = np.asarray(functions.hessian(jnp.asarray(y_map), args), float)
     d = len(y_map)
     if not np.all(np.isfinite(h)):
-        return LaplaceEvidence(math.nan, y_map, f"{EVIDENCE_NOTE_LEAD}undefined: the Hessian at the MAP is not finite")
+        return LaplaceEvidence(math.nan, y_map, f"{EVIDENCE_NOTE_LEAD}undefined: the Hessian at the MAP is not finite", EvidenceDoubt.HESSIAN_NOT_FINITE)
     eig = np.linalg.eigvalsh(-0.5 * (h + h.T))
     if eig.min() <= 0:
-        return LaplaceEvidence(math.nan, y_map, f"{EVIDENCE_NOTE_LEAD}undefined: the log-posterior is not peaked at the MAP (a flat or unidentified direction)")
-    note = ""
+        return LaplaceEvidence(math.nan, y_map, f"{EVIDENCE_NOTE_LEAD}undefined: the log-posterior is not peaked at the MAP (a flat or unidentified direction)", EvidenceDoubt.NOT_PEAKED)
     if eig.min() / eig.max() < 1e-12:
-        note = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is nearly flat along some direction (unidentified parameters)"
+        note, reason = f"{EVIDENCE_NOTE_LEAD}is unreliable: the posterior is nearly flat along some direction (unidentified parameters)", EvidenceDoubt.NEARLY_FLAT
     else:
         reasons = ((WaicDoubt.SHORT_CHAIN,) if _too_short(chain_y.shape[1]) else ()) if waic_reasons is None else tuple(waic_reasons)
         note = _width_note(np.linalg.inv(-0.5 * (h + h.T)), chain_y, names, converged, reasons)
-    return LaplaceEvidence(lp_map + 0.5 * d * math.log(2 * math.pi) - 0.5 * float(np.sum(np.log(eig))), y_map, note)
+        reason = EvidenceDoubt.NOT_GAUSSIAN if note else None
+    return LaplaceEvidence(lp_map + 0.5 * d * math.log(2 * math.pi) - 0.5 * float(np.sum(np.log(eig))), y_map, note, reason)
 
 
 WAIC_REMEDY = "Compare models by WAIC, or fix or bound that parameter"

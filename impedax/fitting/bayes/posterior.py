@@ -28,7 +28,7 @@ from ..least_squares.branches import left_to_priors
 from ..least_squares.result import bounds_attr, shown_stderr, stored_bounds, without_sample_advice
 from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
-from .evidence import WaicDoubt, short_chain_waic_note, waic_doubts
+from .evidence import EvidenceDoubt, WaicDoubt, evidence_doubt_of_notes, model_comparison_notes_of, short_chain_waic_note, waic_doubts
 from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, tied_to_bound, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel
 from .priors import Prior
@@ -149,7 +149,10 @@ class Posterior(PiledUp, FrozenResult):
     ``steps="auto"``, ``steps_mode``, ``step_cap`` and ``stopped``; ``stragglers`` the walkers
     whose draws were left out (`find_stragglers`: ``draws``, ``log_prob`` and ``acceptance`` hold
     the other walkers'). Model comparison: ``log_evidence`` (Laplace, at the MAP) and ``waic``
-    (deviance scale: lower is better).
+    (deviance scale: lower is better); ``log_evidence_unreliable_reason`` why the log evidence is
+    undefined or unreliable (`evidence.EvidenceDoubt`, None when sound: the cause of its note, as
+    a value); ``model_comparison_notes`` which of ``notes`` speak only to comparing models (the
+    Laplace evidence's and WAIC's).
     """
 
     __repr__ = concise_repr  # (the generated one printed every array)
@@ -179,9 +182,13 @@ class Posterior(PiledUp, FrozenResult):
     registry: Registry | None = field(default=None, repr=False)  # None: the default registry
     user_bounds: dict[str, tuple[float, float]] = field(default_factory=dict)  # sampled circuit parameters' bounds narrowed by the user (`sample(bounds=...)` or init's)
     stragglers: Stragglers = NO_STRAGGLERS  # the run's walkers left out of the draws (`find_stragglers`)
+    log_evidence_unreliable_reason: EvidenceDoubt | None = None  # (`LaplaceEvidence.reason`; added 2026-12-07: `impedax.compare` read it from the notes' words)
+    model_comparison_notes: tuple[str, ...] = ()  # the notes of ``notes`` from `laplace_evidence` and `waic` (added 2026-12-07: `impedax gap` picked them out by their words)
 
     def __post_init__(self):
         object.__setattr__(self, "noise", NoiseModel(self.noise))
+        if self.log_evidence_unreliable_reason is not None:
+            object.__setattr__(self, "log_evidence_unreliable_reason", EvidenceDoubt(self.log_evidence_unreliable_reason))
         if self.registry is None:
             object.__setattr__(self, "registry", DEFAULT_REGISTRY)
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -265,14 +272,19 @@ class Posterior(PiledUp, FrozenResult):
     def warnings(self) -> tuple[str, ...]:
         """Diagnostics that need attention (straggler walkers left out, chain length, acceptance,
         correlations, draws piled up against a prior's edge, linearised standard errors far from
-        the posterior's widths, fit notes)."""
+        the posterior's widths, fit notes): `own_warnings`, then the least-squares start's
+        (each as ``least-squares start: …``)."""
+        return self.own_warnings + tuple(f"least-squares start: {without_sample_advice(w)}" for w in self.fit.warnings)
+
+    @functools.cached_property
+    def own_warnings(self) -> tuple[str, ...]:
+        """`warnings` without the least-squares start's: the sampling's own."""
         out = straggler_warnings(self.stragglers, self.n_walkers + len(self.stragglers.walkers))
         out += chain_warnings(self.names, self.log_scale, self._sampled_space, self.autocorr, self.settings.get("thin", 1), self.mean_acceptance, step_cap=capped_at(self.settings), steps=self.settings.get("steps"))
         out.extend(self._prior_edges.warnings)
         out.extend(self._interval_warnings())
         out.extend(implausible_gap_notes(self.reparametrization, {n: float(np.median(self.draws[..., i])) for i, n in enumerate(self.names)}))
         out.extend(self.notes)
-        out.extend(f"least-squares start: {without_sample_advice(w)}" for w in self.fit.warnings)
         return tuple(out)
 
     @functools.cached_property
@@ -362,6 +374,7 @@ class Posterior(PiledUp, FrozenResult):
             "p_waic": self.p_waic,
             "waic_note": self.waic_note or None,  # (added 2026-12-06: beside WAIC of a chain too short to estimate τ; null otherwise)
             "waic_unreliable_reason": None if self.waic_unreliable_reason is None else self.waic_unreliable_reason.value,  # (added 2026-12-07: why WAIC is no score to compare models by, `WaicDoubt`; null when it is one)
+            "log_evidence_unreliable_reason": None if self.log_evidence_unreliable_reason is None else self.log_evidence_unreliable_reason.value,  # (added 2026-12-07: why the log evidence is undefined or unreliable, `EvidenceDoubt`; null when sound)
             "noise": self.noise.value,
             "sigma_origin": self.settings.get("sigma_origin"),  # (added 2026-12-06: what the data's σ is under noise 'sigma', `diagnosis.noise.sigma_origin`'s words; null otherwise)
             "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as before 2026-12-01)
@@ -604,6 +617,8 @@ class Posterior(PiledUp, FrozenResult):
             "waic": self.waic,
             "p_waic": self.p_waic,
             "notes": list(self.notes),
+            "log_evidence_unreliable_reason": None if self.log_evidence_unreliable_reason is None else self.log_evidence_unreliable_reason.value,
+            "model_comparison_notes": list(self.model_comparison_notes),
             "warnings": list(self.warnings),
             "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
             "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups], "bounds": bounds_attr(fr.bounds)},
@@ -669,6 +684,7 @@ class Posterior(PiledUp, FrozenResult):
             bounds=stored_bounds(fa.get("bounds")),  # (a file written before 2026-12-01: none)
         )
         sampled = [str(n) for n in ds["param"].values]
+        notes = tuple(ds.attrs.get("notes", ()))
         return cls(
             circuit=circuit,
             names=tuple(sampled),
@@ -688,12 +704,15 @@ class Posterior(PiledUp, FrozenResult):
             waic=float(ds.attrs["waic"]) if ds.attrs["waic"] is not None else math.nan,
             p_waic=float(ds.attrs["p_waic"]) if ds.attrs["p_waic"] is not None else math.nan,
             map_values={n: float(v) for n, v in zip(sampled, ds["map"].values)},
-            notes=tuple(ds.attrs.get("notes", ())),
+            notes=notes,
             settings=dict(ds.attrs["settings"]),
             reparametrization=rp,
             registry=registry,
             user_bounds=stored_bounds(ds.attrs.get("user_bounds")),  # (a file written before 2026-12-01: none)
             stragglers=Stragglers.from_attr(ds.attrs.get("stragglers")),  # (a file written before 2026-12-01: none)
+            # (a file written before 2026-12-07 holds them only in the notes' words: read by their leads)
+            log_evidence_unreliable_reason=ds.attrs["log_evidence_unreliable_reason"] if "log_evidence_unreliable_reason" in ds.attrs else evidence_doubt_of_notes(notes),
+            model_comparison_notes=tuple(ds.attrs["model_comparison_notes"]) if "model_comparison_notes" in ds.attrs else model_comparison_notes_of(notes),
         )
 
 

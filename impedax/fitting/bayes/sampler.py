@@ -563,4 +563,6 @@ def sample(
         registry=registry,
         user_bounds=dict(narrowed),
         stragglers=chain.stragglers,
+        log_evidence_unreliable_reason=evidence.reason,
+        model_comparison_notes=tuple(note for note in (evidence.note, information.note) if note),
     )
