@@ -991,7 +991,7 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
         f"{labels[j]} fits these data significantly better (rms_rel {results[j].rms_rel * 100:.3g}% against {fit.rms_rel * 100:.3g}%, {evidence}): "
         "the misfit is this model's, not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
     )
-    return replace(fit, warnings=tuple(note + _sign_hint_of(w) if DATA_LIMIT_NOTE in w else w for w in warnings))
+    return replace(fit, warnings=tuple(note + _sign_hint_of(w) if DATA_LIMIT_NOTE in w else w for w in warnings), model_misfit=True)  # (the note blames the model: `FitResult.misses_structure`)
 
 
 def _sign_hint_of(note: str) -> str:

@@ -128,6 +128,7 @@ class BatchFitResult(FrozenResult):
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice for every spectrum that is not a warning, as `FitResult.notes` (added 2026-12-02)
+    model_misfits: tuple[str, ...] | None = field(default=None, repr=False)  # the spectra (keys of ``warnings``) whose warnings blame the model, as `FitResult.model_misfit`; None: not known, read from the words (added 2026-12-07)
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`); to_xarray hands out a copy
@@ -161,7 +162,8 @@ class BatchFitResult(FrozenResult):
         a file is written with ``impedax.write_result(batch, "fits.nc")``, which encodes them."""
         specs = self.circuit.parameter_specs(self.registry)
         units = [specs[str(p)].unit if str(p) in specs else "" for p in self.dataset["param"].values]
-        return self.dataset.copy(deep=True).assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s), notes=list(self.notes))
+        return self.dataset.copy(deep=True).assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s), notes=list(self.notes),
+                                                                                                                           model_misfits=[k for k, _ in self.spectrum_keys() if self._blames_model(k)])
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":
@@ -187,9 +189,10 @@ class BatchFitResult(FrozenResult):
             warnings = {str(k): (v,) if isinstance(v, str) else tuple(str(w) for w in v) for k, v in dict(ds.attrs.get("warnings", {})).items()}
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
             dataset = ds.drop_vars("unit", errors="ignore")  # (to_xarray's, from the specs; a file before 2026-12-01 has none)
-            dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format", "notes")}
+            dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format", "notes", "model_misfits")}
+            misfits = ds.attrs.get("model_misfits")  # (a file before 2026-12-07 has none: its warnings' words, `warnings_blame_model`)
             return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, source=saved_source(ds),
-                       notes=stored_notes(ds.attrs.get("notes", ())), **{k: f(ds) for k, f in fields.items()})  # (notes: none in a file before 2026-12-02)
+                       notes=stored_notes(ds.attrs.get("notes", ())), model_misfits=None if misfits is None else stored_notes(misfits), **{k: f(ds) for k, f in fields.items()})  # (notes: none in a file before 2026-12-02)
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
@@ -553,12 +556,21 @@ class BatchFitResult(FrozenResult):
         `FitResult.misses_structure`'s rule: a warning says so (`result.MODEL_MISFIT_MARKS`; its
         misfit checked from 2 % rms_rel), or `misfit_hints` names it (below 2 %, over 5× what the
         Kramers–Kronig chain reaches). Until 2026-12-06 the warnings alone: on the REAL 130
-        battery cycles it was False for all 130 while the hints named 49."""
+        battery cycles it was False for all 130 while the hints named 49. The warning's blame is
+        `model_misfits`, set where the notes are made, not read from their words (a batch
+        without it: their words)."""
         ds = self.dataset
         hinted = set(self._hinted[0].tolist())
-        flags = [warnings_blame_model(self.warnings.get(key, ())) or i in hinted for i, (key, _) in enumerate(self.spectrum_keys())]
+        flags = [self._blames_model(key) or i in hinted for i, (key, _) in enumerate(self.spectrum_keys())]
         shape = tuple(ds.sizes[d] for d in self.dims)
         return xr.DataArray(np.array(flags, bool).reshape(shape), dims=self.dims, coords={d: ds[d] for d in self.dims if d in ds.coords})
+
+    def _blames_model(self, key: str) -> bool:
+        """Whether spectrum ``key``'s warnings blame the model: `model_misfits` (set where the
+        notes are made), or where that is not known, their words (`warnings_blame_model`)."""
+        if self.model_misfits is None:
+            return warnings_blame_model(self.warnings.get(key, ()))
+        return key in self.model_misfits
 
     def spectrum_keys(self):
         """(key, labels) of each spectrum in C order: the text `fit_batch` files its warnings
@@ -594,7 +606,8 @@ class BatchFitResult(FrozenResult):
         stored = self._stored_groups()
         if stored is not None:
             ds.attrs["unidentified_groups"] = {keys.get(k, k): v for k, v in stored.items()}
-        return replace(self, dataset=ds, warnings={keys.get(k, k): v for k, v in self.warnings.items()})
+        misfits = None if self.model_misfits is None else tuple(keys.get(k, k) for k in self.model_misfits)
+        return replace(self, dataset=ds, warnings={keys.get(k, k): v for k, v in self.warnings.items()}, model_misfits=misfits)
 
     def _spectrum_rows(self) -> list[dict]:
         """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension
@@ -1301,10 +1314,10 @@ class _LaneRunner:
         return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
 
-def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False, attrs=None) -> tuple[np.ndarray, list[tuple[str, ...]], list[list[list[str]]]]:
+def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False, attrs=None) -> tuple[np.ndarray, list[tuple[str, ...]], list[list[list[str]]], list[bool]]:
     """One row per spectrum (values, stderr, linearised stderr, at-bound flags, chi2, converged,
-    evaluations, Re/Im of Z_model, the covariance of the free parameters as a `FitResult`'s), its warnings and its unidentified groups (`null_sets`, as
-    `FitResult.unidentified_groups`), without a FitResult per spectrum: the uncertainties of all
+    evaluations, Re/Im of Z_model, the covariance of the free parameters as a `FitResult`'s), its warnings, its unidentified groups (`null_sets`, as
+    `FitResult.unidentified_groups`) and whether its warnings blame the model (`FitResult.model_misfit`), without a FitResult per spectrum: the uncertainties of all
     spectra in one stacked computation (`covariances`), their warnings too (`stack_notes`); only
     spectra that overflowed or did not converge go through `fit_result`."""
     out, used, solver, inward = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts)
@@ -1373,7 +1386,8 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     stderr[np.ix_(regular, table.free_index)] = without_error(sides[regular], vanished, free_stderr)[0]
     z_model = np.array(out.z_model)
     misfit: list[tuple[str, ...]] = []
-    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_chains, remainder=remainder, attrs=attrs, misfit_out=misfit, n_free=int(table.free_index.size))
+    blamed: list[bool] = []
+    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_chains, remainder=remainder, attrs=attrs, misfit_out=misfit, n_free=int(table.free_index.size), blamed_out=blamed)
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i], weights=(inv_re[i], inv_im[i]))
         values[i] = [r.values[n] for n in names]
@@ -1389,12 +1403,14 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     for i in [i for i in range(b) if misfit[i]]:
         at = tuple(n for n, side in zip(table.free_names, sides[i].tolist()) if side)
         checked = constraint_misfit_notes(circuit, table, registry, freq, z[i], z_model[i], None if sigma is None else sigma[i], dict(zip(names, values[i].tolist())), at, misfit[i], solver.kk_chains.misfit(i), weighting=weighting, fit=_spectrum_fit, attrs=attrs)
-        notes[i] = with_constraint_notes(notes[i], misfit[i], checked)
+        warned = with_constraint_notes(notes[i], misfit[i], checked)
+        blamed[i] = blamed[i] and tuple(warned) == tuple(notes[i])  # (the constraint's note blames no model)
+        notes[i] = warned
     notes = [sign_notes_first(n) for n in notes]
     at_bound = np.zeros(values.shape)
     at_bound[:, table.free_index] = sides != 0
     stats = np.stack([chi2, converged.astype(float), np.asarray(out.steps_total, float)], axis=-1)
-    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag, cov.reshape(b, k * k)], axis=-1), notes, groups
+    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag, cov.reshape(b, k * k)], axis=-1), notes, groups, blamed
 
 
 # lane solver shapes: many lanes for large batches, few for the rest and stragglers (each pair
@@ -1407,7 +1423,8 @@ _FEW_LANES, _FEW_CAPACITY = 8, 64
 _MANY_LANES_FROM = 4 * _LANES
 
 
-def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: KKChains | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None, n_free: int | None = None) -> list[tuple[str, ...]]:
+def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: KKChains | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None, n_free: int | None = None,
+               blamed_out: list | None = None) -> list[tuple[str, ...]]:
     """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
     rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
@@ -1417,18 +1434,23 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     ``remainder``: the spectra are a subtraction's remainder (`is_remainder`), Re Z < 0 its cause;
     ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`). ``misfit_out``: a list
     extended with each spectrum's misfit notes alone (the last of its notes); ``n_free``: each
-    fit's number of free parameters (`misfit_notes`; None for a shared fit's spectra)."""
+    fit's number of free parameters (`misfit_notes`; None for a shared fit's spectra);
+    ``blamed_out``: a list extended with whether each spectrum's misfit note blames the model
+    (`misfit_notes`' ``blamed_out``, `FitResult.model_misfit`)."""
     b = len(z)
     inverse_weights = weights(z, sigma, weighting, source, freq)
     weighted = dominated_notes(weighting, freq, z, *inverse_weights)
     # (σ-weighted fits beyond σ: whether a KK-consistent chain under the same σ is too, σ then misstating the noise)
     misstated, chain_chi2_red = sigma_misstated(freq, z, z_model, sigma, weighting, n_free)
-    misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated)
+    blamed: list[bool] = []
+    misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated, blamed_out=blamed)
     trial_means = trial_means_of_sigma(attrs)  # (σ the standard error of trial means: what the notes of residuals below or uneven against it say)
     uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None, trial_means=trial_means)
-    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means)
+    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means, blamed=blamed)
     if misfit_out is not None:
         misfit_out.extend(misfit)
+    if blamed_out is not None:
+        blamed_out.extend(blamed)
     noise = None if sigma is not None else fit_noise(freq, z, z_model, n_free or 0)  # (Re Z < 0 is judged against the noise the residuals show)
     passive = ~np.any(non_passive(z, sigma, noise), axis=-1)  # (the spectra `non_passive_notes` has nothing to say of)
     return [tuple(weighted[i]) + (() if passive[i] else non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder, noise=None if noise is None else noise[i]))
@@ -1467,10 +1489,10 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         z2 = np.asarray(z_block).reshape(-1, n_freq)
         s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
         x0 = None if starts_block is None else np.asarray(starts_block).reshape(-1, n_par)
-        packed, notes, groups = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0, remainder=is_remainder(data.attrs), attrs=data.attrs)
+        packed, notes, groups, blamed = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0, remainder=is_remainder(data.attrs), attrs=data.attrs)
         note_array, group_array = np.empty(len(notes), object), np.empty(len(groups), object)  # (tuples and lists as elements, not as a further axis)
         note_array[:], group_array[:] = notes, groups
-        return packed.reshape(*shape, -1), note_array.reshape(shape), group_array.reshape(shape)
+        return packed.reshape(*shape, -1), note_array.reshape(shape), group_array.reshape(shape), np.asarray(blamed, bool).reshape(shape)
 
     free_names = list(table.free_names)
     n_free = len(free_names)
@@ -1484,26 +1506,30 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         with python_warnings.catch_warnings():
             # dask builds its empty "meta" output by casting the complex input's meta to float
             python_warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
-            packed_da, notes_da, groups_da = xr.apply_ufunc(
+            packed_da, notes_da, groups_da, blamed_da = xr.apply_ufunc(
                 fit_block,
                 *inputs,
                 input_core_dims=core,
-                output_core_dims=[["fit_output"], [], []],
+                output_core_dims=[["fit_output"], [], [], []],
                 dask="parallelized",
-                output_dtypes=[np.float64, object, object],
+                output_dtypes=[np.float64, object, object, bool],
                 dask_gufunc_kwargs={"output_sizes": {"fit_output": width}, "allow_rechunk": True},
             )
-            computed = xr.Dataset({"packed": packed_da, "notes": notes_da, "groups": groups_da}).compute()  # one pass over the graph
+            computed = xr.Dataset({"packed": packed_da, "notes": notes_da, "groups": groups_da, "blamed": blamed_da}).compute()  # one pass over the graph
         packed = computed["packed"].transpose(*extra, "fit_output").values
         notes = computed["notes"].transpose(*extra).values.ravel().tolist()
         groups = computed["groups"].transpose(*extra).values.ravel().tolist()
+        blamed = computed["blamed"].transpose(*extra).values.ravel().tolist()
     else:
-        packed, notes, groups = fit_block(z_da.values, *([] if sigma_da is None else [sigma_da.values]), *([] if starts is None else [starts]))
-        notes, groups = notes.ravel().tolist(), groups.ravel().tolist()
+        packed, notes, groups, blamed = fit_block(z_da.values, *([] if sigma_da is None else [sigma_da.values]), *([] if starts is None else [starts]))
+        notes, groups, blamed = notes.ravel().tolist(), groups.ravel().tolist(), blamed.ravel().tolist()
     labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
     unidentified: dict[str, list[list[str]]] = {}  # (as the warnings: only the spectra that have any)
-    for idx, note, group in zip(np.ndindex(*z_da.shape[:-1]), notes, groups):
+    misfits: list[str] = []  # (the spectra whose warnings blame the model: `BatchFitResult.model_misfits`)
+    for idx, note, group, blames in zip(np.ndindex(*z_da.shape[:-1]), notes, groups, blamed):
         key = ", ".join(label[i] for label, i in zip(labels, idx))
+        if blames:
+            misfits.append(key)
         if note:
             warnings[key] = tuple(note)
         if group:
@@ -1550,4 +1576,4 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     )
     if sigma_da is not None:  # (the data's own σ, which weighted the fits: `fit_of` refits with it)
         ds["sigma"] = ((*extra, "frequency"), sigma_da.values if sigma_da.chunks is None else sigma_da.compute().values, {"units": "ohm"})
-    return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0, registry)
+    return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0, registry, model_misfits=tuple(misfits))

@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -155,6 +155,7 @@ class FitResult(FrozenResult):
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's (`constraints.user_bounds`)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``, `impedax.load`'s path), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice that is not a warning (`unused_sigma_notes`; added 2026-12-02)
+    model_misfit: bool | None = field(default=None, repr=False)  # whether a warning blames the model (`misfit_notes`' ``blamed_out``), set where the note is made; None: not known, read from the words (`fit_blames_model`; added 2026-12-07)
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -239,8 +240,10 @@ class FitResult(FrozenResult):
         """Whether the model misses structure the data hold: a warning says so
         (`MODEL_MISFIT_MARKS`), or `misfit_hint` gives its hint (rms_rel below 2 % and over 5×
         what the Kramers–Kronig chain reaches; added 2026-12-06, as `BatchFitResult.misses_structure`):
-        its values and standard errors are then this model's best, not the system's."""
-        return warnings_blame_model(self.warnings) or misfit_hint(self) is not None
+        its values and standard errors are then this model's best, not the system's. The warning's
+        blame is `model_misfit`, set where the note is made, not read from its words
+        (`fit_blames_model`; a fit without it: its words)."""
+        return fit_blames_model(self) or misfit_hint(self) is not None
 
     @property
     def residuals(self) -> np.ndarray:
@@ -452,7 +455,7 @@ class FitResult(FrozenResult):
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
-                "bounds": bounds_attr(self.bounds), "notes": list(self.notes),
+                "bounds": bounds_attr(self.bounds), "notes": list(self.notes), "model_misfit": int(fit_blames_model(self)),
             },
         ).copy(deep=True)  # (the user's to edit: the result's own arrays are read-only)
 
@@ -499,6 +502,7 @@ class FitResult(FrozenResult):
                 bounds=stored_bounds(ds.attrs.get("bounds")),
                 source=saved_source(ds),
                 notes=stored_notes(ds.attrs.get("notes", ())),  # (none in a file before 2026-12-02)
+                model_misfit=bool(ds.attrs["model_misfit"]) if "model_misfit" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_blames_model`)
             )
 
 
@@ -1146,7 +1150,7 @@ def chi2_red_range(dof: int) -> tuple[float, float]:
     return float(chdtri(dof, 1.0 - SIGMA_SCALE_TAIL)) / dof, float(chdtri(dof, SIGMA_SCALE_TAIL)) / dof
 
 
-def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None, trial_means: str | None = None) -> list[tuple[str, ...]]:
+def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None, trial_means: str | None = None, *, blamed=None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) weighted by the data's σ (``inv_re`` = ``inv_im``
     = 1/σ) whose χ²_red lies outside `chi2_red_range` and whose residuals are at least
     `SIGMA_SCALE_FACTOR`× σ, or that many times below it, in rms (√χ²_red): the standard errors
@@ -1163,7 +1167,9 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
     that difference up into its parameters, so residuals far below σ are expected, and the note
     says what σ is instead of calling it overstated with standard errors "too large" (SYNTHETIC
     Sirin example: residuals 0.3× its SEM, "3.4× too large" said, where the trials' own spread
-    of C_gap, fitted per trial, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF; 2026-12-06)."""
+    of C_gap, fitted per trial, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF; 2026-12-06).
+    ``blamed`` (one bool per fit, `misfit_notes`' ``blamed_out``): which of ``misfit``'s notes blame
+    the model; None: read from their words (`warnings_blame_model`)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
     dof = 2 * z.shape[-1] - (n_free or 0)
@@ -1178,7 +1184,7 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
             continue
         factor = math.sqrt(c)
         chain = np.nan if chain_chi2_red is None else float(np.broadcast_to(chain_chi2_red, (len(z),))[i])
-        blamed = misfit is not None and misfit[i] and any(m in misfit[i][0] for m in MODEL_MISFIT_MARKS)
+        model_blamed = bool(blamed[i]) if blamed is not None else misfit is not None and warnings_blame_model(misfit[i][:1])
         slip = sigma_unit_slip(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i], factor)
         if slip:  # (before the model is blamed: a σ in the wrong unit weighs the points wrongly, and the misfit may be that)
             out[i] = (
@@ -1187,14 +1193,14 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
                 f"and a relative σ is given as sigma = rel·|Z| (e.g. make_spectrum(f, Z, sigma={_relative_example(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i])} * abs(Z)); a file's sigma column in Ω); "
                 f"until then the standard errors, which take σ as stated, are {format_factor(factor)}× too small, and the points are weighed by a wrong noise, so the fit's other warnings may be that weighting's",
             )
-        elif c > high and factor >= SIGMA_SCALE_FACTOR and not blamed and math.isfinite(chain):
+        elif c > high and factor >= SIGMA_SCALE_FACTOR and not model_blamed and math.isfinite(chain):
             out[i] = (
                 f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}), and a "
                 f"Kramers–Kronig-consistent model weighted by the same σ (the KK test's Voigt chain) leaves χ²_red {chain:.3g} too: σ misstates the noise, "
                 f"not the model: it understates it (in some band, or everywhere), and the standard errors, which take σ as stated, are then about {format_factor(factor)}× too small; "
                 "correct the sigma column (or weigh by modulus), then fit again",
             )
-        elif c > high and factor >= SIGMA_SCALE_FACTOR and not blamed:
+        elif c > high and factor >= SIGMA_SCALE_FACTOR and not model_blamed:
             out[i] = (
                 f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"either σ understates the noise, and the standard errors, which take σ as stated, are then {format_factor(factor)}× too small, "
@@ -1288,13 +1294,24 @@ DIAGNOSIS_ADVICE = "a diagnosis (impedax diagnose) shows where it fails and whic
 hint, got the command)."""
 MODEL_MISFIT_MARKS = (MODEL_MISSES_STRUCTURE, MISFIT_IS_MODELS)
 """Phrases of the `misfit_notes` that blame the model, not the data (their text is built from
-them; the Bayesian run's WAIC warning reads the start fit's notes by them: `bayes.sampler`)."""
+them). Whether a fit's notes blame the model is a value set where they are made
+(`FitResult.model_misfit`, `BatchFitResult.model_misfits`); these phrases tell it only of
+warnings without one (`warnings_blame_model`: a result file written without it)."""
 
 
 def warnings_blame_model(warnings) -> bool:
     """Whether one of a fit's warnings says its model misses structure the data hold
-    (`MODEL_MISFIT_MARKS`)."""
+    (`MODEL_MISFIT_MARKS`), by their words: for warnings without the value their fit carries
+    (`FitResult.model_misfit`, `fit_blames_model`), such as those of a file written without it."""
     return any(mark in w for w in warnings for mark in MODEL_MISFIT_MARKS)
+
+
+def fit_blames_model(fit) -> bool:
+    """Whether ``fit``'s warnings blame its model for missing structure the data hold: its
+    ``model_misfit`` (set where the note is made, `misfit_notes`), or, where that is not known
+    (None: a fit built by hand, a file written without it), `warnings_blame_model` of its words."""
+    flag = getattr(fit, "model_misfit", None)
+    return warnings_blame_model(fit.warnings) if flag is None else bool(flag)
 
 
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
@@ -1520,7 +1537,7 @@ def sign_notes_first(notes: tuple[str, ...]) -> tuple[str, ...]:
     return signed + tuple(n for n in notes if f"; {SIGN_HINT_LEAD}" not in n) if signed else tuple(notes)
 
 
-def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None) -> list[tuple[str, ...]]:
+def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None, *, blamed_out: list | None = None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -1559,7 +1576,9 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
     noise, so no note blames the model; such a fit gets the note that the data limit it
     (`sigma_scale_notes` and `uneven_residual_notes`, which that note leaves in place, say what is
     wrong with σ; added 2026-12-02). ``known``: the fit call's `kk.KKChains` (its chains are fitted
-    once for the misfits and the full test)."""
+    once for the misfits and the full test). ``blamed_out``: a list extended with whether each
+    fit's note blames the model (a value set where the note is made, `FitResult.model_misfit`;
+    `MODEL_MISFIT_MARKS` are its words)."""
     known = KKChains() if known is None else known
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     at_noise = within_stated_noise(z, z_model, sigma, weighting, n_free)
@@ -1576,6 +1595,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
             noise_rms = np.reshape(np.sqrt(np.mean(variance / np.abs(np.asarray(z)) ** 2, axis=-1)), rms.shape)  # (the rms_rel σ implies)
         explained = np.isfinite(ratio) & (ratio <= SIGMA_EXPLAINED)
     out: list[tuple[str, ...]] = [()] * rms.size
+    blamed = [False] * rms.size  # (the notes that blame the model: `blamed_out`)
     data_limited: dict[int, float] = {}  # spectrum → its KK chain's rms_rel
     for i, kk in zip(checked.tolist(), kks.tolist()):
         if not kk > 0 or at_noise[i]:  # (σ-weighted residuals the stated noise explains: nothing to blame)
@@ -1587,6 +1607,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
                 f"{MODEL_MISSES_STRUCTURE}: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g}% a Kramers–Kronig-consistent model "
                 f"({KK_CHAIN_WORDS}) reaches; {DIAGNOSIS_ADVICE}",
             )
+            blamed[i] = True
         elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i] and weighting not in (None, "sigma"):
             out[i] = (
                 f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
@@ -1598,6 +1619,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
                 f"model ({KK_CHAIN_WORDS}) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%): {MISFIT_IS_MODELS}, "
                 f"not the data's noise; {DIAGNOSIS_ADVICE}",
             )
+            blamed[i] = True
         else:
             out[i] = (
                 f"the data are {kk * 100:.2g}% (rms_rel) from any Kramers–Kronig-consistent model ({KK_CHAIN_WORDS}), within {MISFIT_RATIO_MAX:g}× "
@@ -1614,7 +1636,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
         for i, (valid, hint, chain_params) in zip(tested, known.verdicts(freq, rows, tested, attrs)):
             if i not in data_limited:
                 if hint:
-                    out[i] = (f"{SIGN_CAUSE_NOTE}; {SIGN_HINT_LEAD}{hint}",)
+                    out[i], blamed[i] = (f"{SIGN_CAUSE_NOTE}; {SIGN_HINT_LEAD}{hint}",), False
                 continue
             kk = data_limited[i]
             if valid and not sigma_wrong[i] and misfit_beyond_chain(rms[i], kk, n_points, n_free if same_metric else None, chain_params):
@@ -1626,8 +1648,11 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
                     f"{MISFIT_IS_MODELS}: the data pass the Kramers–Kronig test (their {kk * 100:.2g}% rms_rel from its Voigt chain is their noise) "
                     f"and {beyond}; {DIAGNOSIS_ADVICE}",
                 )
+                blamed[i] = True
             elif hint:
                 out[i] = (f"{out[i][0]}; {SIGN_HINT_LEAD}{hint}",)
+    if blamed_out is not None:
+        blamed_out.extend(blamed)
     return out
 
 
@@ -2003,6 +2028,7 @@ def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> 
 def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
     *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None, starts_words: str | None = None,
+    model_misfit: bool | None = None,
 ) -> FitResult:
     """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
     ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
@@ -2011,7 +2037,9 @@ def fit_result(
     inverse weights (Re, Im) of the residuals, (N,) each) lets a converged fit be checked for a
     parameter at a bound while chi² falls inward (`falling_inward`): such a fit is reported not
     converged, and the parameter not at its bound. ``starts_words``: what a multistart's
-    ``n_starts`` starts were (`single.starts_words`), after "best of N starts: " in the message."""
+    ``n_starts`` starts were (`single.starts_words`), after "best of N starts: " in the message.
+    ``model_misfit``: whether ``extra_notes`` hold a note that blames the model (`misfit_notes`'
+    ``blamed_out``; None: not known), `FitResult.model_misfit`."""
     names = table.names
     free_names = table.free_names
     x = out.x
@@ -2103,4 +2131,5 @@ def fit_result(
         unidentified_groups=parameter_groups(null_sets),
         registry=registry,
         bounds=user_bounds(table, circuit, registry),
+        model_misfit=model_misfit,
     )
