@@ -1303,16 +1303,20 @@ def latex_writer(result) -> Callable[[Path], None]:
 
 
 class InCommandWords:
-    """``result`` whose ``summary()`` and ``to_table()`` give their prose (a row's ``warnings``)
-    in the words of ``impedax command`` (`json_in_command_words`), so that a command's ``--out
-    FILE.json`` (or ``--out -``) is its ``--json`` document and its CSV says what its text says;
-    every other attribute (the dataset) is the result's own."""
+    """``result`` whose ``summary()``, ``to_table()`` and ``to_xarray()`` give their prose (a
+    row's ``warnings``; the dataset's `PROSE_KEYS` variables and attributes) in the words of
+    ``impedax command`` (`json_in_command_words`, `dataset_in_command_words`), so that a
+    command's ``--out FILE.json`` (or ``--out -``) is its ``--json`` document and its CSV and
+    netCDF say what its text says; every other attribute is the result's own."""
 
     def __init__(self, result, command: str):
         self._result, self._command = result, command
 
     def summary(self) -> dict:
         return json_in_command_words(self._result.summary(), self._command)
+
+    def to_xarray(self):
+        return dataset_in_command_words(self._result.to_xarray(), self._command)
 
     @property
     def to_table(self):
@@ -1323,11 +1327,32 @@ class InCommandWords:
         return getattr(self._result, name)
 
 
+def dataset_in_command_words(ds, command: str | None):
+    """A result's Dataset ``ds`` (`to_xarray`) with its prose in the words of ``impedax command``
+    (`command_line_words`: ``raise --max-steps`` where Python says ``raise max_steps``): the text
+    variables named in `PROSE_KEYS` (a DRT's ``warnings``, ``lambda_note``, ``sign_hint``) and
+    the strings under those keys in its attributes, nested ones too (a fit's ``warnings``, a
+    posterior's ``notes`` and its start fit's ``warnings``), as `json_in_command_words` gives the
+    JSON; keys, values, labels and models as they are. ``command`` None: ``ds`` unchanged."""
+    if command is None:
+        return ds
+    import numpy as np
+
+    def words(text):
+        return command_line_words(text, command) if isinstance(text, str) else text
+
+    prose = {name: ds[name].copy(data=np.vectorize(words, otypes=[object])(ds[name].values)) for name in ds.data_vars
+             if name in PROSE_KEYS and ds[name].dtype.kind in "OU" and ds[name].size}
+    return ds.assign(prose).assign_attrs(json_in_command_words(dict(ds.attrs), command))
+
+
 def result_writer(result, source: str | None = None, provenance: Mapping | None = None) -> Callable[[Path], None]:
     """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`),
     naming the data's ``source`` (`data_source`) and recording ``provenance``
-    (`command_provenance`) when given; a JSON file's prose in the words of the command that
-    ``provenance`` names (`InCommandWords`, as its ``--json``: since 2026-12-06)."""
+    (`command_provenance`) when given; a JSON, CSV or netCDF file's prose in the words of the
+    command that ``provenance`` names (`InCommandWords`, as its ``--json``: JSON since
+    2026-12-06, netCDF since 2026-12-07, where ``impedax fit --out FILE.nc`` held "raise
+    max_steps" and its JSON "raise --max-steps")."""
     command = str((provenance or {}).get("command") or "").removeprefix("impedax ")
     command = command if command in COMMANDS_IN_THEIR_WORDS else None
 
@@ -1706,6 +1731,7 @@ PROSE_KEYS = frozenset({
     "warnings", "warning", "notes", "note", "message", "hints", "misfit_hints", "best_misfit_hint", "best_misfit_hints", "reason", "reasons",
     "removal_reasons", "suggestion_reasons", "explanation", "pattern", "sign_hint", "alarms", "advice", "lambda_note", "f_test_note", "candidate_warning", "waic_note",
     "words",  # (kk's passing_edge.words, 2026-12-06)
+    "model_comparison_notes",  # (a posterior's .nc: those of its notes, in the notes' words)
 })
 _NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "source", "provenance", "label", "spectra_with_warnings"})
 

@@ -187,37 +187,7 @@ def _save(result, path, source: str | None = None, provenance=None) -> None:
 
     if provenance is not None and Path(path).suffix.lower() == ".csv":
         result = _WarningsLast(result, provenance)
-    if Path(path).suffix.lower() == ".nc":
-        result = _DatasetInCommandWords(result)
-    write_result(result, path, source=source, provenance=provenance)
-
-
-class _DatasetInCommandWords:
-    """``result`` whose ``to_xarray()`` gives its prose (the variable ``warnings``, and
-    ``lambda_note`` and ``sign_hint`` as variables or attributes: `common.PROSE_KEYS`) in the
-    words the command printed (`common.command_line_words`: ``(--signed)`` where Python says
-    ``(signed=True)``), as the CSV and JSON that ``--out`` writes (`common.InCommandWords`); the
-    .nc of ``impedax drt --out`` held Python's words until 2026-12-07. Every other attribute is
-    the result's."""
-
-    def __init__(self, result):
-        self._result = result
-
-    def to_xarray(self):
-        import numpy as np
-
-        from .common import PROSE_KEYS, command_line_words
-
-        def words(text):
-            return command_line_words(text, "drt") if isinstance(text, str) else text
-
-        ds = self._result.to_xarray()
-        prose = {name: ds[name].copy(data=np.vectorize(words, otypes=[object])(ds[name].values)) for name in ds.data_vars
-                 if name in PROSE_KEYS and ds[name].dtype.kind in "OU"}
-        return ds.assign(prose).assign_attrs({key: words(value) for key, value in ds.attrs.items() if key in PROSE_KEYS})
-
-    def __getattr__(self, name: str):
-        return getattr(self._result, name)
+    write_result(result, path, source=source, provenance=provenance)  # (a .nc's prose in the command's words: ``result``'s `common.InCommandWords`)
 
 
 class _WarningsLast:
