@@ -124,9 +124,16 @@ class Refinement(FrozenResult):
     notes: tuple[str, ...] = ()
     masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out of every fit (KK-flagged, or Re Z < 0)
     final_from_values: bool = False  # a fit of the final model from scratch ends at another optimum than the final fit (`_reproduced`): reproduce it from its values
+    # (added 2026-12-07) the verdict of `diagnose` of the same data, model and options (refine's
+    # first diagnosis, on every point of the band it was given), and the sentence that says why
+    # this verdict differs from it (`_diagnose_verdict_words`), None when it does not
+    diagnose_verdict: Verdict | None = None
+    diagnose_note: str | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
+        if self.diagnose_verdict is not None:
+            object.__setattr__(self, "diagnose_verdict", Verdict(self.diagnose_verdict))
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
@@ -219,6 +226,9 @@ class Refinement(FrozenResult):
             "data_problem": self.data_line or None,
             # (added 2026-12-04) the added arcs the final fit puts outside the band it saw
             "final_beyond_band": [a.as_json() for a in self.beyond_band],
+            # (added 2026-12-07) what diagnose of the same data, model and options says (refine's first diagnosis on
+            # every point), and the report's sentence on why "verdict" differs from it, or null when it does not
+            "diagnose_verdict": self.diagnose_verdict, "diagnose_verdict_note": self.diagnose_note,
         }
 
     @property
@@ -301,6 +311,8 @@ class Refinement(FrozenResult):
         aic_line = self.verdict_aic_note
         if aic_line:
             lines.append(aic_line)
+        if self.diagnose_note:
+            lines.append(self.diagnose_note)
         lines += self._final_lines()
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
@@ -1353,7 +1365,7 @@ def refine(
                 n_starts=n_starts, seed=seed, drt_evidence=drt_evidence, fixed=fixed, bounds=bounds,
             )
             if restarted is not None:
-                return restarted
+                return _with_diagnose_verdict(restarted, first, ds, restarted=True)
             notes.append(why)
     # (data whose stored sign the KK test doubts (`Diagnosis.sign_hint`) end at that verdict: no
     # model is simplified or pruned on them; conjugated SYNTHETIC finger data lost C_s, R_sc and
@@ -1380,4 +1392,40 @@ def refine(
     # only the final model's note points to the command printed last; other paths' notes name their own models
     own = f"fit of {steps[-1].fit.model} from scratch"
     notes = [n if from_values and own in n else n.replace(" (pass init=)", "") for n in notes]
-    return Refinement(tuple(steps), last.verdict, tuple(notes), masked, final_from_values=from_values)
+    return _with_diagnose_verdict(Refinement(tuple(steps), last.verdict, tuple(notes), masked, final_from_values=from_values), first, ds)
+
+
+def _with_diagnose_verdict(refinement: Refinement, first: Diagnosis, ds: xr.Dataset, *, restarted: bool = False) -> Refinement:
+    """``refinement`` with the verdict of ``first`` (refine's first diagnosis: `diagnose` of the same
+    data, model and options, on every point of the band) and, when its own verdict differs, the
+    sentence that says why (`_diagnose_verdict_words`)."""
+    note = _diagnose_verdict_words(refinement, first, ds.sizes["frequency"], restarted=restarted)
+    return replace(refinement, diagnose_verdict=first.verdict, diagnose_note=note)
+
+
+def _diagnose_verdict_words(refinement: Refinement, first: Diagnosis, n_points: int, *, restarted: bool) -> str | None:
+    """Why refine's verdict differs from diagnose's on the same data, model and options, in one
+    sentence; None when it does not. Refine's step 0 is that diagnosis (the same points, noise,
+    weighting and starts); its verdict judges the final model, after the steps that added what
+    each diagnosis proposed, or, ``restarted``, the final model of a refine started again on the
+    points the KK test passes (`_on_valid_band`). On REAL Gamry data from ``R0 + R1 || C1``
+    diagnose says MISSING_EFFECT (extra_relaxation) and refine, after adding it, DATA_INVALID:
+    read side by side, without this sentence, two contradictory verdicts (walkthrough 2026-12-07)."""
+    if refinement.verdict == first.verdict:
+        return None
+    start = first.baseline.model
+    said = f"diagnose of {start} (impedax diagnose, with the same options) says {first.verdict.upper()}"
+    if first.verdict == Verdict.MISSING_EFFECT and first.best is not None:
+        said += f" (adding {first.best.effect})"
+    final = refinement.final
+    if restarted:
+        judged = first.baseline.frequency.size
+        on = f"all {n_points} points" if judged == n_points else f"{judged} of the {n_points} points"
+        lo, hi = refinement.verdict_band
+        return (f"{said} on {on}; refine started again where the KK test passes ({format_frequency(lo)}–{format_frequency(hi)}; "
+                f"the first note says why), and this verdict judges its final model {final.model} on those points.")
+    n_steps = len(refinement.steps) - 1
+    if n_steps == 0:  # (the start refitted from scratch at the end, `_reproduced`, and diagnosed again)
+        return f"{said}, as refine's step 0 does; this verdict judges the start's final fit, refitted from scratch (rms_rel {final.rms_rel * 100:.3g} %), not diagnose's fit of it."
+    return (f"{said}, as refine's step 0 does; this verdict judges the final model {final.model}, "
+            f"after the {n_steps} step{'' if n_steps == 1 else 's'} that followed, not the start.")
