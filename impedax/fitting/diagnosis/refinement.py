@@ -124,9 +124,9 @@ class Refinement(FrozenResult):
     notes: tuple[str, ...] = ()
     masked_points: tuple[float, ...] = ()  # frequencies [Hz] left out of every fit (KK-flagged, or Re Z < 0)
     final_from_values: bool = False  # a fit of the final model from scratch ends at another optimum than the final fit (`_reproduced`): reproduce it from its values
-    # (added 2026-12-07) the verdict of `diagnose` of the same data, model and options (refine's
-    # first diagnosis, on every point of the band it was given), and the sentence that says why
-    # this verdict differs from it (`_diagnose_verdict_words`), None when it does not
+    # the verdict of `diagnose` of the same data, model and options (refine's first diagnosis, on
+    # every point of the band it was given), and the sentence that says why this verdict differs
+    # from it (`_diagnose_verdict_words`), None when it does not or differs as refine's purpose
     diagnose_verdict: Verdict | None = None
     diagnose_note: str | None = None
 
@@ -226,8 +226,8 @@ class Refinement(FrozenResult):
             "data_problem": self.data_line or None,
             # (added 2026-12-04) the added arcs the final fit puts outside the band it saw
             "final_beyond_band": [a.as_json() for a in self.beyond_band],
-            # (added 2026-12-07) what diagnose of the same data, model and options says (refine's first diagnosis on
-            # every point), and the report's sentence on why "verdict" differs from it, or null when it does not
+            # what diagnose of the same data, model and options says (refine's first diagnosis on every point), and the
+            # report's sentence on why "verdict" differs from it, or null (`_diagnose_verdict_words`)
             "diagnose_verdict": self.diagnose_verdict, "diagnose_verdict_note": self.diagnose_note,
         }
 
@@ -1410,8 +1410,12 @@ def _diagnose_verdict_words(refinement: Refinement, first: Diagnosis, n_points: 
     each diagnosis proposed, or, ``restarted``, the final model of a refine started again on the
     points the KK test passes (`_on_valid_band`). On REAL Gamry data from ``R0 + R1 || C1``
     diagnose says MISSING_EFFECT (extra_relaxation) and refine, after adding it, DATA_INVALID:
-    read side by side, without this sentence, two contradictory verdicts (walkthrough 2026-12-07)."""
+    read side by side, without this sentence, two contradictory verdicts. None too for refine's
+    purpose fulfilled: diagnose proposes an effect, refine adds it (and maybe more) and ends
+    ADEQUATE on the same points, which needs no sentence."""
     if refinement.verdict == first.verdict:
+        return None
+    if not restarted and first.verdict == Verdict.MISSING_EFFECT and refinement.verdict == Verdict.ADEQUATE:
         return None
     start = first.baseline.model
     said = f"diagnose of {start} (impedax diagnose, with the same options) says {first.verdict.upper()}"
