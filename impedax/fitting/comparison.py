@@ -20,7 +20,7 @@ from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EvidenceDoubt, WaicDoubt
-from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, DATA_LIMIT_NOTE, SIGN_HINT_LEAD, misfit_hint, user_bounds_text
+from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, SIGN_HINT_LEAD, fit_data_limit, misfit_hint, user_bounds_text
 from .frozen import FrozenResult, freeze_fields
 from .problem import WEIGHTING_SCALES
 from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
@@ -969,10 +969,15 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
     rms_rel `CLEARLY_LOWER_RMS` × lower with a lower AIC, or an AIC lower by `DECISIVE_DELTA_AIC`):
     the comparison's own numbers then
     say the misfit is this model's, and the note sent the user to the data (its sign hint, if
-    any, is kept: `_sign_hint_of`). Unchanged otherwise,
+    any, is kept). The note and its hint are values the fit carries (`FitResult.data_limit_note`,
+    ``data_limit_hint``), not found by their words; a fit without them (a file written without
+    them) is read by the words (`result.fit_data_limit`). Unchanged otherwise,
     and for fits whose warnings are per spectrum (a mapping)."""
     warnings = fit.warnings
-    if isinstance(warnings, Mapping) or not any(DATA_LIMIT_NOTE in w for w in warnings):
+    if isinstance(warnings, Mapping):
+        return fit
+    limit, hint = fit_data_limit(fit)  # (a value set where the note is made; its words only for a fit without it)
+    if not limit:
         return fit
     better = []  # (strength, j, evidence): the lowest p, else the largest rms_rel factor
     for j, other in enumerate(results):
@@ -991,12 +996,14 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
         f"{labels[j]} fits these data significantly better (rms_rel {results[j].rms_rel * 100:.3g}% against {fit.rms_rel * 100:.3g}%, {evidence}): "
         "the misfit is this model's, not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
     )
-    return replace(fit, warnings=tuple(note + _sign_hint_of(w) if DATA_LIMIT_NOTE in w else w for w in warnings), model_misfit=True)  # (the note blames the model: `FitResult.misses_structure`)
+    return replace(fit, warnings=tuple(note + hint if w == limit else w for w in warnings), model_misfit=True,  # (the note blames the model: `FitResult.misses_structure`)
+                   data_limit_note="", data_limit_hint="")
 
 
 def _sign_hint_of(note: str) -> str:
     """The end of a note that the data limit the fit that holds the KK test's sign hint
-    (`misfit_notes`, `SIGN_HINT_LEAD`), or "": it stays true when another model fits better."""
+    (`misfit_notes`, `SIGN_HINT_LEAD`), or "", by its words: it stays true when another model
+    fits better (`FitResult.data_limit_hint` holds it as a value, `result.fit_data_limit`)."""
     at = note.find(f"; {SIGN_HINT_LEAD}")
     return note[at:] if at >= 0 else ""
 

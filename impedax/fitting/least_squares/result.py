@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_data_limit", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -156,6 +156,8 @@ class FitResult(FrozenResult):
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``, `impedax.load`'s path), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice that is not a warning (`unused_sigma_notes`; added 2026-12-02)
     model_misfit: bool | None = field(default=None, repr=False)  # whether a warning blames the model (`misfit_notes`' ``blamed_out``), set where the note is made; None: not known, read from the words (`fit_blames_model`; added 2026-12-07)
+    data_limit_note: str | None = field(default=None, repr=False)  # the warning that the data limit the fit (`misfit_notes`' ``limits_out``), as worded, "" where it has none; None: not known, read from the words (`fit_data_limit`)
+    data_limit_hint: str = field(default="", repr=False)  # that note's end holding the KK test's sign hint ("; hint: …", `SIGN_HINT_LEAD`), "" without one
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -456,6 +458,7 @@ class FitResult(FrozenResult):
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
                 "bounds": bounds_attr(self.bounds), "notes": list(self.notes), "model_misfit": int(fit_blames_model(self)),
+                **dict(zip(("data_limit_note", "data_limit_hint"), fit_data_limit(self))),
             },
         ).copy(deep=True)  # (the user's to edit: the result's own arrays are read-only)
 
@@ -503,6 +506,8 @@ class FitResult(FrozenResult):
                 source=saved_source(ds),
                 notes=stored_notes(ds.attrs.get("notes", ())),  # (none in a file before 2026-12-02)
                 model_misfit=bool(ds.attrs["model_misfit"]) if "model_misfit" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_blames_model`)
+                data_limit_note=str(ds.attrs["data_limit_note"]) if "data_limit_note" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_data_limit`)
+                data_limit_hint=str(ds.attrs.get("data_limit_hint", "")),
             )
 
 
@@ -1306,6 +1311,20 @@ def warnings_blame_model(warnings) -> bool:
     return any(mark in w for w in warnings for mark in MODEL_MISFIT_MARKS)
 
 
+def fit_data_limit(fit) -> tuple[str, str]:
+    """(the warning, its sign hint's end) of ``fit``'s note that the data, not only the model,
+    limit it (`misfit_notes`): its ``data_limit_note`` and ``data_limit_hint``, set where the note
+    is made, or, where that is not known (None: a fit built by hand, a file written without it),
+    the warning holding `DATA_LIMIT_NOTE` and its end from "; " `SIGN_HINT_LEAD` on, by their
+    words; ("", "") where it has no such note among its warnings."""
+    note = getattr(fit, "data_limit_note", None)
+    if note is None:
+        note = next((w for w in fit.warnings if DATA_LIMIT_NOTE in w), "")
+        at = note.find(f"; {SIGN_HINT_LEAD}")
+        return note, note[at:] if at >= 0 else ""
+    return (note, fit.data_limit_hint) if note and note in fit.warnings else ("", "")
+
+
 def fit_blames_model(fit) -> bool:
     """Whether ``fit``'s warnings blame its model for missing structure the data hold: its
     ``model_misfit`` (set where the note is made, `misfit_notes`), or, where that is not known
@@ -1315,7 +1334,8 @@ def fit_blames_model(fit) -> bool:
 
 
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
-# replaces it where another model fits the same data significantly better
+# replaces it where another model fits the same data significantly better (the note is a value of
+# the fit, `FitResult.data_limit_note`; this phrase finds it only in a fit without one: `fit_data_limit`)
 DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only the model (see impedax kk)"
 # ... followed, when the KK test says the imaginary part may be stored with the opposite sign
 # (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
@@ -1537,7 +1557,8 @@ def sign_notes_first(notes: tuple[str, ...]) -> tuple[str, ...]:
     return signed + tuple(n for n in notes if f"; {SIGN_HINT_LEAD}" not in n) if signed else tuple(notes)
 
 
-def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None, *, blamed_out: list | None = None) -> list[tuple[str, ...]]:
+def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None, *, blamed_out: list | None = None,
+                 limits_out: list | None = None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -1578,7 +1599,10 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
     wrong with σ; added 2026-12-02). ``known``: the fit call's `kk.KKChains` (its chains are fitted
     once for the misfits and the full test). ``blamed_out``: a list extended with whether each
     fit's note blames the model (a value set where the note is made, `FitResult.model_misfit`;
-    `MODEL_MISFIT_MARKS` are its words)."""
+    `MODEL_MISFIT_MARKS` are its words). ``limits_out``: a list extended with, per fit, its note
+    that the data limit it and that note's sign hint end ("; " `SIGN_HINT_LEAD` and the hint),
+    ("", "") where it has none or none of them (`FitResult.data_limit_note`, `data_limit_hint`;
+    `DATA_LIMIT_NOTE` is its words)."""
     known = KKChains() if known is None else known
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     at_noise = within_stated_noise(z, z_model, sigma, weighting, n_free)
@@ -1597,6 +1621,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
     out: list[tuple[str, ...]] = [()] * rms.size
     blamed = [False] * rms.size  # (the notes that blame the model: `blamed_out`)
     data_limited: dict[int, float] = {}  # spectrum → its KK chain's rms_rel
+    hints = [""] * rms.size  # (the sign hint's end of a data-limited note: `limits_out`)
     for i, kk in zip(checked.tolist(), kks.tolist()):
         if not kk > 0 or at_noise[i]:  # (σ-weighted residuals the stated noise explains: nothing to blame)
             continue
@@ -1651,8 +1676,11 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
                 blamed[i] = True
             elif hint:
                 out[i] = (f"{out[i][0]}; {SIGN_HINT_LEAD}{hint}",)
+                hints[i] = f"; {SIGN_HINT_LEAD}{hint}"
     if blamed_out is not None:
         blamed_out.extend(blamed)
+    if limits_out is not None:  # (a data-limited note stays one unless the model was blamed instead)
+        limits_out.extend((out[i][0], hints[i]) if i in data_limited and not blamed[i] else ("", "") for i in range(rms.size))
     return out
 
 
@@ -2028,7 +2056,7 @@ def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> 
 def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
     *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None, starts_words: str | None = None,
-    model_misfit: bool | None = None,
+    model_misfit: bool | None = None, data_limit: tuple[str, str] | None = None,
 ) -> FitResult:
     """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
     ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
@@ -2039,7 +2067,9 @@ def fit_result(
     converged, and the parameter not at its bound. ``starts_words``: what a multistart's
     ``n_starts`` starts were (`single.starts_words`), after "best of N starts: " in the message.
     ``model_misfit``: whether ``extra_notes`` hold a note that blames the model (`misfit_notes`'
-    ``blamed_out``; None: not known), `FitResult.model_misfit`."""
+    ``blamed_out``; None: not known), `FitResult.model_misfit`. ``data_limit``: the note of
+    ``extra_notes`` that the data limit the fit and its sign hint's end (`misfit_notes`'
+    ``limits_out``; None: not known), `FitResult.data_limit_note` and ``data_limit_hint``."""
     names = table.names
     free_names = table.free_names
     x = out.x
@@ -2132,4 +2162,6 @@ def fit_result(
         registry=registry,
         bounds=user_bounds(table, circuit, registry),
         model_misfit=model_misfit,
+        data_limit_note=None if data_limit is None else data_limit[0],
+        data_limit_hint="" if data_limit is None else data_limit[1],
     )
