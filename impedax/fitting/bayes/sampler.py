@@ -22,7 +22,7 @@ from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choic
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
 from ..least_squares import FitResult, fit
-from ..least_squares.result import UNEVEN_NOISE_NOTE, data_difference, fit_blames_model
+from ..least_squares.result import data_difference, fit_blames_model, fit_uneven_noise
 from ..parameters import checked_bounds, outside_bounds_message
 from ..problem import SIGMA_SOURCES, check_argument_order, open_spectrum
 from .chain import (
@@ -330,11 +330,12 @@ noise: χ²_red of a model that fits has mean 1 and sd √(2/(2N − k)), 0.14 f
 def _start_misfit(init: FitResult, noise: NoiseModel) -> bool | str:
     """Whether the least-squares start misses the data: True where its misfit note blames the
     model (`FitResult.model_misfit`, `fit_blames_model`: a value, not the note's words); `evidence.START_UNEVEN_NOISE` where, under one relative noise
-    level, its residuals are uneven (its `UNEVEN_NOISE_NOTE`); `evidence.START_BEYOND_SIGMA` where only its χ²_red, with the
+    level, its residuals are uneven (`FitResult.uneven_noise`, `fit_uneven_noise`: a value, not its
+    `UNEVEN_NOISE_NOTE`'s words); `evidence.START_BEYOND_SIGMA` where only its χ²_red, with the
     data's σ, exceeds `CHI2_RED_MISFIT` (an understated σ or a missing effect); else False."""
     if fit_blames_model(init):
         return True
-    if noise is NoiseModel.PROPORTIONAL and any(UNEVEN_NOISE_NOTE in w for w in init.warnings):
+    if noise is NoiseModel.PROPORTIONAL and fit_uneven_noise(init):
         return START_UNEVEN_NOISE
     beyond = noise is NoiseModel.SIGMA and init.weighting == "sigma" and math.isfinite(init.chi2_red) and init.chi2_red > CHI2_RED_MISFIT
     return START_BEYOND_SIGMA if beyond else False

@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_data_limit", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_data_limit", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -158,6 +158,7 @@ class FitResult(FrozenResult):
     model_misfit: bool | None = field(default=None, repr=False)  # whether a warning blames the model (`misfit_notes`' ``blamed_out``), set where the note is made; None: not known, read from the words (`fit_blames_model`; added 2026-12-07)
     data_limit_note: str | None = field(default=None, repr=False)  # the warning that the data limit the fit (`misfit_notes`' ``limits_out``), as worded, "" where it has none; None: not known, read from the words (`fit_data_limit`)
     data_limit_hint: str = field(default="", repr=False)  # that note's end holding the KK test's sign hint ("; hint: …", `SIGN_HINT_LEAD`), "" without one
+    uneven_noise: bool | None = field(default=None, repr=False)  # whether a warning says the weighted residuals are uneven across the band (`uneven_residual_notes`' ``uneven_out``), set where the note is made; None: not known, read from the words (`fit_uneven_noise`)
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -459,6 +460,7 @@ class FitResult(FrozenResult):
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
                 "bounds": bounds_attr(self.bounds), "notes": list(self.notes), "model_misfit": int(fit_blames_model(self)),
                 **dict(zip(("data_limit_note", "data_limit_hint"), fit_data_limit(self))),
+                "uneven_noise": int(fit_uneven_noise(self)),
             },
         ).copy(deep=True)  # (the user's to edit: the result's own arrays are read-only)
 
@@ -508,6 +510,7 @@ class FitResult(FrozenResult):
                 model_misfit=bool(ds.attrs["model_misfit"]) if "model_misfit" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_blames_model`)
                 data_limit_note=str(ds.attrs["data_limit_note"]) if "data_limit_note" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_data_limit`)
                 data_limit_hint=str(ds.attrs.get("data_limit_hint", "")),
+                uneven_noise=bool(ds.attrs["uneven_noise"]) if "uneven_noise" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_uneven_noise`)
             )
 
 
@@ -1077,7 +1080,8 @@ def residual_band_rms(freq, z, z_model, inv_re, inv_im) -> tuple[np.ndarray, np.
     return rms, f[edges[:-1]], f[edges[1:] - 1]
 
 
-def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None, *, has_sigma: bool = False, trial_means: str | None = None) -> list[tuple[str, ...]]:
+def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None, *, has_sigma: bool = False, trial_means: str | None = None,
+                          uneven_out: list | None = None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) of spectra z (B, N) whose weighted residuals
     (inverse weights inv_re, inv_im as `problem.weights`) are over `UNEVEN_RESIDUAL_RATIO`× larger
     in rms in one band of frequencies than in another (`residual_band_rms`): the standard errors
@@ -1100,9 +1104,13 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     or, where σ is the standard error of trial means (``trial_means``, `trial_means_of_sigma`),
     that the fit of the mean can take the trials' variation it holds up in one band and not in
     another (SYNTHETIC Sirin example of seed 4: its σ was to be "checked" as a sigma column,
-    2026-12-06)."""
+    2026-12-06). ``uneven_out``: a list extended with whether each fit got the note (a value set
+    where the note is made, `FitResult.uneven_noise`; `UNEVEN_NOISE_NOTE` is its words)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
+    if uneven_out is not None:
+        uneven_out.extend([False] * len(z))
+        first = len(uneven_out) - len(z)  # (this call's fits: flagged below as their notes are made)
     if weighting not in UNEVEN_CHECKED_WEIGHTINGS or np.asarray(freq).size < 2 * UNEVEN_BAND_POINTS:
         return out
     rms, lo, hi = residual_band_rms(freq, z, z_model, inv_re, inv_im)
@@ -1133,6 +1141,8 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
             f"{UNEVEN_NOISE_NOTE} ({weighting} weighting), so they are not to be trusted; {remedy}; "
             "if the model misses something there, a diagnosis (impedax diagnose) shows what",
         )
+        if uneven_out is not None:
+            uneven_out[first + i] = True
     return out
 
 
@@ -1323,6 +1333,15 @@ def fit_data_limit(fit) -> tuple[str, str]:
         at = note.find(f"; {SIGN_HINT_LEAD}")
         return note, note[at:] if at >= 0 else ""
     return (note, fit.data_limit_hint) if note and note in fit.warnings else ("", "")
+
+
+def fit_uneven_noise(fit) -> bool:
+    """Whether ``fit``'s warnings say its weighted residuals are uneven across the band
+    (`uneven_residual_notes`): its ``uneven_noise``, set where the note is made, or, where that is
+    not known (None: a fit built by hand, a file written without it), `UNEVEN_NOISE_NOTE` in its
+    words."""
+    flag = getattr(fit, "uneven_noise", None)
+    return any(UNEVEN_NOISE_NOTE in w for w in fit.warnings) if flag is None else bool(flag)
 
 
 def fit_blames_model(fit) -> bool:
@@ -2056,7 +2075,7 @@ def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> 
 def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
     *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None, starts_words: str | None = None,
-    model_misfit: bool | None = None, data_limit: tuple[str, str] | None = None,
+    model_misfit: bool | None = None, data_limit: tuple[str, str] | None = None, uneven_noise: bool | None = None,
 ) -> FitResult:
     """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
     ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
@@ -2069,7 +2088,9 @@ def fit_result(
     ``model_misfit``: whether ``extra_notes`` hold a note that blames the model (`misfit_notes`'
     ``blamed_out``; None: not known), `FitResult.model_misfit`. ``data_limit``: the note of
     ``extra_notes`` that the data limit the fit and its sign hint's end (`misfit_notes`'
-    ``limits_out``; None: not known), `FitResult.data_limit_note` and ``data_limit_hint``."""
+    ``limits_out``; None: not known), `FitResult.data_limit_note` and ``data_limit_hint``.
+    ``uneven_noise``: whether ``extra_notes`` hold `uneven_residual_notes`' note (None: not
+    known), `FitResult.uneven_noise`."""
     names = table.names
     free_names = table.free_names
     x = out.x
@@ -2164,4 +2185,5 @@ def fit_result(
         model_misfit=model_misfit,
         data_limit_note=None if data_limit is None else data_limit[0],
         data_limit_hint="" if data_limit is None else data_limit[1],
+        uneven_noise=uneven_noise,
     )
