@@ -997,7 +997,7 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
         "the misfit is this model's, not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
     )
     return replace(fit, warnings=tuple(note + hint if w == limit else w for w in warnings), model_misfit=True,  # (the note blames the model: `FitResult.misses_structure`)
-                   data_limit_note="", data_limit_hint="")
+                   data_limit_note="", data_limit_hint="", misfit_note=note + hint)
 
 
 def _sign_hint_of(note: str) -> str:

@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_data_limit", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -158,6 +158,7 @@ class FitResult(FrozenResult):
     model_misfit: bool | None = field(default=None, repr=False)  # whether a warning blames the model (`misfit_notes`' ``blamed_out``), set where the note is made; None: not known, read from the words (`fit_blames_model`; added 2026-12-07)
     data_limit_note: str | None = field(default=None, repr=False)  # the warning that the data limit the fit (`misfit_notes`' ``limits_out``), as worded, "" where it has none; None: not known, read from the words (`fit_data_limit`)
     data_limit_hint: str = field(default="", repr=False)  # that note's end holding the KK test's sign hint ("; hint: …", `SIGN_HINT_LEAD`), "" without one
+    misfit_note: str | None = field(default=None, repr=False)  # the fit's misfit warning (`misfit_notes`; compare's in its place), as worded, "" where it has none; None: not known (`fit_blaming_note`)
     uneven_noise: bool | None = field(default=None, repr=False)  # whether a warning says the weighted residuals are uneven across the band (`uneven_residual_notes`' ``uneven_out``), set where the note is made; None: not known, read from the words (`fit_uneven_noise`)
 
     def __post_init__(self):
@@ -461,6 +462,7 @@ class FitResult(FrozenResult):
                 "bounds": bounds_attr(self.bounds), "notes": list(self.notes), "model_misfit": int(fit_blames_model(self)),
                 **dict(zip(("data_limit_note", "data_limit_hint"), fit_data_limit(self))),
                 "uneven_noise": int(fit_uneven_noise(self)),
+                "misfit_note": fit_blaming_note(self) if self.misfit_note is None else self.misfit_note,  # (not known: the note that blames the model, by its words)
             },
         ).copy(deep=True)  # (the user's to edit: the result's own arrays are read-only)
 
@@ -510,6 +512,7 @@ class FitResult(FrozenResult):
                 model_misfit=bool(ds.attrs["model_misfit"]) if "model_misfit" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_blames_model`)
                 data_limit_note=str(ds.attrs["data_limit_note"]) if "data_limit_note" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_data_limit`)
                 data_limit_hint=str(ds.attrs.get("data_limit_hint", "")),
+                misfit_note=str(ds.attrs["misfit_note"]) if "misfit_note" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_blaming_note`)
                 uneven_noise=bool(ds.attrs["uneven_noise"]) if "uneven_noise" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_uneven_noise`)
             )
 
@@ -1344,6 +1347,19 @@ def fit_uneven_noise(fit) -> bool:
     return any(UNEVEN_NOISE_NOTE in w for w in fit.warnings) if flag is None else bool(flag)
 
 
+def fit_blaming_note(fit) -> str:
+    """The warning of ``fit`` that blames its model for missing structure the data hold (its
+    misfit note, `misfit_notes`, or the note `compare` puts in its place), "" where none does:
+    its ``misfit_note`` where `fit_blames_model`, both set where the note is made, or, where the
+    note is not known (None: a fit built by hand, a file written without it), the first warning
+    holding one of `MODEL_MISFIT_MARKS`, by their words. A file stores this, so that a fit read
+    back whose note does not blame the model has ""."""
+    note = getattr(fit, "misfit_note", None)
+    if note is None:
+        return next((w for w in fit.warnings if any(mark in w for mark in MODEL_MISFIT_MARKS)), "")
+    return note if note and note in fit.warnings and fit_blames_model(fit) else ""
+
+
 def fit_blames_model(fit) -> bool:
     """Whether ``fit``'s warnings blame its model for missing structure the data hold: its
     ``model_misfit`` (set where the note is made, `misfit_notes`), or, where that is not known
@@ -2075,7 +2091,7 @@ def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> 
 def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
     *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None, starts_words: str | None = None,
-    model_misfit: bool | None = None, data_limit: tuple[str, str] | None = None, uneven_noise: bool | None = None,
+    model_misfit: bool | None = None, data_limit: tuple[str, str] | None = None, uneven_noise: bool | None = None, misfit_note: str | None = None,
 ) -> FitResult:
     """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
     ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
@@ -2090,7 +2106,8 @@ def fit_result(
     ``extra_notes`` that the data limit the fit and its sign hint's end (`misfit_notes`'
     ``limits_out``; None: not known), `FitResult.data_limit_note` and ``data_limit_hint``.
     ``uneven_noise``: whether ``extra_notes`` hold `uneven_residual_notes`' note (None: not
-    known), `FitResult.uneven_noise`."""
+    known), `FitResult.uneven_noise`. ``misfit_note``: the note of ``extra_notes`` that
+    `misfit_notes` made, "" none (None: not known), `FitResult.misfit_note`."""
     names = table.names
     free_names = table.free_names
     x = out.x
@@ -2186,4 +2203,5 @@ def fit_result(
         data_limit_note=None if data_limit is None else data_limit[0],
         data_limit_hint="" if data_limit is None else data_limit[1],
         uneven_noise=uneven_noise,
+        misfit_note=misfit_note,
     )

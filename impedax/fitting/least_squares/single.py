@@ -223,13 +223,15 @@ def fit(
                           remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size), blamed_out=blamed, limits_out=limits, uneven_out=uneven)
     misfit = misfits[0]
     result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im),
-                        starts_words=starts_words(table, n_starts, used, guess_words, at_limits, limit_draw_count(circuit, table, registry, n_starts)), model_misfit=blamed[0], data_limit=limits[0], uneven_noise=uneven[0])
+                        starts_words=starts_words(table, n_starts, used, guess_words, at_limits, limit_draw_count(circuit, table, registry, n_starts)), model_misfit=blamed[0], data_limit=limits[0], uneven_noise=uneven[0],
+                        misfit_note=misfit[0] if misfit else "")
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_chains.misfit(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
         warned = with_constraint_notes(result.warnings, misfit, checked)
         result = dataclasses.replace(result, warnings=warned, elapsed_s=time.perf_counter() - t0, model_misfit=result.model_misfit and warned == tuple(result.warnings),  # (the constraint's note blames no model)
-                                     data_limit_note=result.data_limit_note if result.data_limit_note in warned else "", data_limit_hint=result.data_limit_hint if result.data_limit_note in warned else "")
+                                     data_limit_note=result.data_limit_note if result.data_limit_note in warned else "", data_limit_hint=result.data_limit_hint if result.data_limit_note in warned else "",
+                                     misfit_note=result.misfit_note if result.misfit_note in warned else "")  # (the constraint's note in its place: not the misfit note)
     return dataclasses.replace(result, source=known_source, notes=sigma_notes, warnings=sign_notes_first(result.warnings))
 
 
