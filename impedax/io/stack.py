@@ -72,9 +72,9 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         raise ParameterError(f"dim: {dim!r} is the name of a variable of every spectrum; name the new dimension otherwise, e.g. 'day'")
     labels = None if coords is None else stack_labels(coords, len(paths))  # (the labels given are checked first, as any argument)
     _refuse_repeated(paths)
-    if labels is None:  # (standard input, "-", is named as load names it, <stdin>, and labelled "stdin")
-        labels = stack_labels([STDIN_LABEL if str(p) == STDIN else Path(str(p)).stem for p in paths], len(paths), given=False)
     spectra = [_spectra_of(path, dim, readers) for path in paths]
+    if labels is None:  # (after the reading: a file's fault is named before its name's, nan.csv's NaN before 'nan'; standard input, "-", is labelled "stdin")
+        labels = stack_labels([STDIN_LABEL if str(p) == STDIN else Path(str(p)).stem for p in paths], len(paths), given=False)
     paths = [STDIN_NAME if str(p) == STDIN else p for p in paths]
     first, first_path = spectra[0], str(paths[0])
     extra = tuple(d for d in first["Z"].dims if d != "frequency")
