@@ -21,7 +21,7 @@ gap voltage and the electrostatic force, with uncertainty.
    posterior of the remainder only: they condition on the area A being exact and on the skin and
    screen trial means (their errors are not propagated).
 
-A single contact (skin and touchscreen None; ``impedax gap PAD.csv``; added 2026-12-02): an
+A single contact (skin and touchscreen None; ``impedax gap PAD.csv``): an
 electroadhesive gripper pad on its target, whose measured impedance is the contact's own,
 R_EP ∥ CPE_EP ∥ C_gap. Nothing is subtracted (step 1 gives the total's trial means with their
 SEM), and the drive V0 falls across the contact alone: with z_skin = z_ts = 0 in the node
@@ -53,7 +53,7 @@ from ..fitting.least_squares.result import GROSS_MISFIT_FROM, MISFIT_RATIO_MAX, 
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_spectra, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
-from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, band_end_words, force_plateau, grid_edge_slope  # noqa: F401 (FORCE_PLATEAU_SPAN: gap.FORCE_PLATEAU_SPAN as before 2026-12-06)
+from .peak import FORCE_PLATEAU_REL, FORCE_PLATEAU_SPAN, band_end_words, force_plateau, grid_edge_slope  # noqa: F401 (FORCE_PLATEAU_SPAN: kept importable as gap.FORCE_PLATEAU_SPAN)
 from .plausible import AIR_BREAKDOWN_V, DRIVE_VOLTAGE_V, FINGERTIP_AREA_M2
 from .sirin import SIRIN_AREA, SIRIN_CUTOFF_HZ, PaperGapEstimate, gap_force_peak, gap_voltage, paper_gap_estimate, remainder_circuit, remaining_impedance, trial_mean, trial_remainders
 
@@ -73,8 +73,7 @@ SINGLE_CONTACT_FORCE_CONDITIONS = "A taken as exact; a single contact: the drive
 def force_conditions_of(remaining: xr.Dataset) -> str:
     """What the force bands of a remainder Z_total − Z_skin − Z_TS condition on: `FORCE_CONDITIONS`,
     with skin or screen "as measured (one spectrum)" where its file held one (attrs
-    ``n_trials_skin``, ``n_trials_touchscreen``; "as their trial means" was said of one sweep each,
-    2026-12-06)."""
+    ``n_trials_skin``, ``n_trials_touchscreen``; not "as their trial means" of one sweep each)."""
     single = [name for name, short in (("skin", "skin"), ("touchscreen", "screen")) if int(remaining.attrs.get(f"n_trials_{name}", 2)) == 1]
     if not single:
         return FORCE_CONDITIONS
@@ -97,12 +96,12 @@ unit in its name (``_f`` farad, ``_m`` metre, ``_v`` volt, ``_n`` newton, ``_hz`
 ``u_lower_bound_withheld`` says why u is not determined and yet no bound is given
 (`GapAnalysis.gap_bound_withheld`); ``gap_voltage_v`` (low, high: its 90 % interval) the
 amplitude of the gap voltage at ``force_max_frequency_hz``, where the median force with EP is
-largest (added 2026-12-01); ``force_max_n`` (low, high) the PEAK force there (`GapAnalysis.force_at_max`),
+largest; ``force_max_n`` (low, high) the PEAK force there (`GapAnalysis.force_at_max`),
 ``force_upper_bound_max_n`` the largest force the data allow when u is not determined,
 ``sampling_unreliable`` the report's "SAMPLING UNRELIABLE", ``warnings`` and ``alarms`` (`GapAnalysis.alarms`)
 one per line in one cell, ``n_warnings`` how many warnings, ``v0_v`` the drive V0 the forces are for and
-``v0_from`` where it came from (data, given, default; the JSON's) (added 2026-12-02); ``single_contact``
-true when nothing was subtracted (`GapAnalysis.single_contact`; added 2026-12-02)."""
+``v0_from`` where it came from (data, given, default; the JSON's); ``single_contact``
+true when nothing was subtracted (`GapAnalysis.single_contact`)."""
 
 HIERARCHICAL_AUTO_DRAWS = 500
 # the names `GapAnalysis.draws` takes besides the parameters': those of its properties `gap` and `c_gap`
@@ -181,12 +180,12 @@ class GapAnalysis(FrozenResult):
     force_upper_bound: xr.DataArray | None = None
     """With `gap_lower_bound`: the PEAK force [N] over ``frequency`` with EP at u = that bound
     (`_force_upper_bound`): eq 1 goes as 1/u², so u ≥ the bound gives F ≤ this, the largest force
-    the data allow; else None (u determined, or no bound). Added 2026-12-01."""
+    the data allow; else None (u determined, or no bound)."""
     drive: DriveVoltage | None = None
     """Where ``v0`` came from (`gap_inputs.drive_voltage`: the voltage the total spectra carry,
-    the one given, or the default); None: given. Added 2026-12-02."""
+    the one given, or the default); None: given."""
     single_contact: bool = False
-    """True when skin and touchscreen were None: nothing subtracted (added 2026-12-02)."""
+    """True when skin and touchscreen were None: nothing subtracted."""
     settings: dict | None = None
     """What `gap_analysis` ran with, defaults included: ``eps_gap``, ``cutoff_hz``, ``seed``,
     ``steps`` (hierarchical: draws per chain; pooled: emcee steps, as run when ``"auto"``),
@@ -200,7 +199,7 @@ class GapAnalysis(FrozenResult):
         """False when the data do not determine u apart from the EP branch (a lower bound,
         `gap_lower_bound`, or none where its model misfits: `gap_bound_withheld`): ``ep="C"``,
         or a fit/posterior that cannot split C_gap from the EP element (`_gap_identification`);
-        and, since 2026-12-03, when the sampled u is no air gap (`gap_implausible`: at a bound
+        and when the sampled u is no air gap (`gap_implausible`: at a bound
         of its prior, or outside `PLAUSIBLE_GAP_M`)."""
         return self._split_determined and self.gap_implausible is None
 
@@ -222,8 +221,8 @@ class GapAnalysis(FrozenResult):
         piled up (`Posterior.piled_up`, the rule of its warning "u piles up against its upper
         bound"; hierarchical: u's population median). Its rule (`prior_edges`) reads a flat
         posterior over decades that `_piled_bounds` does not: REAL exampleDataBioLogic.mpt as a
-        single contact (2026-12-06) sampled u flat over 0.058 µm–460 mm, warned by the sampling
-        and yet reported as a gap thickness with ``gap_identified: true``."""
+        single contact samples u flat over 0.058 µm–460 mm, warned by the sampling, which
+        `_piled_bounds` alone would report as a gap thickness with ``gap_identified: true``."""
         source = self.hierarchical if self.hierarchical is not None else self.posterior
         side = getattr(source, "piled_up", {}).get("u") if source is not None else None
         return ("lower", "upper") if side == "both" else (side,) if side else ()
@@ -233,8 +232,8 @@ class GapAnalysis(FrozenResult):
         """Why the sampled u is no air gap, else None: ≥ `_BOUND_SHARE` of its draws lie within
         `_BOUND_FACTOR` of a bound of its prior (`_piled_bounds`: the prior, not the data, sets u
         and C_gap), or its median lies outside `PLAUSIBLE_GAP_M` (1 nm–1 mm). Then
-        `gap_identified` is False and `alarms` says so (added 2026-12-03: u = 1.15 m, piled up at
-        the upper bound, was reported as "gap thickness u" with ``gap_identified: true``)."""
+        `gap_identified` is False and `alarms` says so (a u = 1.15 m piled up at the upper bound is no
+        "gap thickness u" with ``gap_identified: true``)."""
         median = self.gap["value"]
         low, high = PLAUSIBLE_GAP_M
         piled = {side: c_bound for side, _, c_bound, _ in self._u_piled_bounds}
@@ -248,7 +247,7 @@ class GapAnalysis(FrozenResult):
     @property
     def paper_gap_implausible(self) -> str | None:
         """Why the paper method's u is no air gap (outside `PLAUSIBLE_GAP_M`), else None; `alarms`
-        says so (added 2026-12-03: its u = 0.05 nm printed as "u = 0.000 µm")."""
+        says so (a u = 0.05 nm, not "u = 0.000 µm")."""
         low, high = PLAUSIBLE_GAP_M
         u = self.paper.gap
         if low <= u <= high:
@@ -318,7 +317,7 @@ class GapAnalysis(FrozenResult):
     @property
     def averages_trials(self) -> bool:
         """Whether the remainder is a mean over trials: some input holds more than one spectrum
-        (the figure's data legend; a single sweep was called "mean of trials", 2026-12-06)."""
+        (the figure's data legend: a single sweep is no "mean of trials")."""
         return _several_spectra(self.remaining)
 
     @property
@@ -332,7 +331,7 @@ class GapAnalysis(FrozenResult):
     def paper_bounds_no_interval(self) -> bool:
         """True when a warning says the paper's bounds are no interval for its u (`_paper_interval_notes`:
         u outside them, or them much narrower than the single trials' spread; `_paper_bound_notes`:
-        u far outside them). Added 2026-12-02."""
+        u far outside them)."""
         return any(w.startswith(("the paper method's bounds ", "the paper method's u = ")) for w in self.warnings)
 
     @property
@@ -347,8 +346,8 @@ class GapAnalysis(FrozenResult):
 
     @property
     def _drive(self) -> DriveVoltage:
-        """Where ``v0`` came from; a result made without it (read back from a file written before
-        2026-12-02, or built by hand) had it given."""
+        """Where ``v0`` came from; a result made without it (read back from a file written by an
+        older version, or built by hand) had it given."""
         return self.drive or DriveVoltage(self.v0, "given")
 
     def summary(self) -> dict:
@@ -361,7 +360,7 @@ class GapAnalysis(FrozenResult):
             "c_gap": self.c_gap,
             "gap_um": gap_um,
             "gap_um_population": gap_um if self.hierarchical is not None else None,
-            "interval_covers": self._interval_covers(),  # (added 2026-12-05: what gap_um's q05–q95 holds; pooled: the trial means' noise only)
+            "interval_covers": self._interval_covers(),  # (what gap_um's q05–q95 holds; pooled: the trial means' noise only)
             "gap_um_spread": spread["sd_m"] * 1e6 if spread else None,
             "gap_spread_relative": spread["relative"] if spread else None,
             "gap_um_new_trial": {k: new[k] * 1e6 for k in ("q05", "q95")} if new else None,
@@ -381,25 +380,25 @@ class GapAnalysis(FrozenResult):
             "convention": FORCE_CONVENTION,
             "paper_method": {
                 "c_gap": self.paper.c_gap,
-                "c_gap_f": self.paper.c_gap,  # (the same F, its unit named: added 2026-12-02)
+                "c_gap_f": self.paper.c_gap,  # (the same F, its unit named)
                 "gap_um": self.paper.gap * 1e6,
                 "gap_bounds_um": [self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6] if self.paper_has_bounds else None,
                 "gap_trials_um": [self.paper.gap_trial_min * 1e6, self.paper.gap_trial_max * 1e6] if np.isfinite(self.paper.gap_trial_min) else None,
-                "gap_implausible": self.paper_gap_implausible,  # (added 2026-12-03)
+                "gap_implausible": self.paper_gap_implausible,
             },
             "force_conditions": self.force_conditions,
             "model": self.edl_fit.model,
             "model_requested": self.model_requested if self.model_requested is not None else self.edl_fit.model,
             "naive_rms_rel": self.naive_fit.rms_rel,
             "edl_rms_rel": self.edl_fit.rms_rel,
-            "edl_chi2_red": self.edl_fit.chi2_red,  # (added 2026-12-05: against the remainder's sigma under sigma weighting, the trial means' SEM)
+            "edl_chi2_red": self.edl_fit.chi2_red,  # (against the remainder's sigma under sigma weighting, the trial means' SEM)
             "area_m2": self.area,
             "v0": self.v0,
             **self._drive.summary(),
             "trials": self.trials,
             "warnings": list(self.warnings),
             "gap_identified": self.gap_identified,
-            "gap_implausible": self.gap_implausible,  # (added 2026-12-03: why u is no air gap, else null; gap_identified is then false)
+            "gap_implausible": self.gap_implausible,  # (why u is no air gap, else null; gap_identified is then false)
             "gap_um_lower_bound": None if self.gap_lower_bound is None else self.gap_lower_bound * 1e6,
             "gap_bound_withheld": self.gap_bound_withheld,
             "edl_misfit": self.edl_misfit,
@@ -408,14 +407,14 @@ class GapAnalysis(FrozenResult):
             "sampling": self._sampling_summary(),
             "edl_parameters": self.edl_parameters,
             "settings": dict(self.settings) if self.settings is not None else None,
-            # (added 2026-12-02: the verdicts the report states, and keys with their unit beside the older ones without)
+            # (the verdicts the report states, and keys with their unit beside the older ones without)
             "force_max_n": self.force_at_max("with_ep"),
             "force_max_without_ep_n": self.force_at_max("without_ep"),
             "sampling_unreliable": self._sampling_unreliable(),
             "alarms": list(self.alarms),
             "c_gap_f": self.c_gap,
             "v0_v": self.v0,
-            "single_contact": self.single_contact,  # (added 2026-12-02: true when nothing was subtracted)
+            "single_contact": self.single_contact,  # (true when nothing was subtracted)
         }
 
     def _whole_drive_text(self) -> str:
@@ -455,7 +454,7 @@ class GapAnalysis(FrozenResult):
         band = self.force.sel(branch=branch)
         return {"frequency_hz": self.force["frequency"].values, **{k: band[f"gap_voltage_{k}"].values for k in ("median", "q05", "q95")}}
 
-    @checked_arguments(branch=choice(FORCE_BRANCHES))  # (2026-12-06: another branch was xarray's KeyError)
+    @checked_arguments(branch=choice(FORCE_BRANCHES))  # (another branch: this message, not xarray's KeyError)
     def gap_voltage_at_force_max(self, branch: str = "with_ep") -> dict[str, float] | None:
         """The amplitude of the gap voltage |ΔV_gap| [V] (``value`` its posterior median,
         ``q05``, ``q95``) at ``frequency_hz``, where the median PEAK force of ``branch``
@@ -468,22 +467,22 @@ class GapAnalysis(FrozenResult):
         return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["gap_voltage_median"][i]),
                 "q05": float(band["gap_voltage_q05"][i]), "q95": float(band["gap_voltage_q95"][i])}
 
-    @checked_arguments(branch=choice(FORCE_BRANCHES))  # (2026-12-06: another branch was xarray's KeyError)
+    @checked_arguments(branch=choice(FORCE_BRANCHES))  # (another branch: this message, not xarray's KeyError)
     def force_at_max(self, branch: str = "with_ep") -> dict:
         """The PEAK force [N] (``value`` the posterior median, ``q05``, ``q95`` its 90 % band) at
         ``frequency_hz``, where the median force of ``branch`` (``"with_ep"`` or ``"without_ep"``)
         is largest on the force's frequency grid: the report's "force (peak …) max", the CSV's
         ``force_max_n`` and the JSON's ``force_max_n`` (eq 1, F = ½ ε0 ε_gap A |ΔV_gap|²/u²),
-        with ``band_edge``, ``plateau_hz`` and ``edge_slope`` (`force_maximum_shape`). Added 2026-12-02."""
+        with ``band_edge``, ``plateau_hz`` and ``edge_slope`` (`force_maximum_shape`)."""
         band = self.force.sel(branch=branch)
         shape = force_maximum_shape(band["median"])
         i = shape["index"]
         return {"frequency_hz": float(self.force["frequency"][i]), "value": float(band["median"][i]),
                 "q05": float(band["q05"][i]), "q95": float(band["q95"][i]),
-                # (added 2026-12-05: "fmin"/"fmax" when the largest force is at an end of the band, "flat" (2026-12-06) when it is the same
+                # ("fmin"/"fmax" when the largest force is at an end of the band, "flat" when it is the same
                 # at every frequency, else null; the plateau it lies on, else null)
                 "band_edge": shape["band_edge"], "plateau_hz": list(shape["plateau_hz"]) if shape["plateau_hz"] else None,
-                # (added 2026-12-06: d ln F/d ln f over the grid's step at that end of the band, as impedax force's peak.edge_slope; else null)
+                # (d ln F/d ln f over the grid's step at that end of the band, as impedax force's peak.edge_slope; else null)
                 "edge_slope": shape["edge_slope"]}
 
     def _sampling_summary(self) -> dict | None:
@@ -509,9 +508,9 @@ class GapAnalysis(FrozenResult):
     def alarms(self) -> tuple[str, ...]:
         """The states that void the result, as the report's first lines name them, short (the
         figure's red banner): "MODEL DOES NOT FIT" (`edl_misfit`), "SAMPLING UNRELIABLE"
-        (hierarchical NUTS diagnostics), and since 2026-12-03 "NO AIR GAP" (`gap_implausible`) and
+        (hierarchical NUTS diagnostics), "NO AIR GAP" (`gap_implausible`) and
         "PAPER METHOD: NO AIR GAP" (`paper_gap_implausible`); empty when none holds. A u the
-        data do not split from the EP branch is marked apart (`gap_identified`). Added 2026-12-02."""
+        data do not split from the EP branch is marked apart (`gap_identified`)."""
         out = []
         if self.edl_misfit is not None:
             out.append("MODEL DOES NOT FIT: u, its interval and the force rest on a model the data reject")
@@ -533,13 +532,13 @@ class GapAnalysis(FrozenResult):
         (why there is none although u is not determined) on the bayes row. Then one
         ``bayes_parameter`` row per parameter of the EDL model (`edl_parameters`): ``parameter``,
         ``value``, ``low``, ``high`` (posterior median, 90 % interval), ``unit`` (SI, the element's),
-        ``fit_value``, ``fit_stderr`` (the least-squares fit on the trial mean; added 2026-12-01).
+        ``fit_value``, ``fit_stderr`` (the least-squares fit on the trial mean).
         The bayes row also gives the gap voltage at the force maximum with EP
         (`gap_voltage_at_force_max`: ``gap_voltage_v``, ``_low_v``, ``_high_v`` at
-        ``force_max_frequency_hz``; added 2026-12-01), the PEAK force there (`force_at_max`:
+        ``force_max_frequency_hz``), the PEAK force there (`force_at_max`:
         ``force_max_n``, ``_low_n``, ``_high_n``), ``force_upper_bound_max_n`` (`force_upper_bound`'s
         largest value, else empty), ``sampling_unreliable``, ``n_warnings`` and the ``warnings`` and
-        ``alarms`` (`alarms`), one per line in the cell (added 2026-12-02)."""
+        ``alarms`` (`alarms`), one per line in the cell."""
         p = self.paper
         c, g = self.c_gap, self.gap
         low, high = (p.gap_lower, p.gap_upper) if self.paper_has_bounds else (None, None)
@@ -551,7 +550,7 @@ class GapAnalysis(FrozenResult):
             "force_max_frequency_hz": force["frequency_hz"], "gap_voltage_v": v["value"], "gap_voltage_low_v": v["q05"], "gap_voltage_high_v": v["q95"],
             "force_max_n": force["value"], "force_max_low_n": force["q05"], "force_max_high_n": force["q95"],
             "force_upper_bound_max_n": None if self.force_upper_bound is None else float(self.force_upper_bound.max()),
-            "v0_v": self.v0, "v0_from": self._drive.source,  # (the drive the forces are for, and where it came from: added 2026-12-02)
+            "v0_v": self.v0, "v0_from": self._drive.source,  # (the drive the forces are for, and where it came from)
             # (verdicts as cells of the row they qualify, one per line: no comment line, which csv.DictReader would take for the header,
             # and no extra rows, which would break reading the rows after bayes and paper as the parameters)
             "sampling_unreliable": self._sampling_unreliable(), "n_warnings": len(self.warnings), "warnings": "\n".join(self.warnings), "alarms": "\n".join(self.alarms),
@@ -691,7 +690,7 @@ class GapAnalysis(FrozenResult):
         """What the pooled interval's noise is: the trial means' SEM (``sigma`` of the
         remainder; with one spectrum per file, their stated sigma), else, with an input of a single spectrum, noise proportional to |Z| at a
         level sampled from the fit's residuals (`impedax.fitting.sample`'s ``proportional``)."""
-        if "sigma" in self.remaining and not self.averages_trials:  # (one spectrum per file, each with its sigma: 2026-12-06)
+        if "sigma" in self.remaining and not self.averages_trials:  # (one spectrum per file, each with its sigma)
             return "Bayesian on one spectrum per file, weighted by their stated sigma: their noise only, not a spread between trials"
         if "sigma" in self.remaining:
             return "Bayesian on the trial means: their noise only, not the spread between trials"
@@ -700,7 +699,7 @@ class GapAnalysis(FrozenResult):
             return f"Bayesian on one spectrum per file: {proportional}"
         return f"Bayesian on the trial means without their SEM (an input holds a single spectrum): {proportional}"
 
-    @checked_arguments(true_gap=real(positive=True, optional=True))  # (2026-12-06: text was a TypeError, -1 drawn as a gap)
+    @checked_arguments(true_gap=real(positive=True, optional=True))  # (text or -1: this message, not a TypeError or -1 drawn as a gap)
     def plot(self, *, true_gap: float | None = None, figsize: tuple[float, float] | None = None):
         """Remaining impedance with both fits, the posterior of u against the paper's bounds
         (and ``true_gap`` [m] when known, e.g. for synthetic data), and the force bands with and
@@ -718,8 +717,8 @@ class GapAnalysis(FrozenResult):
         ``setting_*`` it ran with (`settings`), the EDL parameters over ``parameter``
         (``parameter_value``, ``_q05``, ``_q95``, ``_fit_value``, ``_fit_stderr``, ``_unit``:
         `edl_parameters`) and u's draws ``u_draws`` [m] over ``draw`` (`u_draws`, at most
-        `GAP_SAVED_DRAWS`; added 2026-12-01); every variable has a ``long_name`` and, where it
-        has one unit, ``units`` (`GAP_VARIABLE_LABELS`; added 2026-12-02), and the attrs
+        `GAP_SAVED_DRAWS`); every variable has a ``long_name`` and, where it
+        has one unit, ``units`` (`GAP_VARIABLE_LABELS`), and the attrs
         ``sampling_unreliable`` (1/0) and ``alarms`` (`alarms`, one per line); ``impedax_kind``
         ``"gap_analysis"`` marks the file (``impedax.load`` refuses it as a spectrum and names
         `impedax.io.read_netcdf`, which reads it)."""
@@ -780,8 +779,7 @@ GAP_VARIABLE_LABELS = {
     "u_draws": ("posterior draws of the gap thickness u", "m"),
 }
 """What `GapAnalysis.to_xarray` labels each variable with: ``long_name``, and ``units`` where the
-variable has one (added 2026-12-02: only ``median`` had units, and the force's ``median``,
-``q05``, ``q95`` no name saying they are a force)."""
+variable has one (the force's ``median``, ``q05``, ``q95`` among them, named as a force)."""
 
 
 def _labelled(ds: xr.Dataset) -> xr.Dataset:
@@ -796,8 +794,8 @@ def _labelled(ds: xr.Dataset) -> xr.Dataset:
 def _gap_length(u: float, digits: int | None = None) -> str:
     """A gap thickness u [m] as the report gives it: within `PLAUSIBLE_GAP_M` in µm, to 3
     decimals (``2.805 µm``) or to ``digits`` significant digits (bounds 0.126–0.134, not
-    0.13–0.13); else with the SI prefix of its size, ``1.15 m``, ``50.6 pm`` (which printed
-    "1150016.575 µm" and "0.000 µm"; 2026-12-03; a resistive remainder's notes, 2026-12-05)."""
+    0.13–0.13); else with the SI prefix of its size, ``1.15 m``, ``50.6 pm`` (not
+    "1150016.575 µm" and "0.000 µm", as in a resistive remainder's notes)."""
     low, high = PLAUSIBLE_GAP_M
     if low <= u <= high:
         return f"{_micrometres(u, digits)} µm"
@@ -806,8 +804,8 @@ def _gap_length(u: float, digits: int | None = None) -> str:
 
 def _micrometres(u: float, digits: int | None = None) -> str:
     """u [m] in µm without the unit: to 3 decimals (``2.805``), or to 3 significant digits below
-    0.1 µm, where 3 decimals keep fewer (``0.00594``; the REAL Gamry file's paper u printed as
-    "0.006 µm" beside its 4-digit C_gap, 2026-12-06); to ``digits`` significant digits if given."""
+    0.1 µm, where 3 decimals keep fewer (``0.00594``; the REAL Gamry file's paper u, not
+    "0.006 µm" beside its 4-digit C_gap); to ``digits`` significant digits if given."""
     if digits is not None:
         return f"{u * 1e6:.{digits}g}"
     return f"{u * 1e6:.3f}" if u >= 1e-7 else f"{u * 1e6:.3g}"
@@ -829,7 +827,7 @@ CAPACITANCE_DIGITS = 4
 def _capacitance_with_interval(q: Mapping[str, float]) -> str:
     """``221.3 pF (90%: 220.9–221.8 pF)``, ``1.001 fF (90%: 1–1.008 fF)``: C_gap [F] and its
     interval in the SI prefix of its median (`si_prefix`), `CAPACITANCE_DIGITS` significant
-    (it printed "0.0 pF (90%: 0.0–0.0 pF)" for 1 fF; 2026-12-03)."""
+    (not "0.0 pF (90%: 0.0–0.0 pF)" for 1 fF)."""
     scale, prefix = si_prefix(abs(q["value"])) if q["value"] else (1e-12, "p")
     n = CAPACITANCE_DIGITS
     return f"{q['value'] / scale:.{n}g} {prefix}F (90%: {q['q05'] / scale:.{n}g}–{q['q95'] / scale:.{n}g} {prefix}F)"
@@ -838,8 +836,8 @@ def _capacitance_with_interval(q: Mapping[str, float]) -> str:
 def _volts_with_interval(q: Mapping[str, float]) -> str:
     """``71.00 V (90%: 70.95–71.05 V)``: a voltage and its interval to the fewest significant
     digits, 3 or 4 (`VOLTAGE_DIGITS_MAX`), that tell the interval's ends apart; ends alike to 4
-    digits are printed once, ``100.0 V (90%: ≈ 100.0 V)`` (it printed "99.999927 V (90%:
-    99.999925–99.999928 V)", a precision no measured V0 has; 2026-12-02)."""
+    digits are printed once, ``100.0 V (90%: ≈ 100.0 V)`` (not "99.999927 V (90%:
+    99.999925–99.999928 V)", a precision no measured V0 has)."""
     apart = _distinct_digits(q["q05"], q["q95"])
     digits = apart or VOLTAGE_DIGITS_MAX
     if not apart:
@@ -862,11 +860,11 @@ def force_maximum_shape(median: xr.DataArray) -> dict:
     """Where the median force over frequency is largest and what kind of maximum it is:
     ``index`` of the grid's largest value, ``band_edge`` ``"fmin"`` or ``"fmax"`` when that is an
     end of the band (the force may still rise past it), ``"flat"`` for a force the same at every
-    frequency (`FLAT_FORCE_REL`; as `impedax force` says it: a single contact's was "fmin",
-    2026-12-06) else None, and ``plateau_hz`` (low, high): the contiguous frequencies about it
+    frequency (`FLAT_FORCE_REL`; as `impedax force` says it: a single contact's is no "fmin")
+    else None, and ``plateau_hz`` (low, high): the contiguous frequencies about it
     within `FORCE_PLATEAU_REL` of it, when they span more than `FORCE_PLATEAU_SPAN`, else None;
     ``edge_slope``: d ln F/d ln f over the grid's step at that end of the band (`grid_edge_slope`),
-    None for a maximum inside the band or a flat force (added 2026-12-06, as `impedax force`'s
+    None for a maximum inside the band or a flat force (as `impedax force`'s
     ``peak.edge_slope``)."""
     values, freq = np.asarray(median.values, float), np.asarray(median["frequency"].values, float)
     i = int(np.argmax(values))
@@ -880,12 +878,12 @@ def force_maximum_shape(median: xr.DataArray) -> dict:
 def force_maximum_text(median: xr.DataArray) -> str:
     """``max 408 mN at 31.6 Hz`` of a median force over frequency; a flat one (`FLAT_FORCE_REL`)
     ``2.835 N at every frequency (1 Hz–100 kHz)``: its maximum's frequency is rounding's choice
-    (a single contact's force without EP read "max 2.835 N at 1 Hz", 2026-12-03); one on a
+    (a single contact's force without EP, not "max 2.835 N at 1 Hz"); one on a
     plateau (`force_maximum_shape`) ``412 mN on a plateau over 1 Hz–22.4 Hz (within 1%;
     largest at 1 Hz, the band's lower end)``; one at an end of the band says what the grid's last
     step there shows (`band_end_words`, as `impedax force` does): ``max 56.2 N at 1 Hz, the band's
     lower end, and still rises below it (∝ f^-0.41 there)``, or ``…, where it has levelled off: it
-    changes by 0.3 % per decade there (it may still rise below 1 Hz, as slowly)`` (until 2026-12-06
+    changes by 0.3 % per decade there (it may still rise below 1 Hz, as slowly)`` (not
     always ``(it may rise past it)``). The maximum of the grid's medians, not refined
     between grid points as `impedax force` refines a model's force (`impedax.models.force_maximum`):
     a median over posterior draws has no value between them. `impedax gap`'s report and
@@ -1113,9 +1111,9 @@ def _gap_sampling_warnings(posterior) -> list[str]:
     """The pooled sampling's ``posterior``'s warnings the gap analysis may pass on: its own
     (`Posterior.own_warnings`: not the least-squares start's, as the EDL fit's own are), less the
     Laplace evidence's and WAIC's (`Posterior.model_comparison_notes`), which speak to comparing
-    models, and the gap analysis compares none (a walkthrough's ``impedax gap`` said "Do not
-    compare models by this WAIC"; 2026-12-02). Told apart as `impedax.sample` made them, not by
-    their words (their leads, `MODEL_COMPARISON_NOTE_LEADS`, until 2026-12-07)."""
+    models, and the gap analysis compares none (``impedax gap`` would otherwise say "Do not
+    compare models by this WAIC"). Told apart as `impedax.sample` made them, not by
+    their words."""
     comparing = set(posterior.model_comparison_notes)
     return [w for w in posterior.own_warnings if w not in comparing]
 
@@ -1128,7 +1126,7 @@ def _sampling_notes(warnings, reparametrization=None, u_draws=None) -> list[str]
     same `PLAUSIBLE_GAP_M`); and the cause it gives of u piled up at a bound is the gap analysis's
     (`_gap_bound_cause`), not `gap_thickness_reparametrization`'s, whose "then the bounds
     (lower=, upper=)" named keywords neither `gap_analysis` nor ``impedax gap`` takes (REAL
-    exampleDataBioLogic.mpt and exampleData.csv as single contacts, 2026-12-06)."""
+    exampleDataBioLogic.mpt and exampleData.csv as single contacts)."""
     kept = list(warnings)
     if reparametrization is None:
         return kept
@@ -1168,8 +1166,8 @@ def _prior_edge_advice(warnings, piled_up: Mapping[str, str], draws: Mapping[str
     `_correlation_advice`) and how much knowing it would narrow u's interval at most,
     1 − √(1 − r²); for the EP CPE's Q at its lower end, that u is then not determined
     (`_gap_identification`'s reason, which the warning "u is NOT determined" gives). The warnings are known by ``piled_up`` (`Posterior.piled_up`: name → side), each
-    advice built as the sampler words it. REAL exampleDataGamry.DTA as a single contact, R_EP
-    piled up at its prior's upper end (2026-12-06)."""
+    advice built as the sampler words it. REAL exampleDataGamry.DTA as a single contact has R_EP
+    piled up at its prior's upper end."""
     u = np.log(np.asarray(draws["u"], float))
     out = []
     for w in warnings:
@@ -1223,8 +1221,8 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
     ``single``: a single contact, whose call passes the total alone. ``weighting``: that of the
     analysis's own EDL fit, the χ² of its sampling's noise model (``"sigma"`` for a remainder
     with SEM, noise ``sigma``; ``"modulus"`` for noise proportional to |Z|), which the call's fit
-    passes so that it starts the sampling as that fit does (2026-12-03: without it the call's
-    ``ix.fit`` was weighted by |Z| and the sampling warned that init needs weighting 'sigma')."""
+    passes so that it starts the sampling as that fit does (without it the call's
+    ``ix.fit`` would be weighted by |Z| and the sampling warn that init needs weighting 'sigma')."""
     inputs = "total" if single else "total, skin, touchscreen"
     u = np.log(np.asarray(draws["u"], float))
     q05, q50, q95 = np.exp(np.quantile(u, [0.05, 0.5, 0.95]))
@@ -1283,9 +1281,8 @@ def hierarchical_advice_of_gap(warning: str, steps: int) -> str:
     longer warm-up, ``steps=`` twice ``steps`` (the draws per chain, after as many warm-up steps;
     ``impedax gap --steps N``), and that the analysis itself samples again with smaller steps
     (`sampled_with_retry`); R-hat or ESS → more draws per chain, the same ``steps=``, or more
-    chains, ``chains=`` twice theirs (Python only: ``impedax gap`` has no --chains). Until
-    2026-12-06 ``impedax gap`` advised "a higher target_accept", which neither it nor
-    `gap_analysis` takes, and "more chains", and Python read "impedax gap: --steps"; the
+    chains, ``chains=`` twice theirs (Python only: ``impedax gap`` has no --chains), not "a higher target_accept", which neither
+    ``impedax gap`` nor `gap_analysis` takes, nor "impedax gap: --steps" in Python; the
     posterior's own warnings name `sample_hierarchical`'s keywords (``draws=``, ``warmup=``)."""
     longer = f"steps={2 * int(steps)}"
     warning = _TARGET_ACCEPT_ADVICE.sub(
@@ -1387,7 +1384,7 @@ def _paper_interval_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> lis
 # mean |Y_R|/ω above the cutoff, counts the EP branch's admittance as C_gap's and so lies below
 # the truth: 0.82× on the SYNTHETIC pad of tests/test_gap_single_contact.py (EP admittance equal
 # to ωC_gap at 30 Hz, α = 0.6), while on the REAL Gamry file (exampleDataGamry.DTA, A = 1 cm²,
-# no air gap) the two were 360× apart, unwarned until 2026-12-06
+# no air gap) the two are 360× apart
 GAP_METHODS_RATIO_MAX = 10.0
 
 
@@ -1402,8 +1399,8 @@ def _no_air_gap_said_once(result: "GapAnalysis", restating: Sequence[str]) -> "G
     warnings only said it again — u piled up at its prior's bound (`_bound_notes`, the alarm's own
     rule `_piled_bounds`), and the Bayesian u set against the paper method's (`_estimate_bound_notes`,
     `METHODS_DISAGREE`: "check that the spectrum is of an air-gap contact and that the model fits
-    it", beside NO AIR GAP and MODEL DOES NOT FIT on the REAL exampleData.csv as a single contact,
-    2026-12-06). Kept without the alarm: where only the paper's u is no air gap, the comparison
+    it", beside NO AIR GAP and MODEL DOES NOT FIT on the REAL exampleData.csv as a single contact).
+    Kept without the alarm: where only the paper's u is no air gap, the comparison
     questions the Bayesian u, which no alarm does. The JSON keeps every key (``warnings`` holds fewer)."""
     if result.gap_implausible is None:
         return result
@@ -1440,7 +1437,7 @@ def _estimate_ratio_notes(what: str, u: float, paper: PaperGapEstimate, detail: 
 def _naive_runaway_notes(naive, single: bool = False) -> list[str]:
     """A warning when the naive fit (C_gap alone) ran away: rms_rel ≥ `NAIVE_RUNAWAY_RMS_REL`
     or C_gap outside `C_GAP_BOUNDS_F`. ``single``: a single contact, whose data are the spectrum
-    itself, not a remainder (2026-12-06: "this remainder" was said of REAL data.dfr read alone)."""
+    itself, not a remainder (REAL data.dfr read alone is no "this remainder")."""
     c = float(naive.values["C_gap"])
     low, high = C_GAP_BOUNDS_F
     if naive.rms_rel < NAIVE_RUNAWAY_RMS_REL and low <= c <= high:
@@ -1541,8 +1538,8 @@ def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: floa
 
 def _merged_capacitors_note(*, withheld: bool = False) -> str:
     """The warning of ``ep="C"`` (see `IDENTIFIED_C_REMAINDER`); ``withheld``: the merged model
-    misses the remainder (`_identification`), so its promise of a bound is taken back (a
-    walkthrough's run said "the force its upper bound" under "GAP NOT DETERMINED, AND NO BOUND")."""
+    misses the remainder (`_identification`), so its promise of a bound is taken back (else
+    "the force its upper bound" would stand under "GAP NOT DETERMINED, AND NO BOUND")."""
     promise = ("u is then the smallest gap thickness this model allows (larger if part of the capacitance belongs to the EP branch) and the force its upper bound"
                + (" — not here: that model misses the remainder, so its u bounds nothing and the force drawn from it is no estimate nor bound (the report's first lines say why)" if withheld else ""))
     return (
@@ -1586,10 +1583,10 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset | None = None, touchscreen
     if kind not in REMAINDER_KINDS:
         raise ParameterError(f"unknown remainder kind {kind!r}; use one of {', '.join(REMAINDER_KINDS)}")
     is_single_contact(skin, touchscreen)
-    check_spectra(total, skin, touchscreen)  # (as `gap_analysis`: None or a file name was an AttributeError, 2026-12-06)
+    check_spectra(total, skin, touchscreen)  # (as `gap_analysis`: None or a file name gets this message, not an AttributeError)
     # (a remainder given as a single contact's total is refused here as by `gap_analysis`:
-    # `impedax remaining` of it wrote a "single contact" file that `gap` then read, its force
-    # 412 mN flat over frequency where the contact's peaks at 352 mN; walkthrough 2026-12-06)
+    # `impedax remaining` of it would write a "single contact" file that `gap` then reads, its force
+    # 412 mN flat over frequency where the contact's peaks at 352 mN)
     check_not_a_remainder(total, skin, touchscreen)
     notes = position_notes(spectra_used(total, skin, touchscreen))
     total, skin, touchscreen = check_gap_inputs(total, skin, touchscreen)
@@ -1600,7 +1597,7 @@ def gap_remainder(total: xr.Dataset, skin: xr.Dataset | None = None, touchscreen
     trials = trial_remainders(total, skin, touchscreen)
     trials = trials.drop_vars([v for v in ("common_error_modes", "trial_error_modes") if v in trials])
     trials.attrs.update({k: v for k, v in remaining.attrs.items() if k.startswith("n_trials_") or k in REMAINDER_ATTRS or k == "single_contact"})
-    # (what the file's sigma is, as the trial means' remainder says it; `impedax remaining --trials --json` gave "" until 2026-12-06)
+    # (what the file's sigma is, as the trial means' remainder says it; `impedax remaining --trials --json` gives it, not "")
     trials.attrs["sigma_method"] = "not available: one remainder per total trial, as measured; the scatter between them is the noise impedax gap's hierarchical model estimates"
     return trials, notes + _subtraction_notes(trials)
 
@@ -1629,8 +1626,7 @@ TRIAL_MEANS_CALL = "gap_remainder(..., kind='mean')"
 """The remedies of the note on a remainder's Re Z < 0 (`_subtraction_notes`) in Python's words;
 ``impedax gap`` and ``impedax remaining`` say "leave them out (--exclude F,F or --fmin/--fmax, which
 impedax gap, remaining and fit take)" and "impedax remaining without --trials"
-(`cli.common.command_line_words`). Until 2026-12-06 Python read the options, and the command line
-sent users to impedax fit --exclude alone, which gap and remaining did not take."""
+(`cli.common.command_line_words`), not impedax fit --exclude alone."""
 
 
 def _check_remainder_sign(remaining: xr.Dataset) -> None:
@@ -1657,14 +1653,14 @@ def _edl_fit_warnings(edl, remaining: xr.Dataset, known_kk: KKChains | None = No
     and the uneven-band warning under sigma weighting, `SIGMA_BAND_WORDS`) when that sigma is the
     SEM of varying trials (`_sem_of_varying_trials`): there residuals far below it are expected,
     smallest where the variation dominates the SEM (SYNTHETIC Sirin example, seed 1, drawn from
-    the model itself: residuals 0.36× the SEM, "σ overstates the noise" warned; since 2026-12-06
-    the fit itself says what such a σ is, `SIGMA_OF_TRIAL_MEANS_WORDS`, left out too). The report's
+    the model itself: residuals 0.36× the SEM, "σ overstates the noise" warned; the fit
+    itself says what such a σ is, `SIGMA_OF_TRIAL_MEANS_WORDS`, left out too). The report's
     fits line states the χ²_red and why instead (`GapAnalysis.report`). With the remainder's KK chains
     ``known_kk``: the note of a misfit near the alarm's (`_near_misfit_note`) in place of the fit's
     own note that the data limit it (`DATA_LIMIT_NOTE`), when it holds; and without the fit's note
     that the model misses structure the data hold (`MODEL_MISSES_STRUCTURE`) where the alarm MODEL
     DOES NOT FIT (`_misfit_text`) says it (both below one another on the SYNTHETIC shipped example's
-    stationary total, `--pooled`, 2026-12-06). Both notes are found by values the fit sets where
+    stationary total, `--pooled`). Both notes are found by values the fit sets where
     it makes them (`result.fit_data_limit`, `result.fit_blaming_note`), not by their words, which
     decide only for a fit without them."""
     expected = _sem_of_varying_trials(edl, remaining)
@@ -1683,7 +1679,7 @@ NEAR_MISFIT_RATIO = MISFIT_RATIO_MAX / 2
 """The EDL fit's rms_rel (at least `GROSS_MISFIT_FROM`) over this multiple of what a
 Kramers–Kronig-consistent model reaches, but not over `MISFIT_RATIO_MAX` (MODEL DOES NOT FIT), is
 named in a note (`_near_misfit_note`): informational, no alarm, `gap_identified` unchanged. On
-SYNTHETIC single contacts (numpy, tests' formulas; 2026-12-06) no spectrum of R_EP ∥ CPE_EP ∥ C_gap
+SYNTHETIC single contacts (numpy, tests' formulas) no spectrum of R_EP ∥ CPE_EP ∥ C_gap
 (80 + 60, noise 0.2–5 %) nor of that contact with C_gap a CPE of α 0.97–1 and a series resistance
 of 0.1–5 % of |Z| (60) reached it at rms_rel ≥ 5 % (largest ratio there 1.23); 11 of 80 ionic
 conductors between blocking electrodes, R_b ∥ C_b + CPE_dl in series (the REAL Gamry file's shape),
@@ -1697,8 +1693,8 @@ def _near_misfit_note(fitted, remaining: xr.Dataset, known_kk: KKChains) -> str 
     distance from such a model leaves to the model (1 − (kk/rms)²) and the parameters the fit
     leaves undetermined (`undetermined_names`). REAL exampleDataGamry.DTA as a single contact:
     23.8 % against 4.8 % (4.96×), R_EP not determined, u = 2.19 µm reported with no alarm and
-    ``gap_identified`` true, the EDL fit's one note saying the data's noise limits the fit
-    (2026-12-06); that note (`DATA_LIMIT_NOTE`) gives way to this one. None otherwise, and where
+    ``gap_identified`` true, the EDL fit's one note saying the data's noise limits the fit;
+    that note (`DATA_LIMIT_NOTE`) gives way to this one. None otherwise, and where
     the fit weighted by the remainder's sigma stays within its stated noise."""
     freq, z = remaining["frequency"].values, remaining["Z"].values
     rms = float(fitted.rms_rel)
@@ -1724,9 +1720,9 @@ def _near_misfit_note(fitted, remaining: xr.Dataset, known_kk: KKChains) -> str 
 def _edl_chi2_text(fitted, remaining: xr.Dataset) -> str:
     """The EDL fit's χ²_red against the trial means' SEM, and why it lies below 1 (`_edl_fit_warnings`);
     a sigma that also holds the stated sigma of a file of one spectrum is said so, naming the
-    files, as the remainder's ``sigma_sources`` record them (`sirin.remaining_impedance`; 2026-12-06:
-    "against the trial means' SEM" was said of it, then the choice searched ``sigma_method``'s
-    words for "stated sigma"; `gap_analysis` makes its remainder, so it always has the sources)."""
+    files, as the remainder's ``sigma_sources`` record them (`sirin.remaining_impedance`,
+    not "against the trial means' SEM", nor ``sigma_method``'s words searched
+    for "stated sigma"; `gap_analysis` makes its remainder, so it always has the sources)."""
     if not _sem_of_varying_trials(fitted, remaining):
         return ""
     sources = sigma_sources(remaining.attrs) or {}
@@ -1754,9 +1750,9 @@ def _check_trials_hold_a_gap(batch, total: xr.Dataset) -> None:
     """A `DataError` naming the trials, before the hierarchical sampling, when the EDL fits of at
     least half the total trials (``batch``) put C_gap at its lower bound 0: u = ∞ there (no air
     gap), so the trials' median, the centre of u's population prior, is no gap. On the REAL
-    battery cycles 0, 64 and 129 all three fits end so; the sampling ran for a minute and then
-    failed with "prior lognormal:inf,2: both numbers must be finite" (2026-12-06). A stray trial
-    or two in another mode are left to the median, as before."""
+    battery cycles 0, 64 and 129 all three fits end so; without this the sampling runs for a minute and then
+    fails with "prior lognormal:inf,2: both numbers must be finite". A stray trial
+    or two in another mode are left to the median."""
     c_gap = batch.values("C_gap")
     at_zero = [index for index in np.ndindex(*c_gap.shape) if not c_gap.values[index] > 0]
     if 2 * len(at_zero) < c_gap.size:
@@ -1951,8 +1947,8 @@ def _force_upper_bound(values: Mapping[str, float] | None, lower: float | None, 
 def _area_unit_ruled_out(paper_gap: float, area: float) -> str:
     """Why the area's unit cannot make u no air gap: at this area the paper's method gives a u
     within `PLAUSIBLE_GAP_M`, which a unit slip of A (10⁶× for mm² read as m²) would move out of
-    it. Worded so that it does not call the contact an air gap beside the alarm NO AIR GAP (it
-    said "…, an air gap" there; walkthrough 2026-12-05, a resistive remainder)."""
+    it. Worded so that it does not call the contact an air gap beside the alarm NO AIR GAP (not
+    "…, an air gap", as of a resistive remainder)."""
     low, high = PLAUSIBLE_GAP_M
     return (f"the area's unit is not the cause: at A = {area:g} m² the paper's method gives u = {_gap_length(paper_gap)}, "
             f"within {format_quantity(low, 'm')}–{format_quantity(high, 'm')}, which a unit slip of A (10⁶×) would not")
@@ -2064,8 +2060,8 @@ def _misfit_text(fitted, remaining: xr.Dataset, known_kk: KKChains) -> str | Non
     misfit warning (`gross_misfits`: rms_rel ≥ `GROSS_MISFIT_FROM` and over `MISFIT_RATIO_MAX` ×
     what a Kramers–Kronig-consistent model reaches, ``known_kk`` its memory, and, for a fit
     weighted by the remainder's sigma, χ²_red beyond what that noise gives), else None. A single
-    contact's is "the spectrum", nothing having been subtracted (2026-12-06: "the remainder" was
-    said of the REAL data.dfr and Gamry files as single contacts too)."""
+    contact's is "the spectrum", nothing having been subtracted (not "the remainder",
+    as of the REAL data.dfr and Gamry files as single contacts)."""
     freq, z = remaining["frequency"].values, remaining["Z"].values
     sigma = remaining["sigma"].values if "sigma" in remaining else None
     if gross_misfits(freq, z, fitted.z_model, known_kk, sigma=sigma, weighting=fitted.weighting, n_free=len(fitted.free_names)).size == 0:
