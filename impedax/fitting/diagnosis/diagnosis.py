@@ -62,7 +62,7 @@ from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Re
 from ...data import concise_repr, report_text, counted, format_frequency, format_quantity, make_spectrum, unit_text
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
-from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band, retested_band, zero_impedance_text  # (frequency_text, left_out_options: here before 2026-12-02)
+from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band, retested_band, zero_impedance_text  # (frequency_text, left_out_options: kept importable from here)
 from ..least_squares import BatchFitResult, FitResult, fit
 from ..least_squares.result import RESIDUAL_LONG_NAME, is_dominated_note
 from ..least_squares.branches import is_idle_note, parallel_branches
@@ -130,8 +130,8 @@ KK_INVALID_RMS = 0.02
 """Not used by the rule since the data problems are located point by point (a public name)."""
 MASK_MAX_FRACTION = 0.5
 """The points with Re Z < 0 are left out (`non_passive_points`) when they are at most this
-fraction of the points; more, and the diagnosis keeps them. (Until 2026-12-02 also the share of
-KK-flagged points left out: now `KK_MASK_MAX_FRACTION`.)"""
+fraction of the points; more, and the diagnosis keeps them. (The share of KK-flagged points left out is
+`KK_MASK_MAX_FRACTION`.)"""
 KK_MASK_MAX_FRACTION = 0.25
 """The points the KK test flags in a run that reaches an end of the band (with `END_ISLAND_MAX`)
 are left out of every fit when they are at most this fraction of the points; more, or flagged
@@ -144,9 +144,9 @@ flags spread from the drifting low end through the chain's fit; AutoEIS's REAL t
 34 % (23 of 67, 1 mHz–0.6 Hz at 0.4–1.2 %), whose model, refined without them, missed them by
 32 %; a SYNTHETIC drifting low end of 41 points, 15 and 16 of them (37 % and 39 %,
 `tests/test_diagnose_mask_ends.py`), the same situation.
-Until 2026-12-02 the left-out set was the flagged points whose KK misfit was at least
-`KK_COMPARABLE` × the model's there, so it followed the model: on Gamry's file 14 points from
-R0 + R1 ∥ CPE1 + W1, none from R0 + R1 ∥ CPE1."""
+A left-out set of the flagged points whose KK misfit is at least `KK_COMPARABLE` × the model's
+there would follow the model: on Gamry's file 14 points from R0 + R1 ∥ CPE1 + W1, none from
+R0 + R1 ∥ CPE1."""
 MIN_KEPT_POINTS = 8
 """... and when at least this many points (and 3 per free parameter) are left to fit."""
 END_ISLAND_MAX = 2
@@ -263,8 +263,8 @@ class Suggestion(FrozenResult):
             "fixed_bands": [list(b) for b in self.fixed_bands], "undetermined": list(self.undetermined), "warning": self.warning,
             "values": {k: float(v) for k, v in self.fit.values.items()}, "removed": list(self.removed),
             "vanished": list(self.vanished), "same_fit": [t.model for t in same_fit],
-            "units": {k: spec.unit for k, spec in self.fit.circuit.parameter_specs(self.fit.registry).items()},  # (of "values", as fit --json's params give them: added 2026-12-01)
-            "beyond_band": [a.as_json() for a in self.beyond_band],  # (added 2026-12-04: added arcs that relax outside the band)
+            "units": {k: spec.unit for k, spec in self.fit.circuit.parameter_specs(self.fit.registry).items()},  # (of "values", as fit --json's params give them)
+            "beyond_band": [a.as_json() for a in self.beyond_band],  # (added arcs that relax outside the band)
         }
 
 
@@ -373,10 +373,10 @@ class Diagnosis(FrozenResult):
     @property
     def warnings(self) -> list[str]:
         """What to heed before trusting the verdict (JSON ``warnings``, the key fit, compare and
-        sample give; added 2026-12-01): every one of ``notes`` (masked points, refits, KK flags,
+        sample give): every one of ``notes`` (masked points, refits, KK flags,
         what the data do not determine) but the one saying the user's bounds were kept, the
         sign hint (``sign_hint``), and an adequate verdict `beyond_catalog` (`beyond_catalog_words`:
-        JSON's bare "adequate" at 16× the noise had no warning, walkthrough 2026-12-05)."""
+        else the JSON's bare "adequate" at 16× the noise has no warning)."""
         beyond = [beyond_catalog_words(self.noise_ratio, self.effects_left_out)] if self.beyond_catalog else []
         return [n for n in self.notes if not n.startswith(BOUNDS_KEPT_LEAD)] + ([self.sign_hint] if self.sign_hint else []) + beyond
 
@@ -408,14 +408,14 @@ class Diagnosis(FrozenResult):
             "model": b.model,
             "baseline": {"rms_rel": b.rms_rel, "chi2_red": b.chi2_red, "aic": b.aic, "bic": b.bic, "n_points": b.n_points, "n_params": b.n_params,
                          "params": b.summary()["params"], "at_bound": list(b.at_bound),
-                         "user_bounds": bounds_attr(b.bounds),  # (added 2026-12-01: the bounds=, --bound, as fit --json's user_bounds)
-                         "converged": bool(b.converged),  # (added 2026-12-01, as fit --json's)
-                         "weighting": b.weighting},  # (added 2026-12-06: what chi2_red and aic are against, as fit --json's weighting)
+                         "user_bounds": bounds_attr(b.bounds),  # (the bounds=, --bound, as fit --json's user_bounds)
+                         "converged": bool(b.converged),  # (as fit --json's)
+                         "weighting": b.weighting},  # (what chi2_red and aic are against, as fit --json's weighting)
             "kk": {
                 "valid": bool(kk.valid) if kk is not None else None,
                 "rms_rel": float(kk.rms_rel) if kk is not None else None,
                 "bad_bands": [[float(lo), float(hi)] for lo, hi in kk.bad_bands] if kk is not None else [],
-                # (added 2026-12-06) per band, the lowest and highest flagged measured frequency [Hz]: the
+                # per band, the lowest and highest flagged measured frequency [Hz]: the
                 # range the text names, as impedax kk --json's (``bad_bands`` keep the edges halfway to the neighbours)
                 "measured_bands_hz": [[float(lo), float(hi)] for lo, hi in kk.measured_bands] if kk is not None else [],
                 "noise_estimate": float(kk.noise_estimate) if kk is not None else None,
@@ -437,7 +437,7 @@ class Diagnosis(FrozenResult):
                 {"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "aic": s.aic, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant, "undetermined": list(s.undetermined), "warning": s.warning}
                 for s in self.candidates
             ],
-            # (added 2026-12-04) what a suggestion's or candidate's delta_aic and delta_bic weigh the residuals by: each point's noise
+            # what a suggestion's or candidate's delta_aic and delta_bic weigh the residuals by: each point's noise
             # (the "noise" entry's per_frequency), not the fit's own weighting that its "aic" uses, so they are no differences of "aic"
             "delta_aic_weighting": "noise",
             "thresholds": dict(self.thresholds),
@@ -448,11 +448,11 @@ class Diagnosis(FrozenResult):
             "sign_hint": self.sign_hint,
             "kk_valid_band": list(self.kk_valid_band) if self.kk_valid_band is not None else None,
             "misses_valid_band": self.misses_valid_band,
-            "kk_flagged_kept": self.kk_flagged_kept,  # (added 2026-12-02) why KK-flagged points stayed in every fit, or null
-            # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the points kept, their number and how many were left out
+            "kk_flagged_kept": self.kk_flagged_kept,  # why KK-flagged points stayed in every fit, or null
+            # what the verdict was judged on: the band [Hz] of the points kept, their number and how many were left out
             "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(self.baseline.n_points), "n_points_left_out": len(self.masked_points),
-            "effects_left_out": list(self.effects_left_out),  # (added 2026-12-05) the catalog's effects effects= (--effects) left out, not tried
-            "drt_circuit": self._drt_circuit_json(),  # (added 2026-12-05) the DRT's circuit when it fits better than the best suggestion, or null
+            "effects_left_out": list(self.effects_left_out),  # the catalog's effects effects= (--effects) left out, not tried
+            "drt_circuit": self._drt_circuit_json(),  # the DRT's circuit when it fits better than the best suggestion, or null
         }
 
     def _drt_circuit_json(self) -> dict | None:
@@ -488,13 +488,12 @@ class Diagnosis(FrozenResult):
         """What the baseline's chi2_red is measured against, when that is not the noise the
         report's next lines judge by: `` (modulus weighting: residuals relative to |Z|, not to
         the noise; against the noise σ given below, chi2_red ≈ 216, as the residuals are 14.7×
-        that noise)``. A walkthrough read "chi2_red 0.0218" beside "the residuals are 14.7× the
-        noise" as a contradiction; a fit weighted by the data's sigma (χ² against it) needs no
-        note. (2026-12-02: it read "against the noise σ below ≈ 216", which a walkthrough took
-        for "σ is below 216".) Under sigma weighting it names the weighting, and sets the figure
+        that noise)``. Without it "chi2_red 0.0218" beside "the residuals are 14.7× the
+        noise" reads as a contradiction; a fit weighted by the data's sigma (χ² against it) needs no
+        note. ("against the noise σ below ≈ 216" would read as "σ is below 216".) Under sigma weighting it names the weighting, and sets the figure
         against the noise below beside it where they differ by over 25 % (that noise adds a
-        model-discrepancy floor to the sigma: REAL exampleData.csv with a sigma column read
-        "chi2_red 9.56" bare beside "the residuals are 1.81× the noise", 2026-12-06)."""
+        model-discrepancy floor to the sigma: REAL exampleData.csv with a sigma column, not
+        "chi2_red 9.56" bare beside "the residuals are 1.81× the noise")."""
         ratio = self.noise_ratio
         if self.baseline.weighting == "sigma":
             chi2_red = self.baseline.chi2_red
@@ -564,7 +563,7 @@ class Diagnosis(FrozenResult):
         for s in rejected:
             lines.append(f"  not proposed: {s.model} (rms_rel {s.rms_rel * 100:.3g} %): {s.warning}")
         # (why KK-flagged points were kept is said on the data line; its note, for the JSON's
-        # ``notes``, said it again as the last line until 2026-12-07: 600 characters twice on REAL Gamry)
+        # ``notes``, is not said again as the last line: 600 characters twice on REAL Gamry)
         said = {self.kk_flagged_kept, f"{self.kk_flagged_kept}: diagnosed with every point"} if self.kk is not None and self.kk_flagged_kept else set()
         for n in self.notes:
             if n not in said:
@@ -615,7 +614,7 @@ class Diagnosis(FrozenResult):
                 "delta_aic": ("candidate", [s.delta_aic for s in self.candidates]),
                 "delta_bic": ("candidate", [s.delta_bic for s in self.candidates]),
                 "significant": ("candidate", [s.significant for s in self.candidates]),
-                # (added 2026-12-06) why a candidate is not proposed: the parameters the data do not
+                # why a candidate is not proposed: the parameters the data do not
                 # determine (";"-joined, as a comparison's ``undetermined``) and the report's words ("" for none)
                 "candidate_undetermined": ("candidate", np.array([";".join(s.undetermined) for s in self.candidates], str)),
                 "candidate_warning": ("candidate", np.array([s.warning or "" for s in self.candidates], str)),
@@ -695,8 +694,8 @@ def noise_line(sigma: np.ndarray, source: str, ratio: float, kk_estimate: float 
     it differs from the KK test's one estimate for the band (``kk_estimate``, which impedax kk
     prints: of the points kept when ``masked``): the scatter of `LOCAL_WINDOW` frequencies around
     each point, at least `GLOBAL_SHARE` × it; and the points at the `NOISE_FLOOR` minimum are
-    counted (a walkthrough read REAL ZPlot's "σ ≈ 0.1 %" beside impedax kk's "noise estimate =
-    0.0705 %" as a contradiction, 2026-12-06)."""
+    counted (else REAL ZPlot's "σ ≈ 0.1 %" beside impedax kk's "noise estimate =
+    0.0705 %" reads as a contradiction)."""
     words = source
     if source.startswith(LOCAL_SOURCE) and kk_estimate is not None and math.isfinite(kk_estimate):
         kept = " without the masked points" if masked else ""
@@ -967,8 +966,8 @@ EVIDENCE_ALPHA_AGREEMENT = 0.15
 def _evidence_words(p: Proposal, cand: FitResult) -> str:
     """`Proposal.evidence` in brackets when the fit ``cand`` agrees with what it expects (each
     value of `Proposal.expected` within `EVIDENCE_ALPHA_AGREEMENT`), else what the fit did
-    instead: REAL Autolab file, R0 + R1 ∥ C1 → CPE: "the DRT peak … α ≈ 0.80" stood beside a
-    fitted α = 0.404, a CPE spanning several processes (a walkthrough, 2026-12-05); "" without
+    instead: REAL Autolab file, R0 + R1 ∥ C1 → CPE: "the DRT peak … α ≈ 0.80" would stand beside a
+    fitted α = 0.404, a CPE spanning several processes; "" without
     evidence."""
     if not p.evidence:
         return ""
@@ -1023,9 +1022,9 @@ def _drt_supports(s: Suggestion, evidence: PeakEvidence | None) -> bool:
 
 def _ranked_before(s: Suggestion, t: Suggestion) -> str:
     """Why ``s`` ranks before ``t`` although ``t`` lowers AIC more (`_rank`'s rules, the first
-    that tells them apart), in words for the report. Before 2026-12-01 the report's heading
-    spelled out every rule on every run (60 words), and a reader of BioLogic's REAL spectrum
-    could not tell which one put CPE1 (ΔAIC −78.2) before a Warburg (−85.7): the simpler."""
+    that tells them apart), in words for the report: a heading that spelled out every rule on every run (60 words) would
+    not tell a reader of BioLogic's REAL spectrum which one put CPE1 (ΔAIC −78.2) before a
+    Warburg (−85.7): the simpler."""
     margin = f"within ΔAIC {DELTA_AIC_MIN:g} of each other the data barely tell them apart, and"
     if set(t.removed) - set(t.vanished) and not set(s.removed) - set(s.vanished):
         return f"it keeps every element of yours ({t.model} leaves {', '.join(sorted(set(t.removed) - set(t.vanished)))} out, which changes what your elements stand for)"
@@ -1049,9 +1048,9 @@ def _ranked_size(s: Suggestion) -> int:
     (`Suggestion.vanished`; `_series_resistance_dropped` drops free resistors only). The candidate
     that kept it is the same fit with it at 0, and the ranking already counts ``s`` as keeping it
     (it is not "left out"); leaving it out so that the other parameters are determined does not
-    make ``s`` the simpler explanation of the data. Before 2026-12-02 it did: on a SYNTHETIC Meyer
-    finger with CPE skin (α = 0.8, 1 % noise) W_d in series, R_f fallen to zero (4 parameters,
-    ΔAIC −68.4), was named before CPE_sc in place of C_sc (5, ΔAIC −72.1), the truth."""
+    make ``s`` the simpler explanation of the data: else, on a SYNTHETIC Meyer
+    finger with CPE skin (α = 0.8, 1 % noise), W_d in series, R_f fallen to zero (4 parameters,
+    ΔAIC −68.4), would be named before CPE_sc in place of C_sc (5, ΔAIC −72.1), the truth."""
     return ranked_size(s.fit, s.vanished)
 
 
@@ -1283,8 +1282,8 @@ def require_points_for_diagnosis(n_points: int, n_free: int, command: str = "dia
 def _require_nonzero_impedance(frequency, z, *, source: str | None) -> None:
     """`DataError` when Z is exactly zero at some frequency: a diagnosis judges misfits against
     noise relative to |Z| and starts its candidates from the data's |Z|, so such a point has no
-    noise scale (`impedax diagnose` of an all-zero table ended in a ZeroDivisionError, with
-    weighting 'unit'; found by tests/cli_fuzz_matrix.py, 2026-12-07)."""
+    noise scale (`impedax diagnose` of an all-zero table, with weighting 'unit', a value the fuzz
+    matrix (tests/cli_fuzz_matrix.py) gives, gets this message, not a ZeroDivisionError)."""
     if np.any(np.asarray(z) == 0):
         raise DataError(f"{zero_impedance_text(np.asarray(frequency, float), np.asarray(z))}; a diagnosis judges misfits against noise relative to |Z|, "
                         "which needs |Z| > 0: drop those points", path=source)
@@ -1719,7 +1718,7 @@ def _drt_circuit_fit(base: FitResult, spectrum: xr.Dataset, sigma_rel: np.ndarra
     circuit off the data at once. On REAL exampleData.csv, from R0 + R1 ∥ C1, the best
     suggestion adds R_relax ∥ CPE_relax and L_lead (rms_rel 2.65 %, 7 parameters) where
     `impedax drt` read R0 + L1 + R1 ∥ CPE1 + W1 (2.57 %, 6): C1 → CPE1, a Warburg and the lead
-    at once, no one change (a walkthrough, 2026-12-05)."""
+    at once, no one change."""
     try:
         data_drt = drts((base.frequency, base.z_data))
         if data_drt.over_smoothed or data_drt.sign_hint:
@@ -1892,8 +1891,8 @@ def _series_element_vanished(base: FitResult, proposals: list[tuple[Effect, Prop
     candidate without that element, warm-started from the candidate's optimum: the added
     element took over what it stood for. A SYNTHETIC Randles spectrum (R0 + (R1 + W) ∥ C1,
     σ = 30 Ω s^-½, 0.5 % noise) fitted as R0 + R1 ∥ C1 + W1: the candidate with a Warburg in
-    R1's branch lowered AIC by 70 while W1.sigma fell to 0.09 ± 3.87, and was set aside as "the
-    data do not determine W1.sigma"; the verdict read ADEQUATE (a walkthrough, 2026-12-05)."""
+    R1's branch lowers AIC by 70 while W1.sigma falls to 0.09 ± 3.87; set aside as "the
+    data do not determine W1.sigma", it would leave the verdict ADEQUATE."""
     out, seen = [], {str(base.circuit)}
     baseline = set(base.circuit.element_names)
     for effect, p, cf, top, undetermined in _significant_with_series(base, proposals, fits):
@@ -2015,8 +2014,8 @@ def _parallel_resistors(circuit: Circuit, registry: Registry):
     branches of a parallel node (without it the node stays a parallel group: R ∥ CPE ∥ C →
     CPE ∥ C; ``""``), or one of the two branches of a node in series with the whole circuit
     beside a C or CPE, when the rest of the circuit already blocks DC (`_blocks_dc`): R_relax ∥
-    C_relax → C_relax in series (the words say so), or beside a C when it conducts (since
-    2026-12-04: the open resistor is the data's word that no DC current passes; the words name
+    C_relax → C_relax in series (the words say so), or beside a C when it conducts (the
+    open resistor is the data's word that no DC current passes; the words name
     a blocking capacitance).
 
     A two-branch node is reduced only there. Elsewhere leaving its resistor out takes away a DC
@@ -2039,7 +2038,7 @@ def _parallel_resistors(circuit: Circuit, registry: Registry):
             continue
         if blockers:
             yield resistor, f"; {other.name} stands alone in series, where the circuit already blocks DC ({blockers[0]})"
-        elif registry[other.symbol].symbol == "C":  # (2026-12-04: the open resistor is the data's, which show no DC path through the node)
+        elif registry[other.symbol].symbol == "C":  # (the open resistor is the data's, which show no DC path through the node)
             yield resistor, (f"; {other.name} stands alone in series: the data show no DC path through {resistor.name} ∥ {other.name} over the band, so its arc "
                              f"closes below the lowest frequency, or never (a blocking capacitance: an insulating layer, a coating, a blocking electrode)")
 
@@ -2316,8 +2315,8 @@ def verdict_scope_words(judged, left_out, not_passive=()) -> str:
     of 72 points; the other 52 left out as not Kramers–Kronig consistent)``; empty when none
     were. ``judged``: the frequencies [Hz] the verdict rests on; ``left_out``: those left out,
     of which ``not_passive`` for Re Z < 0 (the others: the KK test's). A bare "verdict:
-    ADEQUATE" after refine had left out Gamry's 52 lowest points read as a model of the whole
-    spectrum, where it described 2.53–200 kHz only (walkthrough 2026-12-02)."""
+    ADEQUATE" after refine left out Gamry's 52 lowest points would read as a model of the whole
+    spectrum, where it describes 2.53–200 kHz only."""
     judged = np.asarray(judged, float)
     if not len(left_out) or not judged.size:
         return ""
@@ -2454,9 +2453,9 @@ def _constraint_verdict(user_fit: FitResult, spectrum: xr.Dataset, kk: KKResult 
 
 def _at_bound_lines(fit: FitResult) -> list[str]:
     """Under the "to apply" line: the suggestion's fit's own warnings on parameters at a bound
-    (`FitResult.at_bound`), which its command prints when run (a suggested model carried
-    ``--init CPE2.alpha=1`` with no word; `impedax fit` then warned "CPE2.alpha is at its upper
-    bound 1 …": a walkthrough, 2026-12-05). Those of a term that vanished are said above."""
+    (`FitResult.at_bound`), which its command prints when run (a suggested model's
+    ``--init CPE2.alpha=1`` gets a word here as `impedax fit` warns "CPE2.alpha is at its upper
+    bound 1 …"). Those of a term that vanished are said above."""
     vanished = {n for _, _, names in vanished_terms(fit) for n in names}
     names = [n for n in fit.at_bound if n not in vanished]
     return [f"     note: in this fit {w}" for w in fit.warnings if any(w.startswith(f"{n} ") for n in names)]
@@ -2526,7 +2525,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
     if any(s.significant for s in cands):
         best = next(s for s in cands if s.significant)
         # (at or under the noise overall, the misfit is systematic, not large: "0.844× the noise;
-        # adding …" read as a contradiction, walkthrough 2026-12-05)
+        # adding …" would read as a contradiction)
         within = ratio <= 1
         reason = f"the residuals are {ratio:.3g}× the noise" + (
             (f" overall, yet structured in {len(model_bands)} band(s)" if within else f" and structured in {len(model_bands)} band(s)") if model_bands
@@ -2758,10 +2757,10 @@ def diagnose(
     idle = [f"the baseline fit: {w}" for w in base.warnings if is_idle_note(w)]
     notes += idle
     # a weighting that leaves the baseline (and every candidate, weighted alike) to a few points:
-    # impedax fit warned, diagnose --weighting proportional said nothing (REAL exampleData.csv, 2026-12-06)
+    # impedax fit warns, and so does diagnose --weighting proportional (REAL exampleData.csv)
     notes += [f"the baseline fit: {w}" for w in base.warnings if is_dominated_note(w)]
     # parameters of the user's model the data do not fix (C2 at ± 235 % beside a second arc the
-    # data lack: impedax fit warned, diagnose said nothing, walkthrough 2026-12-05); an idle note says it already
+    # data lack: impedax fit warns, and so does diagnose); an idle note says it already
     loose = sorted((undetermined_parameters(base) | vanished_parameters(base)) & set(base.free_names))
     if loose and not idle:
         notes.append(undetermined_words(base, loose))
