@@ -80,17 +80,17 @@ UNDETERMINED_ROWS = ("not determined by the data (the least-squares start's rule
 several rows; one row's: `UNDETERMINED_ROW`)."""
 UNDETERMINED_ROW = ("not determined by the data (the least-squares start's rule: an unidentified group, a relative standard error above 100 %, or a term that vanishes from Z, such as a resistor open at ∞); "
                     "its interval shows where the priors take over, not a measurement: fix it (or another of its group) from another measurement, or report what the data fix")
-"""`UNDETERMINED_ROWS` of a single row (2026-12-06: "their intervals" of one parameter)."""
+"""`UNDETERMINED_ROWS` of a single row (not "their intervals" of one parameter)."""
 EDGE_SET_MARK = "← AT PRIOR EDGE"
 EDGE_SET_ROWS = ("their draws pile up against an edge of their prior or bound: that edge, not the data, sets one end of their intervals, "
                  "so their medians are no measurement either; the warnings say which end and what to do, or report only the end the data set")
 """The report's mark on a row of `PiledUp.set_by_prior_edge` the start fit's rule leaves out
-(until 2026-12-06 `UNDETERMINED_MARK`, under which this line explained a pile-up: REAL
-exampleDataGamry.DTA's R0) and the line under its table (added 2026-12-06), of several rows; one
+(not `UNDETERMINED_MARK`, whose line does not explain a pile-up: REAL
+exampleDataGamry.DTA's R0) and the line under its table, of several rows; one
 row's: `EDGE_SET_ROW`."""
 EDGE_SET_ROW = ("its draws pile up against an edge of its prior or bound: that edge, not the data, sets one end of its interval, "
                 "so its median is no measurement either; the warnings say which end and what to do, or report only the end the data set")
-"""`EDGE_SET_ROWS` of a single row (2026-12-06: REAL exampleDataGamry.DTA's R0 alone read "their
+"""`EDGE_SET_ROWS` of a single row (REAL exampleDataGamry.DTA's R0 alone, not "their
 draws … their intervals … their medians")."""
 
 
@@ -182,8 +182,8 @@ class Posterior(PiledUp, FrozenResult):
     registry: Registry | None = field(default=None, repr=False)  # None: the default registry
     user_bounds: dict[str, tuple[float, float]] = field(default_factory=dict)  # sampled circuit parameters' bounds narrowed by the user (`sample(bounds=...)` or init's)
     stragglers: Stragglers = NO_STRAGGLERS  # the run's walkers left out of the draws (`find_stragglers`)
-    log_evidence_unreliable_reason: EvidenceDoubt | None = None  # (`LaplaceEvidence.reason`; added 2026-12-07: `impedax.compare` read it from the notes' words)
-    model_comparison_notes: tuple[str, ...] = ()  # the notes of ``notes`` from `laplace_evidence` and `waic` (added 2026-12-07: `impedax gap` picked them out by their words)
+    log_evidence_unreliable_reason: EvidenceDoubt | None = None  # (`LaplaceEvidence.reason`: `impedax.compare` reads it here, not from the notes' words)
+    model_comparison_notes: tuple[str, ...] = ()  # the notes of ``notes`` from `laplace_evidence` and `waic` (`impedax gap` picks them out here, not by their words)
 
     def __post_init__(self):
         object.__setattr__(self, "noise", NoiseModel(self.noise))
@@ -342,7 +342,7 @@ class Posterior(PiledUp, FrozenResult):
         error: R2 open at ∞) (`branches.left_to_priors`); a reparametrized parameter through the
         one it replaces (u for C_gap). Their intervals are where the priors take over, not a measurement:
         on a SYNTHETIC pad (C_EP = 2 nF, C_gap = 120 pF, 1 % noise) u's 90 % interval was 1.8–9.4 µm
-        and the truth 30 µm (added 2026-12-02)."""
+        and the truth 30 µm)."""
         fit = self.fit
         loose = {n for group in fit.unidentified_groups for n in group}
         loose |= {n for n in fit.free_names if left_to_priors(fit.values[n], fit.stderr[n], n in fit.at_bound)}
@@ -351,8 +351,7 @@ class Posterior(PiledUp, FrozenResult):
         return tuple(n for n in self.names if n in loose or stands_for.get(n) in loose)
 
     def summary(self) -> dict:
-        """The JSON summary used by ``impedax sample --json`` (``undetermined``: `undetermined`,
-        added 2026-12-02)."""
+        """The JSON summary used by ``impedax sample --json`` (``undetermined``: `undetermined`)."""
         q = self.quantiles()
         params = _quantiles_by_name(q, self.names)
         for n in self.names:
@@ -366,19 +365,19 @@ class Posterior(PiledUp, FrozenResult):
             "warnings": list(self.warnings),
             "undetermined": list(self.undetermined),
             "piled_up": self.piled_up,
-            "at_prior_edge": self.at_prior_edge,  # (added 2026-12-06: the rows the report marks AT PRIOR EDGE)
-            "straggler_walkers": list(self.stragglers.walkers),  # (added 2026-12-01: the run's walkers left out of the draws; as the .nc's attribute)
-            "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (added 2026-12-01: the correlation warnings' pairs and r)
+            "at_prior_edge": self.at_prior_edge,  # (the rows the report marks AT PRIOR EDGE)
+            "straggler_walkers": list(self.stragglers.walkers),  # (the run's walkers left out of the draws; as the .nc's attribute)
+            "strong_correlations": [c.to_attr() for c in self.strong_correlations],  # (the correlation warnings' pairs and r)
             "log_evidence": self.log_evidence,
             "waic": self.waic,
             "p_waic": self.p_waic,
-            "waic_note": self.waic_note or None,  # (added 2026-12-06: beside WAIC of a chain too short to estimate τ; null otherwise)
-            "waic_unreliable_reason": None if self.waic_unreliable_reason is None else self.waic_unreliable_reason.value,  # (added 2026-12-07: why WAIC is no score to compare models by, `WaicDoubt`; null when it is one)
-            "log_evidence_unreliable_reason": None if self.log_evidence_unreliable_reason is None else self.log_evidence_unreliable_reason.value,  # (added 2026-12-07: why the log evidence is undefined or unreliable, `EvidenceDoubt`; null when sound)
+            "waic_note": self.waic_note or None,  # (beside WAIC of a chain too short to estimate τ; null otherwise)
+            "waic_unreliable_reason": None if self.waic_unreliable_reason is None else self.waic_unreliable_reason.value,  # (why WAIC is no score to compare models by, `WaicDoubt`; null when it is one)
+            "log_evidence_unreliable_reason": None if self.log_evidence_unreliable_reason is None else self.log_evidence_unreliable_reason.value,  # (why the log evidence is undefined or unreliable, `EvidenceDoubt`; null when sound)
             "noise": self.noise.value,
-            "sigma_origin": self.settings.get("sigma_origin"),  # (added 2026-12-06: what the data's σ is under noise 'sigma', `diagnosis.noise.sigma_origin`'s words; null otherwise)
-            "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, as before 2026-12-01)
-            "walkers_kept": self.n_walkers,  # (added 2026-12-01: the walkers whose draws the posterior holds, `straggler_walkers` left out)
+            "sigma_origin": self.settings.get("sigma_origin"),  # (what the data's σ is under noise 'sigma', `diagnosis.noise.sigma_origin`'s words; null otherwise)
+            "walkers": self.n_walkers + len(self.stragglers.walkers),  # (the run's, stragglers included)
+            "walkers_kept": self.n_walkers,  # (the walkers whose draws the posterior holds, `straggler_walkers` left out)
             "draws": self.n_draws,
             "draws_total": self.n_walkers * self.n_draws,
             "steps": self.settings.get("steps"),
@@ -389,15 +388,15 @@ class Posterior(PiledUp, FrozenResult):
             "thin": self.settings.get("thin"),
             "seed": self.settings.get("seed"),
             "map": dict(self.map_values),
-            # (added 2026-12-01: the least-squares fit the walkers started around, its ± beside the posterior's intervals; a
-            # Bayesian user saw the two compared only in a warning when they differ 2×)
+            # (the least-squares fit the walkers started around, its ± beside the posterior's intervals, not only
+            # in a warning when they differ 2×)
             "start_fit": {
                 "model": self.fit.model, "weighting": self.fit.weighting, "rms_rel": self.fit.rms_rel,
                 "values": dict(self.fit.values), "stderr": {n: shown_stderr(e, self.fit.fixed[n]) for n, e in self.fit.stderr.items()},
                 "at_bound": list(self.fit.at_bound), "converged": self.fit.converged,
             },
             "fixed": {n: float(v) for n, v in self.fixed.items()},  # (the report's "(fixed)" rows; the .nc's attribute)
-            "user_bounds": bounds_attr(self.user_bounds),  # (added 2026-12-01: bounds=, --bound, as the .nc's attribute and fit --json)
+            "user_bounds": bounds_attr(self.user_bounds),  # (bounds=, --bound, as the .nc's attribute and fit --json)
         }
         if self.reparametrization is not None:
             cq = self.quantiles(circuit=True)
@@ -444,7 +443,7 @@ class Posterior(PiledUp, FrozenResult):
         evenly spaced subset instead of every draw. Where ``fn`` depends on parameters the data
         do not determine (`undetermined`: its derivative in them at the median draw is not zero),
         ``attrs["undetermined"]`` names them and ``attrs["warning"]`` says the interval is the
-        priors' (added 2026-12-02)."""
+        priors'."""
         if freq is None and needs_freq(fn):
             freq = self.frequency
         params = self.parameter_draws()
@@ -486,16 +485,16 @@ class Posterior(PiledUp, FrozenResult):
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table: one row per sampled parameter with name, median, q05, q16, q84, q95,
-        unit, and (added 2026-12-01, as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``
+        unit, and (as the JSON's keys) ``autocorr`` (τ [steps]) and ``ess``
         (None, an empty cell, where unknown) (`impedax.io.write_result` .csv); with a
         reparametrization, the circuit parameters it replaces follow (derived from the draws;
-        no τ or ESS of their own: empty). Last (added 2026-12-06, the name of `FitResult.to_table`'s
+        no τ or ESS of their own: empty). Last (the name of `FitResult.to_table`'s
         column) ``undetermined``: the row the text report marks NOT DETERMINED (`undetermined`;
-        until 2026-12-06 also the rows piled up at a prior's edge); a replaced parameter's by the
-        one that replaces it. Then (added 2026-12-06, as `FitResult.to_table`'s rows and column) a
+        not the rows piled up at a prior's edge); a replaced parameter's by the
+        one that replaces it. Then (as `FitResult.to_table`'s rows and column) a
         row per fixed parameter, its value in every quantile column, and the column ``fixed``
-        (true on those rows), which the report lists and the CSV left out. Last (added
-        2026-12-06) ``at_prior_edge``: the row the report marks AT PRIOR EDGE (`at_prior_edge`)."""
+        (true on those rows), as the report lists them. Last
+        ``at_prior_edge``: the row the report marks AT PRIOR EDGE (`at_prior_edge`)."""
         q = self.quantiles()
         marks, _ = marked_rows(self.undetermined, self.set_by_prior_edge)
         rows = [
@@ -519,8 +518,7 @@ class Posterior(PiledUp, FrozenResult):
 
     def _evidence_line(self) -> str:
         """The report's line of Laplace ln Z and WAIC, "undefined" for a figure that is not
-        finite and "(see the warnings)" said once (twice when both were undefined, until
-        2026-12-06)."""
+        finite and "(see the warnings)" said once (not twice when both are undefined)."""
         laplace = f"Laplace ln Z = {self.log_evidence:.2f}" if math.isfinite(self.log_evidence) else None
         waic = f"WAIC = {self.waic:.2f} (p_waic {self.p_waic:.3g})" if math.isfinite(self.waic) else None
         if laplace is None and waic is None:
@@ -552,7 +550,7 @@ class Posterior(PiledUp, FrozenResult):
         f = np.geomspace(self.frequency.min(), self.frequency.max(), 200)
         return plot_posterior_bands(
             self.frequency, self.z_data, f, self.predict(f), n_lines=n_lines, z_predictive=self.predict(f, noise=True, copies=PREDICTIVE_COPIES),
-            title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws; {NOISE_TITLES[self.noise]})", figsize=figsize,  # (the noise model named: 2026-12-06)
+            title=title or f"{self.model}: posterior bands ({self.n_walkers * self.n_draws} draws; {NOISE_TITLES[self.noise]})", figsize=figsize,  # (the noise model named)
         )
 
     def corner(self, *, truths: Mapping[str, float] | None = None, bins: int = 30, max_points: int = 4000, params: Sequence[str] | None = None):
@@ -678,11 +676,11 @@ class Posterior(PiledUp, FrozenResult):
             warnings=tuple(fa["warnings"]),
             n_starts=int(fa["n_starts"]),
             elapsed_s=float(fa["elapsed_s"]),
-            at_bound=tuple(str(n) for n in fa.get("at_bound", ())),  # (a file written before 2026-11-30: none)
-            unidentified_groups=tuple(tuple(str(n) for n in g) for g in fa.get("unidentified_groups", ())),  # (a file written before 2026-11-30 21:00 UTC: none)
+            at_bound=tuple(str(n) for n in fa.get("at_bound", ())),  # (a file written by an older version: none)
+            unidentified_groups=tuple(tuple(str(n) for n in g) for g in fa.get("unidentified_groups", ())),  # (a file written by an older version: none)
             registry=registry,
-            bounds=stored_bounds(fa.get("bounds")),  # (a file written before 2026-12-01: none)
-            model_misfit=bool(fa["model_misfit"]) if "model_misfit" in fa else None,  # (a file written before 2026-12-07: its warnings' words)
+            bounds=stored_bounds(fa.get("bounds")),  # (a file written by an older version: none)
+            model_misfit=bool(fa["model_misfit"]) if "model_misfit" in fa else None,  # (a file written by an older version: its warnings' words)
         )
         sampled = [str(n) for n in ds["param"].values]
         notes = tuple(ds.attrs.get("notes", ()))
@@ -709,9 +707,9 @@ class Posterior(PiledUp, FrozenResult):
             settings=dict(ds.attrs["settings"]),
             reparametrization=rp,
             registry=registry,
-            user_bounds=stored_bounds(ds.attrs.get("user_bounds")),  # (a file written before 2026-12-01: none)
-            stragglers=Stragglers.from_attr(ds.attrs.get("stragglers")),  # (a file written before 2026-12-01: none)
-            # (a file written before 2026-12-07 holds them only in the notes' words: read by their leads)
+            user_bounds=stored_bounds(ds.attrs.get("user_bounds")),  # (a file written by an older version: none)
+            stragglers=Stragglers.from_attr(ds.attrs.get("stragglers")),  # (a file written by an older version: none)
+            # (a file written by an older version holds them only in the notes' words: read by their leads)
             log_evidence_unreliable_reason=ds.attrs["log_evidence_unreliable_reason"] if "log_evidence_unreliable_reason" in ds.attrs else evidence_doubt_of_notes(notes),
             model_comparison_notes=tuple(ds.attrs["model_comparison_notes"]) if "model_comparison_notes" in ds.attrs else model_comparison_notes_of(notes),
         )
