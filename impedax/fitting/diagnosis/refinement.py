@@ -57,7 +57,7 @@ class RefinementStep(FrozenResult):
     removed: tuple[str, ...] = ()
     same_fit: tuple[str, ...] = ()
     where: str = ""  # the suggestion's placement in words (`Suggestion.where`), with why it left an element out
-    vanished: tuple[str, ...] = ()  # (added 2026-12-02)
+    vanished: tuple[str, ...] = ()
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -109,7 +109,7 @@ class RefinementStep(FrozenResult):
 
     def as_json(self) -> dict:
         return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit), "where": self.where or None, "removal_reasons": self.removal_reasons, "vanished": list(self.vanished),
-                "noise_ratio": self.noise_ratio}  # (added 2026-12-06: the table's ×noise column)
+                "noise_ratio": self.noise_ratio}  # (the table's ×noise column)
 
 
 @dataclass(frozen=True, eq=False)
@@ -160,8 +160,8 @@ class Refinement(FrozenResult):
     def beyond_band(self) -> tuple[ArcBeyondBand, ...]:
         """The arcs of the final fit outside the band it saw (`arcs.arcs_beyond_band`): the
         data see one flank of each, not the arc. Those a step added (``extra_relaxation``), and
-        since 2026-12-05 the start's too: from ``R0 + R1 || C1`` the REAL ZPlot file ends with
-        R1 ∥ C1 at 2.24 MHz above its 3 kHz–300 kHz, R0 left out, which the report did not name.
+        the start's too: from ``R0 + R1 || C1`` the REAL ZPlot file ends with
+        R1 ∥ C1 at 2.24 MHz above its 3 kHz–300 kHz, R0 left out, which the report names.
         An arc with a parameter the data do not determine is left to that line of the report."""
         final = self.final
         loose = undetermined_parameters(final) | vanished_parameters(final)
@@ -203,28 +203,28 @@ class Refinement(FrozenResult):
         last = self.steps[-1].diagnosis
         return {
             "steps": [s.as_json() for s in self.steps], "final_model": self.final_model, "verdict": self.verdict,
-            "weighting": final.weighting,  # (added 2026-12-06: every step's rms_rel, AIC and chi2_red are of it)
+            "weighting": final.weighting,  # (every step's rms_rel, AIC and chi2_red are of it)
             "final_rms_rel": final.rms_rel, "n_params": final.n_params, "final_params": final.summary()["params"], "final_at_bound": list(final.at_bound),
-            "final_user_bounds": bounds_attr(final.bounds),  # (added 2026-12-01: the bounds=, --bound, the final fit kept, as fit --json's user_bounds)
+            "final_user_bounds": bounds_attr(final.bounds),  # (the bounds=, --bound, the final fit kept, as fit --json's user_bounds)
             "undetermined": sorted(undetermined_parameters(final) | vanished_parameters(final)),
             "masked_points": [float(f) for f in self.masked_points], "notes": list(self.notes),
             "beyond_catalog": last.beyond_catalog if last is not None else False, "noise_ratio": last.noise_ratio if last is not None else None,
             "final_from_values": self.final_from_values,
-            "final_converged": bool(final.converged),  # (added 2026-12-01: the final fit's, as fit --json's converged)
-            # (added 2026-12-01) what to heed before trusting the final model, the key fit, compare and
+            "final_converged": bool(final.converged),  # (the final fit's, as fit --json's converged)
+            # what to heed before trusting the final model, the key fit, compare and
             # sample give (`warnings`)
             "warnings": self.warnings,
-            # (added 2026-12-05) the last diagnosis' reason for the verdict (the report's verdict line), the data's sign hint
+            # the last diagnosis' reason for the verdict (the report's verdict line), the data's sign hint
             # (`Diagnosis.sign_hint`: with it the verdict is data_invalid) and the catalog's effects effects= left out
             "reason": last.reason if last is not None else None, "sign_hint": self.sign_hint,
-            # (added 2026-12-06) which AIC the reason's ΔAIC is, against the steps' "aic" (`verdict_aic_note`), or null
+            # which AIC the reason's ΔAIC is, against the steps' "aic" (`verdict_aic_note`), or null
             "verdict_aic_note": self.verdict_aic_note,
             "effects_left_out": list(last.effects_left_out) if last is not None else [],
-            # (added 2026-12-02) what the verdict was judged on: the band [Hz] of the final fit's points, their number and how many every fit left out
+            # what the verdict was judged on: the band [Hz] of the final fit's points, their number and how many every fit left out
             "verdict_band_hz": list(self.verdict_band), "n_points_judged": int(final.frequency.size), "n_points_left_out": len(self.masked_points),
-            # (added 2026-12-02) the data's problem, apart from the verdict on the model: the report's "data:" line, or null
+            # the data's problem, apart from the verdict on the model: the report's "data:" line, or null
             "data_problem": self.data_line or None,
-            # (added 2026-12-04) the added arcs the final fit puts outside the band it saw
+            # the added arcs the final fit puts outside the band it saw
             "final_beyond_band": [a.as_json() for a in self.beyond_band],
             # what diagnose of the same data, model and options says (refine's first diagnosis on every point), and the
             # report's sentence on why "verdict" differs from it, or null (`_diagnose_verdict_words`)
@@ -242,17 +242,16 @@ class Refinement(FrozenResult):
         """What to heed before trusting the final model (JSON ``warnings``): the sign hint, the
         notes but those saying a further path changed nothing (information, not a warning), and
         the last diagnosis' warning of an adequate verdict beyond the catalog
-        (`diagnosis.beyond_catalog_words`; a refine --effects ending at 12 % had none,
-        walkthrough 2026-12-05)."""
+        (`diagnosis.beyond_catalog_words`: a refine --effects ending at 12 % has it)."""
         last = self.steps[-1].diagnosis if self.steps else None
         beyond = [beyond_catalog_words(last.noise_ratio, last.effects_left_out)] if last is not None and last.beyond_catalog and self.verdict == last.verdict else []
         return ([self.sign_hint] if self.sign_hint else []) + [n for n in self.notes if UNCHANGED_WORDS not in n] + beyond
 
     def to_table(self) -> list[dict[str, object]]:
         """The tidy table of the final model's parameters (`FitResult.to_table`), then on every
-        row ``final_model`` and ``verdict``, the JSON's (added 2026-12-06: ``refine --out
-        FILE.csv`` named no model but the starting one, ``setting_model``, beside the final
-        model's parameters)."""
+        row ``final_model`` and ``verdict``, the JSON's (``refine --out
+        FILE.csv`` names the final model beside its parameters, not only the starting one,
+        ``setting_model``)."""
         return [{**row, "final_model": self.final_model, "verdict": str(self.verdict)} for row in self.final.to_table()]
 
     def _repr_html_(self) -> str:
@@ -279,8 +278,8 @@ class Refinement(FrozenResult):
 
     def table(self) -> str:
         """One row per step: rms_rel, AIC, the residuals against the noise its verdict was judged
-        on (``×noise``, `RefinementStep.noise_ratio`: whether a step's gain is beyond the noise;
-        since 2026-12-06) and what it changed, with the model under it."""
+        on (``×noise``, `RefinementStep.noise_ratio`: whether a step's gain is beyond the noise)
+        and what it changed, with the model under it."""
         lines = [f"{'step':>4}  {'rms_rel':>9}  {'AIC':>9}  {'×noise':>7}  change / model"]
         for i, s in enumerate(self.steps):
             ratio = f"{s.noise_ratio:.3g}×" if s.noise_ratio is not None else "–"
@@ -290,11 +289,11 @@ class Refinement(FrozenResult):
 
     def report(self) -> str:
         first, last = self.steps[0].fit, self.final
-        # (the weighting named since 2026-12-06: fit, diagnose and compare said it, refine did not)
+        # (the weighting named, as fit, diagnose and compare name it)
         lines = [f"refinement of {first.model} under {first.weighting} weighting (rms_rel and AIC of each step's fit)", self.table(), ""]
         if len(self.steps) > 1:
             before, after = f"{first.rms_rel * 100:.3g}", f"{last.rms_rel * 100:.3g}"
-            # (a step that only simplified leaves rms_rel as it was: "fell from 1.4 % to 1.4 %" read oddly; walkthrough 2026-12-05)
+            # (a step that only simplified leaves rms_rel as it was: "fell from 1.4 % to 1.4 %" would read oddly)
             moved = (f"fell from {before} % to {after} %" if last.rms_rel < first.rms_rel else f"rose from {before} % to {after} %") if before != after else f"stayed at {after} %"
             n_steps = len(self.steps) - 1
             # (a step of a pair adds two effects, which max_effects counts: "in 3 steps" beside "its limit of
@@ -463,9 +462,8 @@ SAME_OPTIMUM_AIC = 0.1
 the starting circuit the kept end left out (in the user's names: SYNTHETIC Meyer data, C_sc
 kept as CPE_sc beside R_s, where the other path had R_relax ∥ CPE_relax for them), and is
 otherwise left out of the report, whatever the paths count as kept on the way. On REAL Gamry
-above 2.5 kHz the third path ended at the first path's circuit at AIC −448.7 too and was kept
-"at a better optimum", for the first path counting R0, which fell to zero on it, as kept (a
-walkthrough, 2026-12-05)."""
+above 2.5 kHz the third path ends at the first path's circuit at AIC −448.7 too and would be kept
+"at a better optimum", for the first path counting R0, which fell to zero on it, as kept."""
 
 PATH_LABELS = ("second path", "third path", "fourth path", "fifth path", "sixth path", "seventh path")
 """The names of `_second_path`'s further paths, in the order the notes report them (the greedy
@@ -500,12 +498,12 @@ def _starts_compared(alt, kept, label: str = "second path", kept_label: str = "t
     """How the further path ``label``'s start ``alt`` differs from ``kept``, the start of the path
     whose end it is compared with (``kept_label``: the first path, or a further path kept before
     it), each with the model it gives: two sentences. On the REAL VersaStudio file the third
-    path's note, compared with the kept second path's end, told how the first path started
-    (walkthrough 2026-12-06). Of one effect, the effect is named once and the two additions told
-    apart: the note read "starting from extra_relaxation (…) instead of extra_relaxation (…)"
-    (Gamry's real file, walkthrough 2026-12-02), the same name twice for two placements. Where
+    path's note, compared with the kept second path's end, tells how the second path started,
+    not the first. Of one effect, the effect is named once and the two additions told
+    apart, not "starting from extra_relaxation (…) instead of extra_relaxation (…)"
+    (Gamry's real file), the same name twice for two placements. Where
     both added the same at the same place, the note says so, with no "but": on REAL Gamry from
-    ``R0 + R1 || CPE1`` it read "too, but added R_relax || CPE_relax, nested in series with R1
+    ``R0 + R1 || CPE1`` not "too, but added R_relax || CPE_relax, nested in series with R1
     …", then the same words for the first path, whose only difference was R0 left out."""
     holder = kept_label[:1].upper() + kept_label[1:]
     if alt.effect == DRT_EFFECT:
@@ -559,7 +557,7 @@ def _drt_start(first: Diagnosis, steps: list[RefinementStep], limit: int) -> _DR
     greedy path can spend its effects standing in for what the DRT reads at once: on REAL
     exampleData.csv from R0 + R1 ∥ C1 the greedy path stops at its limit of 4 effects at 0.805 %
     (AIC −1342.5), still missing an effect, where the path from the DRT's R0 + L1 + R1 ∥ CPE1 + W1
-    ends adequate at 0.608 % (AIC −1412.8; a walkthrough, 2026-12-06)."""
+    ends adequate at 0.608 % (AIC −1412.8)."""
     last = steps[-1].diagnosis
     if limit < 1 or last is None or last.verdict != Verdict.MISSING_EFFECT or first.drt_circuit is None:
         return None
@@ -575,8 +573,8 @@ def unfollowed_effect_note(steps: list[RefinementStep], best) -> str:
     """Why refine ends on a model whose own diagnosis names an effect ``best`` (its verdict) that
     refine did not add, below its limit: the step taken from it was dropped (`_finish`), after a
     simplifying step too (`_after_simplifying` goes on from one). REAL Autolab under proportional
-    weighting ended "MISSING_EFFECT — adding extra_relaxation lowers AIC by 36.6" with no word of
-    why (2026-12-06)."""
+    weighting ends "MISSING_EFFECT — adding extra_relaxation lowers AIC by 36.6", and this says
+    why."""
     last = steps[-1]
     if len(steps) > 1 and last.effect is None:
         why = (f"refine simplified the model in its last step ({last.change.removesuffix(' [simplified]')}), went on from it, and the step it took "
@@ -597,9 +595,9 @@ def _after_simplifying(steps: list[RefinementStep], limit: int, diagnosed, say, 
     replaced left the arc's parameters undetermined). The continued path is finished
     (``finished``: refitted from scratch, a last step dropped when that leaves parameters
     undetermined) and simplified again (``simplify``); each round adds an effect, so at most
-    ``limit`` rounds. REAL Autolab under proportional weighting ended "MISSING_EFFECT — adding
+    ``limit`` rounds. Else REAL Autolab under proportional weighting ends "MISSING_EFFECT — adding
     extra_relaxation (R_relax2 ∥ C_relax2) lowers AIC by 36.6" after CPE3 → C3 with 3 of its
-    4 effects used (2026-12-06)."""
+    4 effects used."""
     for _ in range(limit):
         last = steps[-1]
         if len(steps) < 2 or last.effect is not None or last.diagnosis is None:
@@ -778,14 +776,13 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         # a path whose every step was dropped (`_finish`) ends where every path starts: the start, not a model of its own
         end = (f"It drops every step it took (its note above). It ends at the start, {other[-1].model} (AIC {b.aic:.1f}, {_size_words(other)})" if len(other) == 1
                else f"It ends at {other[-1].model} (AIC {b.aic:.1f}, {_size_words(other)})")
-        # short sentences, the result first (the note was one sentence of ~90 words, walkthrough
-        # 2026-12-02): what the path changed, the two ends, why, then where the two paths started
+        # short sentences, the result first (not one sentence of ~90 words): what the path changed, the two ends, why, then where the two paths started
         sentences = [
             (f"the {label} ends at {holder}'s circuit at {'the same' if same_optimum else 'a better'} optimum, which is kept." if _same_network(a, b) else f"the {label} is kept in place of {holder}'s end.")
             if better else f"the {label}{UNCHANGED_WORDS}{holder}'s end is kept.",
             f"{end}, against {holder}'s end {steps[-1].model} (AIC {a.aic:.1f}, {_size_words(steps)}).",
         ]
-        if better and b.aic > a.aic:  # (kept by parsimony: the note named the higher AIC and no rule, a walkthrough 2026-12-05)
+        if better and b.aic > a.aic:  # (kept by parsimony: the note names the rule beside the higher AIC)
             sentences.append(f"Its AIC is {b.aic - a.aic:.1f} higher, within {DELTA_AIC_MIN:g}, where the data barely tell the two apart, "
                              f"and it has {size_a - size_b} fewer parameter(s): the simpler is kept.")
         if slight:
@@ -840,10 +837,10 @@ def _vanished_on(path: list[RefinementStep]) -> tuple[str, ...]:
 def _path_size(path: list[RefinementStep]) -> int:
     """The size `_second_path` compares the ends of its paths by: the end's free parameters, with
     each resistance that fell to zero on the way and was left out counted as kept
-    (`diagnosis.ranked_size`, the ranking's count). Before 2026-12-02 the fit's own count: on a
+    (`diagnosis.ranked_size`, the ranking's count). By the fit's own count, on a
     SYNTHETIC Meyer finger with CPE skin, the path from W_d with R_f fallen to zero (4 parameters,
-    AIC −754.1) was kept in place of the first path's CPE_sc (5, AIC −754.2), the truth, "as good
-    with fewer parameters", although the ranking had put CPE_sc first for counting R_f as kept."""
+    AIC −754.1) would be kept in place of the first path's CPE_sc (5, AIC −754.2), the truth, "as good
+    with fewer parameters", although the ranking puts CPE_sc first for counting R_f as kept."""
     return ranked_size(path[-1].fit, _vanished_on(path))
 
 
@@ -1045,9 +1042,9 @@ def _on_valid_band(ds: xr.Dataset, band: xr.Dataset, steps: list[RefinementStep]
     data's own over at least `KK_INVALID_FRACTION` of the points) while its model still misses
     that run clearly (`Diagnosis.misses_run_band`). The points outside the run are in the
     result's ``masked_points`` (its report prints the ``--fmin``/``--fmax`` that leave them
-    out) and a note says why. The case behind it (2026-12-01): on Gamry's real file the KK test
-    fails at 16 mHz–2.26 kHz (1–12 % misfit) and passes above (0.46 %); after one step refine
-    stopped ``data_invalid`` at 6.64 % with a model 6.45 % off the passing band (its C1 wanted
+    out) and a note says why. The case behind it: on Gamry's real file the KK test
+    fails at 16 mHz–2.26 kHz (1–12 % misfit) and passes above (0.46 %); after one step the whole
+    band's path stops ``data_invalid`` at 6.64 % with a model 6.45 % off the passing band (its C1 wanted
     a CPE); with ``--fmin 2.3e3`` it ends ``adequate`` at 0.516 %. Returns the refinement on the
     run and its note, or None and a note why the whole band's path stands: the run's final model
     misses the points outside by more than `VALID_BAND_MISS_FACTOR` × their KK misfit."""
@@ -1368,8 +1365,8 @@ def refine(
                 return _with_diagnose_verdict(restarted, first, ds, restarted=True)
             notes.append(why)
     # (data whose stored sign the KK test doubts (`Diagnosis.sign_hint`) end at that verdict: no
-    # model is simplified or pruned on them; conjugated SYNTHETIC finger data lost C_s, R_sc and
-    # C_sc as "vanishing" before the verdict named the sign, 2026-12-02)
+    # model is simplified or pruned on them; else conjugated SYNTHETIC finger data would lose C_s, R_sc
+    # and C_sc as "vanishing" before the verdict names the sign)
     if not (stop.verdict == Verdict.DATA_INVALID and stop.sign_hint):
         def simplify(path):
             path = _simplified(path, used, n_starts=n_starts, seed=seed, diagnosed=diagnosed, reproduced=reproduced, say=say, notes=notes)
