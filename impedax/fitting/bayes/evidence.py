@@ -174,8 +174,7 @@ def short_chain_waic_note(n_draws: int, thin: int = 1) -> str:
     warning and `diagnostics.integrated_autocorr`), "" for more. Whether such draws have spread
     from the start over the posterior is unknown, and until they have p_waic is off: on SYNTHETIC
     R0 + R1 ∥ C1 (40 points, 1 % noise) it read 1.9 after 8 steps and 4.7 after 2000 (P = 4), so
-    WAIC is no score to compare models by (added 2026-12-06: the report printed it with nothing
-    beside it)."""
+    WAIC is no score to compare models by (said beside it, not printed bare)."""
     if not _too_short(n_draws):
         return ""
     return (f"{WAIC_NOTE_LEAD}and p_waic are from a chain too short to trust ({kept_draws_text(n_draws, thin)}, too few to estimate τ: emcee needs ≳ {CHAIN_TAU_MULTIPLE} τ): "
@@ -236,12 +235,12 @@ WAIC_REMEDY = "Compare models by WAIC, or fix or bound that parameter"
 """How a note of `laplace_evidence` on a posterior far from Gaussian ends (`_width_note`): the way
 out it names where WAIC is a score to compare models by (`evidence_remedy`)."""
 SHORT_CHAIN_REMEDY = "WAIC, from a chain too short to estimate τ, is no score to compare models by either (see the note beside it): run a longer chain, or fix or bound that parameter"
-"""`WAIC_REMEDY` where the chain is too short to estimate τ (`WaicDoubt.SHORT_CHAIN`): until
-2026-12-06 the note sent the user to a WAIC `short_chain_waic_note` says not to compare models by
+"""`WAIC_REMEDY` where the chain is too short to estimate τ (`WaicDoubt.SHORT_CHAIN`): the note
+does not send the user to a WAIC `short_chain_waic_note` says not to compare models by
 in the same report (REAL exampleDataGamry.DTA with R0 + R1 || CPE1 and --steps 40)."""
 DOUBTED_WAIC_REMEDY = "WAIC is no score to compare models by either (see its warning): fix or bound that parameter"
 """`WAIC_REMEDY` where WAIC has a warning of its own (`WaicDoubt.UNDEFINED`,
-`WaicDoubt.HIGH_P_WAIC`): until 2026-12-06 one posterior's warnings could say "Compare models by
+`WaicDoubt.HIGH_P_WAIC`): one posterior's warnings do not say both "Compare models by
 WAIC" and "Do not compare models by this WAIC"."""
 
 
@@ -269,8 +268,8 @@ def _width_note(covariance: np.ndarray, chain_y: np.ndarray, names: Sequence[str
     `LAPLACE_WIDTH_RATIO` of its draws' sd in ``chain_y`` (walker, draw, param); else a note
     naming them with both widths. A Gaussian far wider than the draws is blamed on a parameter
     left to its prior or cut off by a prior's edge or a bound, and, unless the chain is known to
-    have ``converged``, on draws not yet spread out (a converged REAL Gamry chain was sent to "see
-    its warning" of a chain too short, which it did not have, 2026-12-06). The remedy names WAIC
+    have ``converged``, on draws not yet spread out (a converged REAL Gamry chain is not sent to "see
+    its warning" of a chain too short, which it does not have). The remedy names WAIC
     only where ``waic_reasons`` (the run's WAIC's, `waic_doubts`) are none (`evidence_remedy`)."""
     laplace_sd = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     draws_sd = chain_y.reshape(-1, chain_y.shape[-1]).std(axis=0)
@@ -302,7 +301,7 @@ START_UNEVEN_NOISE = "uneven noise"
 relative level (``proportional``), are several times larger in one band than elsewhere (its
 `least_squares.result.UNEVEN_NOISE_NOTE`): the likelihood's σ is too small there. On the shipped
 SYNTHETIC skin (noise ~4× larger at 1–5 Hz) p_waic was 13 for 5 parameters with the chain
-converged, and the warning told the user to run more steps (a walkthrough, 2026-12-04)."""
+converged: more steps do not mend it."""
 
 
 def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), start_y=None, converged: bool = True, model_misfit: bool | str = False) -> str:
@@ -333,7 +332,7 @@ def waic_cause(chain_y, names: Sequence[str], *, excluded: Sequence[str] = (), s
             0,
             "the noise model gives every point one relative σ, while the start fit's residuals are several times larger in one band (see its note): "
             "there σ is too small, and the draws' small moves change those points' log-likelihood by much more than one; give the data's σ "
-            "(a sigma column of the file or make_spectrum(sigma=...), and noise='sigma') or leave that band out before comparing models by WAIC — more steps do not mend it"  # (impedax sample: "--noise sigma", `cli.common.command_line_words`; "--noise sigma" in Python too until 2026-12-06)
+            "(a sigma column of the file or make_spectrum(sigma=...), and noise='sigma') or leave that band out before comparing models by WAIC — more steps do not mend it"  # (impedax sample: "--noise sigma", `cli.common.command_line_words`; not in Python)
         )
     elif model_misfit == START_BEYOND_SIGMA and not excluded and not away:
         causes.insert(
