@@ -133,10 +133,10 @@ def sigma_origin(attrs) -> str:
     of the one spectrum", or which inputs gave a standard error of their trial means and which
     their own stated sigma; a `sirin.trial_mean` (``n_trials``, ``sigma_from``) likewise; else
     ``"sigma column"`` (a column of the file or ``make_spectrum(sigma=...)``, whose origin impedax
-    does not know). A walkthrough's sigma column was called "trial scatter" until 2026-12-01, and
-    every remainder's sigma, a single input's own sigma among them, until 2026-12-06. A
+    does not know). A sigma column is not called "trial scatter", nor is every
+    remainder's sigma, a single input's own sigma among them. A
     remainder's provenance is read from its ``sigma_sources`` (`result.sigma_sources`); one saved
-    before 2026-12-06 has none, and the words of its ``sigma_method`` are read instead."""
+    by an older version has none, and the words of its ``sigma_method`` are read instead."""
     attrs = attrs or {}
     sources = sigma_sources(attrs)
     if sources:
