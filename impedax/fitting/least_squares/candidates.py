@@ -273,7 +273,7 @@ def fit_candidates(
     outputs = _solve(rows, _spectrum_args(freq, z, inv_re, inv_im, shape.n_freq), freq.size, layout, k_pad, budget, scaled)
     elapsed = (time.perf_counter() - t0) / len(rows)
     results = []
-    (dominated,) = dominated_notes(weighting, freq, z, inv_re, inv_im)  # (the data's and the weighting's, every candidate alike, as impedax.fit warns: 2026-12-06)
+    (dominated,) = dominated_notes(weighting, freq, z, inv_re, inv_im)  # (the data's and the weighting's, every candidate alike, as impedax.fit warns)
     for problem, row, one in zip(prepared, rows, outputs):
         one = one._replace(x=one.x[row.flat], jacobian=one.jacobian[:, : row.n_free])
         # exchangeable blocks in the order every fit reports (docs/fitting.md), so a
