@@ -38,7 +38,7 @@ class Proposal:
     removed: tuple[str, ...] = ()
     band: tuple[float, float] = (0.0, math.inf)
     vanished: tuple[str, ...] = ()
-    # (added 2026-12-05) what the data's evidence expects of the fit ({"CPE1.alpha": 0.80} from a
+    # what the data's evidence expects of the fit ({"CPE1.alpha": 0.80} from a
     # DRT peak's width) and the words that cite it; the explanation cites it only when the fit
     # agrees (`diagnosis._evidence_words`)
     expected: Mapping[str, float] = field(default_factory=dict)
