@@ -351,8 +351,8 @@ def _carried_by_flagged(errors: list[np.ndarray], flagged: np.ndarray, p: float 
     """True when a band's misfit is the KK-flagged points': without them its points' Σ(r/σ)²
     (``errors``: the band's structured components, each over its points) is within the χ²
     quantile 1 − ``p`` of as many terms, the test that made it a band (`_structured_mask`).
-    REAL BioLogic file with R0 + R1 || C1 (2026-12-06): the band 49.3–83.3 Hz was its 6.7σ
-    spike at 56.2 Hz, which the KK test flags, and one point at 1.04σ; it was counted as the
-    model's failure ("structured in 2 bands") and shaded "model fails"."""
+    REAL BioLogic file with R0 + R1 || C1: the band 49.3–83.3 Hz is its 6.7σ
+    spike at 56.2 Hz, which the KK test flags, and one point at 1.04σ; without this test it would
+    count as the model's failure ("structured in 2 bands") and be shaded "model fails"."""
     rest = np.concatenate([e[~flagged] for e in errors])
     return bool(np.sum(rest**2) <= chi2_quantile(1 - p, rest.size))
