@@ -2601,7 +2601,7 @@ def diagnose(
     Candidates are fitted warm-started together (``n_starts`` starts each, ``max_steps``
     Levenberg–Marquardt steps). ``drt_evidence``: compare the data's DRT with the baseline's
     and let the unexplained peaks guide ``extra_relaxation`` and ``constant_phase`` (False: the
-    misfit alone, as before). ``solver_shape``: the compiled candidate solver's shape to reuse
+    misfit alone). ``solver_shape``: the compiled candidate solver's shape to reuse
     when it holds the candidates (an earlier `Diagnosis.solver_shape`; `refine` passes each
     step's on, so its steps share one compilation). ``mask``: leave out the points the KK test
     blames (False: judge every point given; `refine` passes False after its first step, so

@@ -1212,7 +1212,7 @@ adds what the data need (the start of the real-spectra study, docs/diagnosis.md)
 
 
 MIN_CANDIDATE_STEPS = 10
-"""``max_steps`` was once refine's number of effects (now ``max_effects``): a value below this
+"""``max_steps`` is refine's number of effects (``max_effects``) in older versions: a value below this
 given without ``max_effects`` is refused with a message naming ``max_effects`` rather than run
 as a step limit no candidate fit could converge within (with ``max_effects`` given, it is a step
 limit whatever its size, as ``impedax refine --max-steps`` passes it)."""
