@@ -48,7 +48,7 @@ def bounds_attr(bounds) -> dict[str, list[float]]:
 
 def stored_bounds(stored) -> dict[str, tuple[float, float]]:
     """A fit's user bounds as stored in an attribute (`bounds_attr`); none in a file written
-    before 2026-12-01."""
+    by older versions."""
     return {str(n): (float(lo), float(hi)) for n, (lo, hi) in dict(stored or {}).items()}
 
 
@@ -154,8 +154,8 @@ class FitResult(FrozenResult):
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's (`constraints.user_bounds`)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``, `impedax.load`'s path), None if unknown: `impedax.write_result` records it
-    notes: tuple[str, ...] = ()  # advice that is not a warning (`unused_sigma_notes`; added 2026-12-02)
-    model_misfit: bool | None = field(default=None, repr=False)  # whether a warning blames the model (`misfit_notes`' ``blamed_out``), set where the note is made; None: not known, read from the words (`fit_blames_model`; added 2026-12-07)
+    notes: tuple[str, ...] = ()  # advice that is not a warning (`unused_sigma_notes`)
+    model_misfit: bool | None = field(default=None, repr=False)  # whether a warning blames the model (`misfit_notes`' ``blamed_out``), set where the note is made; None: not known, read from the words (`fit_blames_model`)
     data_limit_note: str | None = field(default=None, repr=False)  # the warning that the data limit the fit (`misfit_notes`' ``limits_out``), as worded, "" where it has none; None: not known, read from the words (`fit_data_limit`)
     data_limit_hint: str = field(default="", repr=False)  # that note's end holding the KK test's sign hint ("; hint: …", `SIGN_HINT_LEAD`), "" without one
     misfit_note: str | None = field(default=None, repr=False)  # the fit's misfit warning (`misfit_notes`; compare's in its place), as worded, "" where it has none; None: not known (`fit_blaming_note`)
@@ -243,7 +243,7 @@ class FitResult(FrozenResult):
     def misses_structure(self) -> bool:
         """Whether the model misses structure the data hold: a warning says so
         (`MODEL_MISFIT_MARKS`), or `misfit_hint` gives its hint (rms_rel below 2 % and over 5×
-        what the Kramers–Kronig chain reaches; added 2026-12-06, as `BatchFitResult.misses_structure`):
+        what the Kramers–Kronig chain reaches; as `BatchFitResult.misses_structure`):
         its values and standard errors are then this model's best, not the system's. The warning's
         blame is `model_misfit`, set where the note is made, not read from its words
         (`fit_blames_model`; a fit without it: its words)."""
@@ -270,9 +270,9 @@ class FitResult(FrozenResult):
     def summary(self) -> dict:
         """The JSON summary used by ``impedax fit --json``: each of ``params`` with its value,
         stderr, fixed and ``unit`` (the element spec's, as `to_table` and ``sample --json`` give
-        it; added 2026-12-01) and ``linearised_stderr`` (`linearised_stderr`: at a bound, the
-        linearisation's, what scipy's curve_fit and impedance.py's ``conf_`` give; added 2026-12-02);
-        ``misses_structure`` (`misses_structure`, the key of a batch's rows; added 2026-12-06)."""
+        it) and ``linearised_stderr`` (`linearised_stderr`: at a bound, the
+        linearisation's, what scipy's curve_fit and impedance.py's ``conf_`` give);
+        ``misses_structure`` (`misses_structure`, the key of a batch's rows)."""
         specs = self.circuit.parameter_specs(self.registry)
         linearised = self.linearised_stderr
         return {
@@ -286,7 +286,7 @@ class FitResult(FrozenResult):
             "chi2_red": self.chi2_red,
             "aic": self.aic,
             "bic": self.bic,
-            "aic_form": UNKNOWN_VARIANCE,  # (added 2026-12-05: the form of aic and bic; under weighting sigma, compare's are the *_known_noise keys)
+            "aic_form": UNKNOWN_VARIANCE,  # (the form of aic and bic; under weighting sigma, compare's are the *_known_noise keys)
             **({"aic_known_noise": known[0], "bic_known_noise": known[1], "known_noise_form": KNOWN_SIGMA} if (known := self.known_noise_criteria) else {}),
             "converged": self.converged,
             "message": self.message,
@@ -295,10 +295,10 @@ class FitResult(FrozenResult):
             "unidentified_groups": [list(g) for g in self.unidentified_groups],
             "weighting": self.weighting,
             "n_evaluations": self.n_evaluations,
-            "n_starts": self.n_starts,  # (added 2026-12-02: the starts the fit used, the start ladder's rungs included; the message words them)
-            "user_bounds": bounds_attr(self.bounds),  # (added 2026-12-01: the bounds=, --bound, of free parameters; an open end inf, null in JSON)
-            "notes": list(self.notes),  # (added 2026-12-02: advice that is not a warning, e.g. σ the weighting does not use)
-            "misses_structure": bool(self.misses_structure),  # (added 2026-12-06: as each row of a batch's "spectra" has it)
+            "n_starts": self.n_starts,  # (the starts the fit used, the start ladder's rungs included; the message words them)
+            "user_bounds": bounds_attr(self.bounds),  # (the bounds=, --bound, of free parameters; an open end inf, null in JSON)
+            "notes": list(self.notes),  # (advice that is not a warning, e.g. σ the weighting does not use)
+            "misses_structure": bool(self.misses_structure),  # (as each row of a batch's "spectra" has it)
         }
 
     def _chi2_red_basis(self) -> str:
@@ -337,7 +337,7 @@ class FitResult(FrozenResult):
             if not w.startswith("fit did not converge"):  # the status line says it once
                 lines.append(f"warning: {w}")
         lines += [f"note: {n}" for n in self.notes]
-        hint = misfit_hint(self)  # (added 2026-12-03: until then only the command line printed it)
+        hint = misfit_hint(self)  # (as the command line prints it)
         if hint is not None:
             lines.append(f"hint: {hint}")
         return "\n".join(lines)
@@ -346,15 +346,14 @@ class FitResult(FrozenResult):
         """The tidy table of parameters: one row per parameter with name, value, stderr (None
         when fixed or there is none: at a bound, a vanishing term's, an overflowed fit's), unit
         (from the element specs) and fixed, then the fit's `FIT_STATISTICS` (rms_rel, chi2,
-        chi2_red, aic, bic), repeated on each row as a batch's table has them (added
-        2026-12-01), then the flags (added 2026-12-01, as `BatchFitResult.to_table`):
+        chi2_red, aic, bic), repeated on each row as a batch's table has them, then
+        the flags (as `BatchFitResult.to_table`):
         ``converged`` (the fit's), ``at_bound`` and ``undetermined`` (the fits' rule,
         `branches.undetermined`: relative standard error above 100 % or none, never for a fixed
         parameter or one at a bound), then ``warnings``: the fit's warnings joined by "; " ("" if
-        none), on every row, as a batch's table has them (added 2026-12-06: a single fit's CSV had
-        no warnings column), and ``weighting`` (what chi2, chi2_red and aic are against; added
-        2026-12-06: a CSV written from Python did not say it) and ``misses_structure``
-        (`misses_structure`; added 2026-12-06, as a batch's table) (`impedax.io.write_result` .csv)."""
+        none), on every row, as a batch's table has them, and ``weighting`` (what chi2, chi2_red and aic
+        are against, also in a CSV written from Python) and ``misses_structure``
+        (`misses_structure`, as a batch's table) (`impedax.io.write_result` .csv)."""
         specs = self.circuit.parameter_specs(self.registry)
         statistics = {k: float(getattr(self, k)) for k in FIT_STATISTICS}
         warned = "; ".join(self.warnings)
@@ -425,7 +424,7 @@ class FitResult(FrozenResult):
         return plot_spectrum(
             (self.frequency, self.z_data),
             model_curve(self),
-            title=title or f"{self.model}   rms_rel = {self.rms_rel * 100:.3g} %   {self.weighting} weighting",  # (the weighting named, as the report does: 2026-12-06)
+            title=title or f"{self.model}   rms_rel = {self.rms_rel * 100:.3g} %   {self.weighting} weighting",  # (the weighting named, as the report does)
             bands=bands,
             model_label="fit",
             model_at_data=self.z_model,
@@ -434,7 +433,7 @@ class FitResult(FrozenResult):
 
     def to_xarray(self) -> xr.Dataset:
         """Parameters (with stderr), covariance and the spectra as a Dataset; ``unit`` along
-        ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01). Its attrs are Python
+        ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``). Its attrs are Python
         objects (lists of warnings and groups, a dict of bounds) that ``.to_netcdf`` refuses: a
         file is written with ``impedax.write_result(result, "fit.nc")``, which encodes them."""
         names = list(self.values)
@@ -471,10 +470,10 @@ class FitResult(FrozenResult):
         """Rebuild a fit from `FitResult.to_xarray` output: as returned, read back by
         `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
         or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
-        in (None: the default one). A file written before 2026-11-30 lacks the evaluation count,
-        starts and time: 0, 1 and 0 s; one written before 2026-11-30 21:00 UTC the unidentified groups: none.
+        in (None: the default one). A file written by older versions may lack the evaluation count,
+        starts and time: 0, 1 and 0 s; or the unidentified groups: none.
         ``source`` is the data's file the saved result names (`impedax.io.netcdf.saved_source`;
-        None before 2026-12-01, when a fit read back lost it)."""
+        None in a file of older versions, which did not keep it)."""
         from ...io.netcdf import damaged_result, saved_result, saved_source  # (io is imported only here: rarely needed)
 
         registry = DEFAULT_REGISTRY if registry is None else registry
@@ -508,12 +507,12 @@ class FitResult(FrozenResult):
                 registry=registry,
                 bounds=stored_bounds(ds.attrs.get("bounds")),
                 source=saved_source(ds),
-                notes=stored_notes(ds.attrs.get("notes", ())),  # (none in a file before 2026-12-02)
-                model_misfit=bool(ds.attrs["model_misfit"]) if "model_misfit" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_blames_model`)
-                data_limit_note=str(ds.attrs["data_limit_note"]) if "data_limit_note" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_data_limit`)
+                notes=stored_notes(ds.attrs.get("notes", ())),  # (none in a file of older versions)
+                model_misfit=bool(ds.attrs["model_misfit"]) if "model_misfit" in ds.attrs else None,  # (a file of older versions: its warnings' words, `fit_blames_model`)
+                data_limit_note=str(ds.attrs["data_limit_note"]) if "data_limit_note" in ds.attrs else None,  # (a file of older versions: its warnings' words, `fit_data_limit`)
                 data_limit_hint=str(ds.attrs.get("data_limit_hint", "")),
-                misfit_note=str(ds.attrs["misfit_note"]) if "misfit_note" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_blaming_note`)
-                uneven_noise=bool(ds.attrs["uneven_noise"]) if "uneven_noise" in ds.attrs else None,  # (a file before 2026-12-07: its warnings' words, `fit_uneven_noise`)
+                misfit_note=str(ds.attrs["misfit_note"]) if "misfit_note" in ds.attrs else None,  # (a file of older versions: its warnings' words, `fit_blaming_note`)
+                uneven_noise=bool(ds.attrs["uneven_noise"]) if "uneven_noise" in ds.attrs else None,  # (a file of older versions: its warnings' words, `fit_uneven_noise`)
             )
 
 
@@ -585,10 +584,10 @@ def value_shown_at_bound(name: str, value: float, notes) -> str:
     """A parameter at a bound as the tables write its value (``.5g``), or its bound where the
     fit's ``notes`` put it on a bound 0 or ∞ without a value ("R0 is at its lower bound 0",
     `bound_note` within `NUMERICALLY_ON_FRACTION`; a global fit's "shared R0 is ..."): there
-    its digits are where the solver stopped, not what the data say, and a table that printed
+    its digits are where the solver stopped, not what the data say, and a table that prints
     them (REAL exampleDataGamry.DTA with R0 + R1 || CPE1 + R2 || CPE2: "R0 1.2675e-05 at
-    bound" beside "R0 is at its lower bound 0"; 5.75e-292 Ω in another run) contradicted the
-    note until 2026-12-06. The JSON, CSV and netCDF keep the value as fitted."""
+    bound" beside "R0 is at its lower bound 0"; 5.75e-292 Ω in another run) would contradict the
+    note. The JSON, CSV and netCDF keep the value as fitted."""
     for note in notes:
         for bound in ("0", "∞"):
             for side in ("lower", "upper"):
@@ -670,9 +669,9 @@ def bound_note(name: str, bound: float, side: str, *, value: float | None = None
     ``stderr`` given: the linearisation's, bounds ignored) but not told from it by the data,
     "R1 = 79.6 MΩ cannot be told from its lower bound 0 (linearised standard error 1.3e+18 Ω,
     bounds ignored)": the numbers as the report writes them (`format_quantity`: SI prefix on the
-    leading unit; until 2026-12-06 "7.96e+07 Ω", "0.000677 Ω s^-1/2"); the result gives a parameter at a bound no standard error (JSON null), so
-    the note names the number as the JSON's ``linearised_stderr`` (until 2026-12-06 it read
-    "(standard error 1.3e+18 Ω)" beside the JSON's null)."""
+    leading unit, not "7.96e+07 Ω", "0.000677 Ω s^-1/2"); the result gives a parameter at a bound no standard error (JSON null), so
+    the note names the number as the JSON's ``linearised_stderr`` (not "(standard error
+    1.3e+18 Ω)" beside the JSON's null)."""
     at = format_bound(bound, unit)
     if value is not None and on and bound == 0 and side == "lower" and value != 0:
         return f"{name} = {format_quantity(value, unit)} runs to its lower bound 0 (fitted in log space, it approaches 0 without reaching it; to the data it is 0)"
@@ -922,7 +921,7 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
         if not row.any():
             out.append(())
             continue
-        where = ", ".join(format_frequency(f) for f in np.sort(freq[row]))  # (238 kHz, as impedax writes frequencies; "2.383e+05 Hz" until 2026-12-06)
+        where = ", ".join(format_frequency(f) for f in np.sort(freq[row]))  # (238 kHz, as impedax writes frequencies, not "2.383e+05 Hz")
         out.append((
             f"the {weighting} weighting gives {int(row.sum())} of {row.size} points {s * 100:.0f}% of the weight ({where}): "
             f"{DOMINATED_WORDS}; consider weighting='modulus'",
@@ -978,8 +977,8 @@ SIGMA_SOURCES_ATTR = "sigma_sources"
 """The attr of a remainder (`sirin.remaining_impedance`) that says what its ``sigma`` is made of,
 as data: input name ("total", "skin", "touchscreen") → `SIGMA_FROM_TRIALS` (the standard error
 of its trials' mean) or `SIGMA_FROM_OWN` (its own stated sigma: one spectrum), written only
-when the remainder has a sigma (added 2026-12-06; until then its provenance was read back from
-the words of ``sigma_method``, which a remainder saved before still carries alone)."""
+when the remainder has a sigma (a remainder saved by older versions carries the words of
+``sigma_method`` alone, from which its provenance is read back)."""
 SIGMA_FROM_TRIALS = "trial scatter"
 SIGMA_FROM_OWN = "own sigma"
 SIGMA_FROM_NONE = "none"
@@ -990,7 +989,7 @@ mean over trials, of one spectrum's own sigma, or of one spectrum without (unkno
 def sigma_sources(attrs) -> dict[str, str] | None:
     """A remainder's `SIGMA_SOURCES_ATTR` (input → `SIGMA_FROM_TRIALS` or `SIGMA_FROM_OWN`), also
     as ``xr.open_dataset`` leaves it (impedax's "json:" text of a dict attr); None without one (a
-    spectrum not from `sirin.remaining_impedance`, or a remainder saved before 2026-12-06)."""
+    spectrum not from `sirin.remaining_impedance`, or a remainder saved by older versions)."""
     value = (attrs or {}).get(SIGMA_SOURCES_ATTR)
     if isinstance(value, str) and value.startswith("json:"):
         import json
@@ -1014,17 +1013,17 @@ def trial_means_of_sigma(attrs) -> str | None:
     ``n_trials_total`` of two trials or more, and ``n_trials_skin``, ``n_trials_touchscreen``):
     "30 total, 30 skin, 30 touchscreen spectra"; an input of one spectrum that gave its stated
     sigma is named by that provenance, in `diagnosis.noise.sigma_origin`'s words: "30 total spectra,
-    and the stated sigma of skin and touchscreen (one spectrum each), added in quadrature" (it
-    was counted as "1 skin, 1 touchscreen" spectra of trial means until 2026-12-06); None
+    and the stated sigma of skin and touchscreen (one spectrum each), added in quadrature" (not
+    "1 skin, 1 touchscreen" spectra of trial means); None
     otherwise (a sigma column, whose origin impedax does not know). Read from the remainder's
-    `SIGMA_SOURCES_ATTR`; a remainder saved before 2026-12-06 has none, and its ``sigma_method``
+    `SIGMA_SOURCES_ATTR`; a remainder saved by older versions has none, and its ``sigma_method``
     words are read instead. A total of one spectrum with its stated sigma, less skin and screen
     means over trials, gives None, as docs/models.md says of gap's fits: only the total's trials
     put the contact's variation between touches into σ, and σ is then mostly the total's stated
     sigma of one touch (on a SYNTHETIC contact, 93 % of σ² at a stated 0.02 % of |Z|, the skin and
     screen means over 30 trials of a 5 % spread the rest), so residuals far below it do say that
-    σ overstates the noise, as the fit's general note has it (2026-12-06: 3a1af1ea named such a σ
-    trial means for a while; reverted)."""
+    σ overstates the noise, as the fit's general note has it (such a σ is not named
+    trial means)."""
     attrs = attrs or {}
     counts = {name: attrs.get(f"n_trials_{name}") for name in ("total", "skin", "touchscreen")}
     counts = {name: int(n) for name, n in counts.items() if n is not None}
@@ -1036,7 +1035,7 @@ def trial_means_of_sigma(attrs) -> str | None:
             return None
         words = ", ".join(f"{counts[name]} {name}" if name in counts else name for name in means) + " spectra"
         return f"{words}, and the stated sigma of {names_in_words(stated)} (one spectrum{'' if len(stated) == 1 else ' each'}), added in quadrature" if stated else words
-    method = str(attrs.get("sigma_method", ""))  # (a remainder saved before 2026-12-06: its words)
+    method = str(attrs.get("sigma_method", ""))  # (a remainder saved by older versions: its words)
     if "sem" not in method.lower():
         return None
     stated = re.search(r"the stated sigma of (.+?) \((one spectrum[^)]*)\)", method)
@@ -1099,15 +1098,15 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     The text names the bands and the threshold, not the fit's ratio, so that a batch's fit
     gives a single fit's text (as `misfit_notes`), and whether the quiet band lies at lower or
     higher frequencies, so that a batch's grouped line holds fits of one direction only (its
-    bands' envelopes overlapped when spectra loud at the low end and at the high end were one
-    kind: "larger at 21 mHz – 9.9 kHz than at 21 mHz – 4.36 Hz", REAL battery cycles, 2026-12-03). Its advice follows the weighting: under
+    bands' envelopes would overlap were spectra loud at the low end and at the high end one
+    kind: "larger at 21 mHz – 9.9 kHz than at 21 mHz – 4.36 Hz", REAL battery cycles). Its advice follows the weighting: under
     ``modulus`` to weigh by σ (``has_sigma``: the data carry one, which the fit did not use), the
     fit's and the sampler's way alike (the sampler's default noise model is the same σ ∝ |Z|, so
     it is no remedy); under ``sigma`` that the stated σ misstates the noise in one of the bands,
     or, where σ is the standard error of trial means (``trial_means``, `trial_means_of_sigma`),
     that the fit of the mean can take the trials' variation it holds up in one band and not in
-    another (SYNTHETIC Sirin example of seed 4: its σ was to be "checked" as a sigma column,
-    2026-12-06). ``uneven_out``: a list extended with whether each fit got the note (a value set
+    another (SYNTHETIC Sirin example of seed 4: its σ is not to be "checked" as a sigma
+    column). ``uneven_out``: a list extended with whether each fit got the note (a value set
     where the note is made, `FitResult.uneven_noise`; `UNEVEN_NOISE_NOTE` is its words)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
@@ -1179,13 +1178,13 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
     shared fit's spectrum) or fewer than one degree of freedom: no note. ``chain_chi2_red`` (B,;
     `sigma_misstated`'s, NaN where not judged): where it marks σ as misstating the noise (a
     Kramers–Kronig-consistent model weighted by the same σ also exceeds it), the note over σ says
-    so and no longer offers a missing effect as the other cause (added 2026-12-02). ``trial_means``
+    so and does not offer a missing effect as the other cause. ``trial_means``
     (`trial_means_of_sigma`): σ is the standard error of means over those trials, which holds how
     the trials differ, smooth in frequency, as well as the noise; a fit of the mean takes most of
     that difference up into its parameters, so residuals far below σ are expected, and the note
     says what σ is instead of calling it overstated with standard errors "too large" (SYNTHETIC
     Sirin example: residuals 0.3× its SEM, "3.4× too large" said, where the trials' own spread
-    of C_gap, fitted per trial, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF; 2026-12-06).
+    of C_gap, fitted per trial, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF).
     ``blamed`` (one bool per fit, `misfit_notes`' ``blamed_out``): which of ``misfit``'s notes blame
     the model; None: read from their words (`warnings_blame_model`)."""
     z = np.atleast_2d(z)
@@ -1281,9 +1280,9 @@ def _relative_example(z, sigma) -> str:
 
 # a fit's misfit is compared with what the data allow (`misfit_notes`) from this rms_rel on:
 # below it the comparison costs more (a Kramers–Kronig fit, ~0.5 ms per spectrum in a batch,
-# `kk.kk_misfits`: a batch of well-fitted spectra at 1 % would pay it for every one) than it tells. It was 5 % until
-# 2026-11-29, and AutoEIS's real battery cycle 0 fitted with R0 + R1 ∥ CPE1 + Wo1, at 3.2 %
-# where a Kramers–Kronig-consistent model reaches 0.25 %, was told nothing
+# `kk.kk_misfits`: a batch of well-fitted spectra at 1 % would pay it for every one) than it tells. At 5 %, AutoEIS's
+# real battery cycle 0 fitted with R0 + R1 ∥ CPE1 + Wo1, at 3.2 % where a Kramers–Kronig-consistent
+# model reaches 0.25 %, would be told nothing
 MISFIT_CHECKED_FROM = 0.02
 # ... and a batch's fit that misses the data grossly (`gross_misfits`: above `MISFIT_RATIO_MAX`
 # × that) gets its own rung of starts from this rms_rel on
@@ -1308,8 +1307,8 @@ MODEL_MISSES_STRUCTURE = "the model misses structure the data hold"
 MISFIT_IS_MODELS = "the misfit is this model's"
 DIAGNOSIS_ADVICE = "a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
 """How a fit's misfit note that blames the model ends; ``impedax fit`` follows such a note with the
-``impedax diagnose`` command to run (`cli.fit`; until 2026-12-07 only a misfit that looks small, the
-hint, got the command)."""
+``impedax diagnose`` command to run (`cli.fit`; any such note, not only the hint of a misfit that looks
+small)."""
 MODEL_MISFIT_MARKS = (MODEL_MISSES_STRUCTURE, MISFIT_IS_MODELS)
 """Phrases of the `misfit_notes` that blame the model, not the data (their text is built from
 them). Whether a fit's notes blame the model is a value set where they are made
@@ -1405,8 +1404,8 @@ SIGMA_EXCEEDED_UNWEIGHTED = (
 )
 # ... and a fit of data that pass the KK test (the chain's misfit is their noise) is told its
 # misfit is its own above this multiple of the chain's rms_rel: χ²_red ≈ 4 against that noise,
-# decisive on any spectrum of 20 points or more (until 2026-11-30 the data were blamed up to 5×:
-# Meyer's RC-skin model on SYNTHETIC CPE-skin data with 1 % noise, at 2.7×, was told the data's
+# decisive on any spectrum of 20 points or more (at 5×,
+# Meyer's RC-skin model on SYNTHETIC CPE-skin data with 1 % noise, at 2.7×, would be told the data's
 # noise limited it)
 MODEL_MISFIT_OVER_CONSISTENT = 2.0
 # ... and below that multiple, when the fit's number of free parameters is known, by the rule a
@@ -1415,7 +1414,7 @@ MODEL_MISFIT_OVER_CONSISTENT = 2.0
 # this much above the chain's, a share of the noise's own ...
 MODEL_MISFIT_NOISE_SHARE = 0.25
 # ... and its AIC (Gaussian, 2N real residuals, parameters counted) worse than the chain's by more
-# than this (until 2026-12-01 a fit at 1.6× the chain's rms_rel, χ² 2.6×, was told the data's
+# than this (without it a fit at 1.6× the chain's rms_rel, χ² 2.6×, would be told the data's
 # noise limited it while `impedax diagnose` named the missing effect: SYNTHETIC R0 + R1 ∥ CPE1 data,
 # α = 0.97, 1 % noise, fitted with R0 + R1 ∥ C1)
 MODEL_MISFIT_DELTA_AIC = 10.0
@@ -1621,7 +1620,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
     Z'' stored with the opposite sign, not noise or drift, then limits it. A note that would blame
     the model is replaced by `SIGN_CAUSE_NOTE` and that hint where the KK test gives one (asked
     where `signs_in_doubt`): the stored sign, not a missing effect, is then the likely cause
-    (added 2026-12-02: conjugated SYNTHETIC finger data were told the model missed structure). ``weighting``: the
+    (conjugated SYNTHETIC finger data are otherwise told the model misses structure). ``weighting``: the
     fits'; one other than ``sigma`` minimised another χ² than σ's, so residuals beyond σ may be
     that weighting's, and the note over σ says to refit with ``sigma`` rather than blame the model
     (`SIGMA_EXCEEDED_UNWEIGHTED`). ``n_free``: the fits' number of free parameters (None: a
@@ -1631,7 +1630,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
     Kramers–Kronig-consistent model weighted by the same σ exceeds σ by as well: σ misstates the
     noise, so no note blames the model; such a fit gets the note that the data limit it
     (`sigma_scale_notes` and `uneven_residual_notes`, which that note leaves in place, say what is
-    wrong with σ; added 2026-12-02). ``known``: the fit call's `kk.KKChains` (its chains are fitted
+    wrong with σ). ``known``: the fit call's `kk.KKChains` (its chains are fitted
     once for the misfits and the full test). ``blamed_out``: a list extended with whether each
     fit's note blames the model (a value set where the note is made, `FitResult.model_misfit`;
     `MODEL_MISFIT_MARKS` are its words). ``limits_out``: a list extended with, per fit, its note
@@ -1736,8 +1735,8 @@ def is_remainder(attrs) -> bool:
 
 def listed_frequencies(freq, mask, shown: int = 6) -> str:
     """The first ``shown`` frequencies where ``mask`` holds, as impedax writes frequencies
-    (`impedax.data.format_frequency`: "702 kHz, 1 MHz"; "7.017e+05 Hz, 1e+06 Hz" until
-    2026-12-06), then "…" when there are more."""
+    (`impedax.data.format_frequency`: "702 kHz, 1 MHz", not "7.017e+05 Hz,
+    1e+06 Hz"), then "…" when there are more."""
     picked = np.sort(np.asarray(freq, float)[np.asarray(mask, bool)])
     return ", ".join(format_frequency(f) for f in picked[:shown]) + (", …" if picked.size > shown else "")
 
@@ -1748,9 +1747,9 @@ def non_passive_notes(freq, z, sigma=None, *, remainder: bool = False, noise=Non
     `statistics.fit_noise`), which no passive circuit reaches, saying what was counted
     (`statistics.non_passive_words`): an instrument's phase error when they lie in the top
     decade of the band (`statistics.top_of_band`), a measurement artifact where they lie
-    elsewhere; in a remainder (``remainder``, `is_remainder`) the subtraction's scatter. (Until
-    2026-12-02 the 5 % rule alone, said as "Re Z < 0", flagged a noisy SYNTHETIC finger spectrum's
-    31.6 Hz point, 1 of its 13 with Re Z < 0, and blamed the top of the band.)"""
+    elsewhere; in a remainder (``remainder``, `is_remainder`) the subtraction's scatter. (The
+    5 % rule alone, said as "Re Z < 0", would flag a noisy SYNTHETIC finger spectrum's 31.6 Hz
+    point, 1 of its 13 with Re Z < 0, and blame the top of the band.)"""
     bad = non_passive(z, sigma, noise)
     if not bad.any():
         return ()
@@ -1782,7 +1781,7 @@ def unidentified_group_note(group, ratio: float) -> str:
 def _one_element_reason(group) -> str:
     """Why a group of two parameters of one element goes together, where `_PAIR_REASONS` says
     so without numbers (R and τ: an element seen in one of its limits), else "". On REAL battery
-    cycle 64 a G at τ = 8.6e8 s (its W limit) was told only to fix R or τ (2026-12-04)."""
+    cycle 64 a G at τ = 8.6e8 s (its W limit) would otherwise be told only to fix R or τ."""
     if len(group) != 2:
         return ""
     (owner_a, _, name_a), (owner_b, _, name_b) = (str(n).rpartition(".") for n in group)
@@ -1827,8 +1826,8 @@ def settled_codes(code, z_model, z) -> np.ndarray:
     where it matches its data to rounding (rms_rel below `EXACT_RMS_REL`): on exact data a term
     vanishing toward its natural bound (R1 → 0, in log space) lowers χ² in proportion at every
     step and never meets the relative stopping rule, though nothing the data can tell is left to
-    change (Z = 5 Ω at 30 frequencies fitted with R0 + R1 ∥ C1 ran to the step limit at rms_rel
-    1.9e-12 and said "raise --max-steps", 2026-12-03). Single and batch fits alike."""
+    change (Z = 5 Ω at 30 frequencies fitted with R0 + R1 ∥ C1 runs to the step limit at rms_rel
+    1.9e-12, and is not told "raise --max-steps"). Single and batch fits alike."""
     code = np.asarray(code)
     exact = (code == SolverStatus.MAX_STEPS) & (rms_rel_of(z_model, z) < EXACT_RMS_REL)
     return np.where(exact, int(SolverStatus.CONVERGED), code)
@@ -1874,14 +1873,14 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
     not the symmetric interval it reads as; a statistician's audit found 103 of 122 such R0
     values (true 1 mΩ) reported without a word. The note names the posterior as the honest one.
     Value and error read as in the report (`format_uncertain`: "W1.sigma = 2.8 ± 1.4 mΩ s^-1/2"
-    of a REAL Autolab fit; "0.00275 ± 0.0014 Ω s^-1/2" until 2026-12-06). A value within 1e-4 of
+    of a REAL Autolab fit, not "0.00275 ± 0.0014 Ω s^-1/2"). A value within 1e-4 of
     its bound yet more standard errors from it is said by its distance, rounded to its error, and
     named the simpler model where the bound reduces its element: "CPE1.alpha lies (8.4 ± 1.6)e-15
     below its upper bound 1, on it to 1 part in 10⁴ or better (CPE1 with alpha = 1 is a
     capacitor: …)" (REAL data.ods, an exact spectrum). A standard error of exactly 0 is none to
     speak of (a global fit's shared parameter in each spectrum's notes, whose group says it
-    once: "CPE2.alpha = 1 ± 0 lies within 2 standard errors" was printed for each of the REAL
-    130 battery cycles until 2026-12-06)."""
+    once: "CPE2.alpha = 1 ± 0 lies within 2 standard errors" is not printed for each of the REAL
+    130 battery cycles)."""
     values, stderr = np.atleast_2d(values), np.atleast_2d(stderr)
     candidates = bound_sides(table, values, stderr)
     near = (candidates != 0) & (np.asarray(sides) == 0) & ~undetermined_mask(table, values, stderr, sides) & (stderr[..., table.free_index] != 0)
@@ -1890,12 +1889,12 @@ def near_bound_notes(table: ParameterTable, values: np.ndarray, stderr: np.ndarr
         i = table.free_index[j]
         value, error = float(values[b, i]), float(stderr[b, i])
         # the side `bound_sides` found: α = 1 − 8e-15 ± 1.5e-15 is within 1e-4 of its upper bound 1,
-        # not 2 standard errors of it, and was said to be near its lower bound 0 (REAL data.ods, 2026-12-03)
+        # not 2 standard errors of it, and is not to be said near its lower bound 0 (REAL data.ods)
         side, bound = ("upper", float(table.upper[i])) if candidates[b, j] > 0 else ("lower", float(table.lower[i]))
         at = format_bound(bound, table.units[i])
         if abs(bound - value) > BOUND_STDERR_FRACTION * error:  # (within 1e-4 of it, more standard errors away: `bound_sides`)
             # its distance from the bound, not the value's 16 digits: "CPE1.alpha = 0.9999999999999916 ±
-            # 0.0000000000000015 lies 8.4e-15 from its upper bound 1" until 2026-12-06 (REAL data.ods)
+            # 0.0000000000000015 lies 8.4e-15 from its upper bound 1" (REAL data.ods)
             reduced_side, simpler = table.reductions.get(table.names[i], (None, ""))
             out.append((b, (
                 f"{table.names[i]} lies {format_uncertain(abs(bound - value), error, table.units[i])} {'below' if side == 'upper' else 'above'} its {side} bound {at}"
@@ -1940,7 +1939,7 @@ def warburg_like_notes(table: ParameterTable, values: np.ndarray, freq=None) -> 
     `WARBURG_LIKE_DEVIATION` of it at the lowest frequency, where they differ most
     (`reductions.warburg_deviation`). The note names the W that may take its place with its
     σ = R/√(2τ), as the α = 1 bound note names a CPE's C. On REAL battery cycle 64 a G at
-    τ = 8.6e8 s was told only that R and τ go together (2026-12-04)."""
+    τ = 8.6e8 s would otherwise be told only that R and τ go together."""
     if freq is None or not np.size(freq):
         return []
     values = np.atleast_2d(np.asarray(values, float))
@@ -1979,7 +1978,7 @@ def same_arc_notes(table: ParameterTable, values: np.ndarray, null_sets) -> dict
     share α, for R ∥ CPE), at one fit's ``values`` (P,): the data see one arc where the model has
     two, and fixing one parameter, as the group's note advises, leaves the rest undetermined.
     On the REAL ZPlot file R0 + R1 || C1 + R2 || C2 ended with both at τ = 15.6 µs, and --fix
-    R2=10 as advised sent C2 to 3e10 F (a walkthrough, 2026-12-04)."""
+    R2=10 as advised sends C2 to 3e10 F (a walkthrough)."""
     out = {}
     at = {n: float(values[table.names.index(n)]) for n in table.names}
     arcs = [(r, c, symbol, params, float(arc_taus(symbol, at[r], *(at[n] for n in params)))) for r, c, symbol, params in table.arcs]
@@ -2005,7 +2004,7 @@ def arc_beyond_band_notes(table: ParameterTable, values: np.ndarray, freq=None, 
     whose relaxation frequency 1/(2πτ) lies outside the band of ``freq`` [Hz] by more than
     `arcs.BEYOND_BAND_FACTOR`: the data see one flank of it, and its C (above the band) or its
     R (below) is an extrapolation of the model (`arcs.ArcBeyondBand`). On the REAL ZPlot file
-    (3 kHz–300 kHz) refine's R_relax ∥ C_relax relaxes at 2.24 MHz (2026-12-04). ``settled``
+    (3 kHz–300 kHz) refine's R_relax ∥ C_relax relaxes at 2.24 MHz. ``settled``
     (B, P): a block with a parameter not settled (`_settled`: at a bound, undetermined) is left
     to the notes that say so (an open branch's R1 at ∞ has no relaxation frequency to speak of)."""
     if freq is None or not np.size(freq) or not table.arcs:
@@ -2067,8 +2066,8 @@ def stack_notes(
 def user_bounds_text(fit: "FitResult") -> str:
     """``fit``'s user bounds (`FitResult.bounds`) in words, each end in its parameter's unit
     (`data.format_bound`): "R1 within 1 mΩ..10 mΩ, CPE1.alpha within 0.5..0.9" (the "bounded
-    in" line of ``impedax compare`` and `Comparison.report`, a diagnosis' note; until
-    2026-12-06 "R1 within 0.001..0.01"). A model's label keeps the plain numbers
+    in" line of ``impedax compare`` and `Comparison.report`, a diagnosis' note; not
+    "R1 within 0.001..0.01"). A model's label keeps the plain numbers
     (`comparison.bounds_text`: it names the model)."""
     specs = fit.circuit.parameter_specs(fit.registry)
     return ", ".join(f"{n} within {format_bound(lo, specs[n].unit)}..{format_bound(hi, specs[n].unit)}" for n, (lo, hi) in fit.bounds.items())
