@@ -111,7 +111,7 @@ class BatchFitResult(FrozenResult):
     is at a natural or user bound) over (param, *dims), the bounds themselves (``lower``,
     ``upper`` over param), the data ``Z`` and ``Z_model`` over (*dims, frequency) and each
     spectrum's ``covariance`` of its free parameters over (*dims, free_param, free_param_2), as
-    `FitResult.covariance` (what `derive` propagates; added 2026-12-01, absent from older files). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
+    `FitResult.covariance` (what `derive` propagates; absent from files of older versions). ``warnings`` maps a spectrum's index (a dict of coordinates, as text)
     to its warnings; ``dataset.attrs["unidentified_groups"]`` the same index to its
     unidentified groups (`FitResult.unidentified_groups`, only spectra that have any;
     `unidentified_groups_of`).
@@ -127,8 +127,8 @@ class BatchFitResult(FrozenResult):
     elapsed_s: float = 0.0
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``), None if unknown: `impedax.write_result` records it
-    notes: tuple[str, ...] = ()  # advice for every spectrum that is not a warning, as `FitResult.notes` (added 2026-12-02)
-    model_misfits: tuple[str, ...] | None = field(default=None, repr=False)  # the spectra (keys of ``warnings``) whose warnings blame the model, as `FitResult.model_misfit`; None: not known, read from the words (added 2026-12-07)
+    notes: tuple[str, ...] = ()  # advice for every spectrum that is not a warning, as `FitResult.notes`
+    model_misfits: tuple[str, ...] | None = field(default=None, repr=False)  # the spectra (keys of ``warnings``) whose warnings blame the model, as `FitResult.model_misfit`; None: not known, read from the words
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`); to_xarray hands out a copy
@@ -157,7 +157,7 @@ class BatchFitResult(FrozenResult):
     def to_xarray(self) -> xr.Dataset:
         """``dataset`` with what `from_xarray` needs besides in its attrs: the warnings (spectrum
         → its warnings, as ``warnings``) and the time taken; and ``unit`` along ``param``, each
-        parameter's unit (the element specs', as the CSV's ``unit``; added 2026-12-01). Its attrs
+        parameter's unit (the element specs', as the CSV's ``unit``). Its attrs
         are Python objects (dicts of warnings and unidentified groups) that ``.to_netcdf`` refuses:
         a file is written with ``impedax.write_result(batch, "fits.nc")``, which encodes them."""
         specs = self.circuit.parameter_specs(self.registry)
@@ -170,7 +170,7 @@ class BatchFitResult(FrozenResult):
         """Rebuild a batch of fits from `BatchFitResult.to_xarray` output: as returned, read back
         by `impedax.load`, or opened as stored (``xr.open_dataset`` of a file `impedax.write_result`
         or ``impedax fit --out FILE.nc`` wrote). ``registry``: the one the circuit's elements are
-        in (None: the default one). A file written before 2026-11-30 lacks the warnings: none.
+        in (None: the default one). A file written by older versions may lack the warnings: none.
         ``source``: the data's file the saved result names (`impedax.io.netcdf.saved_source`)."""
         return cls._rebuilt(ds, "batch_fit", registry)
 
@@ -188,11 +188,11 @@ class BatchFitResult(FrozenResult):
         with damaged_result(kind, ds):
             warnings = {str(k): (v,) if isinstance(v, str) else tuple(str(w) for w in v) for k, v in dict(ds.attrs.get("warnings", {})).items()}
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
-            dataset = ds.drop_vars("unit", errors="ignore")  # (to_xarray's, from the specs; a file before 2026-12-01 has none)
+            dataset = ds.drop_vars("unit", errors="ignore")  # (to_xarray's, from the specs; a file of older versions has none)
             dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format", "notes", "model_misfits")}
-            misfits = ds.attrs.get("model_misfits")  # (a file before 2026-12-07 has none: its warnings' words, `warnings_blame_model`)
+            misfits = ds.attrs.get("model_misfits")  # (a file of older versions has none: its warnings' words, `warnings_blame_model`)
             return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, source=saved_source(ds),
-                       notes=stored_notes(ds.attrs.get("notes", ())), model_misfits=None if misfits is None else stored_notes(misfits), **{k: f(ds) for k, f in fields.items()})  # (notes: none in a file before 2026-12-02)
+                       notes=stored_notes(ds.attrs.get("notes", ())), model_misfits=None if misfits is None else stored_notes(misfits), **{k: f(ds) for k, f in fields.items()})  # (notes: none in a file of older versions)
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
@@ -200,16 +200,16 @@ class BatchFitResult(FrozenResult):
 
     def stderr(self, name: str) -> xr.DataArray:
         """Standard errors of parameter ``name`` over the batch dimensions, the shape of
-        `values` (NaN where fixed, inf where undetermined; as ``stderr`` in `to_xarray`; added
-        2026-12-02): ``b.values(n).plot.line(x="voltage")`` with these as error bars."""
+        `values` (NaN where fixed, inf where undetermined; as ``stderr`` in `to_xarray`):
+        ``b.values(n).plot.line(x="voltage")`` with these as error bars."""
         return self.dataset["stderr"].sel(param=self._parameter(name, "stderr"))
 
     def per_spectrum_starts(self, data: xr.Dataset | None = None, names=None, circuit: Circuit | None = None) -> np.ndarray:
         """This batch's values as the starts of a new batch fit of ``data`` (``fit(..., init=batch)``):
         shape (*the data's extra dimensions, len(names)), each spectrum's own fitted values of the
         parameters ``names`` holds (NaN for the others: their data-driven guess); without ``data``
-        this batch's own spectra, without ``names`` this batch's parameters in its order (2026-12-03;
-        before, a bare call was Python's TypeError); with the new
+        this batch's own spectra, without ``names`` this batch's parameters in its order (a bare
+        call is not Python's TypeError); with the new
         fit's ``circuit`` when this batch's circuit is nested in it (a W where it has a Wo), each
         spectrum's optimum carried into it (`nesting.carried_values`). The data must be
         over the same dimensions with the same sizes and labels (coordinates), in any order (a
@@ -236,7 +236,7 @@ class BatchFitResult(FrozenResult):
         for d in extra:
             if d in data.coords and d in ds.coords:
                 # labels matched by value (pandas' index: dates in ns and in µs alike, as a file
-                # read back holds them), the data's a subset of the batch's or all of them (2026-12-03)
+                # read back holds them), the data's a subset of the batch's or all of them
                 ours, theirs = ds.get_index(d), data.get_index(d)
                 missing = theirs[~theirs.isin(ours)]
                 if len(missing) or ours.has_duplicates:
@@ -318,7 +318,7 @@ class BatchFitResult(FrozenResult):
         """The position of ``label`` along ``dim`` (a dimension with coordinates), labels compared
         by value: along dates any form of the date (an ISO text "2024-01-02T10:00", a
         ``numpy.datetime64`` in any unit, a ``datetime.datetime``, a ``pandas.Timestamp``: all
-        read by ``pandas.Timestamp``; until 2026-12-03 only a ``Timestamp`` was found); a
+        read by ``pandas.Timestamp``, not only a ``Timestamp``); a
         `ParameterError` naming the labels nearest to it (in time or value; else the first ones)."""
         import pandas as pd
 
@@ -350,8 +350,8 @@ class BatchFitResult(FrozenResult):
         picked by its labels as `fit_of`; () when the data determine every parameter. Kept in
         ``dataset.attrs["unidentified_groups"]`` (spectrum → groups, keyed as `warnings`; a
         global fit's over each spectrum's own and shared parameters, `shared.joint_null_sets`);
-        a result without them (a batch written before 2026-11-30, a global fit before
-        2026-12-01) raises a `ParameterError`."""
+        a result without them (a batch or a global fit written by older
+        versions) raises a `ParameterError`."""
         position = self._spectrum_position(labels, "unidentified_groups_of")
         stored = self._stored_groups()
         if stored is None:
@@ -381,14 +381,14 @@ class BatchFitResult(FrozenResult):
         (their index where they have none) as the first columns, then name, value, stderr (None
         when fixed or there is none, as `FitResult.to_table`), unit and fixed, then the
         spectrum's `SPECTRUM_STATISTICS` (rms_rel, chi2, chi2_red, aic, bic: the keys of a single
-        fit's JSON; added 2026-12-01), repeated on each of its rows (`impedax.io.write_result` .csv),
-        then the flags (added 2026-12-01, as `FitResult.to_table`): ``converged`` (the spectrum's),
+        fit's JSON), repeated on each of its rows (`impedax.io.write_result` .csv),
+        then the flags (as `FitResult.to_table`): ``converged`` (the spectrum's),
         ``at_bound`` and ``undetermined`` (this parameter's; the rule of `undetermined`), and
         ``warnings``: the spectrum's warnings joined by "; " ("" if none; as a comparison's
-        table; added 2026-12-02), ``weighting`` (as `FitResult.to_table`; added 2026-12-06) and
+        table), ``weighting`` (as `FitResult.to_table`) and
         ``misses_structure`` (the spectrum's, `misses_structure`: its warnings or the misfit hint
-        say its model misses structure the data hold; added 2026-12-06: the REAL 130 battery
-        cycles' CSV named none of the 49 spectra the hint counted)."""
+        say its model misses structure the data hold: on the REAL 130 battery
+        cycles, the 49 spectra the hint counts)."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
         names = [str(p) for p in ds["param"].values]
@@ -426,8 +426,8 @@ class BatchFitResult(FrozenResult):
         bound)" and "(undetermined)" marked alike), rms_rel [%] last; the heading names each
         parameter and its unit (and "(shared)" for a global fit's shared one, whose estimate every
         row repeats). A comment line names the model, the spectra, what is shared and the
-        weighting (``impedax fit FILE --out FILE.tex`` of several spectra; added 2026-12-06: it
-        was refused, "a LaTeX table holds the fit of one spectrum")."""
+        weighting (``impedax fit FILE --out FILE.tex`` of several spectra, not refused with
+        "a LaTeX table holds the fit of one spectrum")."""
         from ...data import latex_text, latex_unit, latex_value_error
 
         ds = self.dataset
@@ -472,7 +472,7 @@ class BatchFitResult(FrozenResult):
 
         s = self.summary()
         rows = [{"parameter": p, "median": v["median"], "q16": v["q16"], "q84": v["q84"]} for p, v in s["params"].items()]
-        chi2_median = f", median chi2_red {np.nanmedian([r['chi2_red'] for r in s['spectra']]):.3g}" if self._against_sigma() else ""  # (as the report: 2026-12-06)
+        chi2_median = f", median chi2_red {np.nanmedian([r['chi2_red'] for r in s['spectra']]):.3g}" if self._against_sigma() else ""  # (as the report)
         lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %{chi2_median}, weighting {self.weighting}", *(f"note: {n}" for n in self.notes)]
         return result_html(self.model, rows, lines=lines)
 
@@ -482,8 +482,8 @@ class BatchFitResult(FrozenResult):
         follows the number of panels; ``params`` (a list of names) draws those parameters only,
         in that order (an unknown name: a `ParameterError` naming the circuit's parameters);
         ``x`` (a batch dimension with a numeric coordinate, e.g. ``"voltage"``) draws them
-        against that coordinate, one series per label of the other dimensions (added 2026-12-02;
-        else the spectra are categories in the batch's order); ``spectra`` "nyquist", "phase" or
+        against that coordinate, one series per label of the other dimensions (else
+        the spectra are categories in the batch's order); ``spectra`` "nyquist", "phase" or
         "auto" (the phase against frequency where a capacitive tail would draw the Nyquist
         panel as a vertical line, as a finger's)."""
         from ...plotting.fit import plot_batch
@@ -494,8 +494,8 @@ class BatchFitResult(FrozenResult):
         """Where the model fails across the spectra: each fit's residuals, real and imaginary,
         as maps over the spectra and frequency (relative to |Z| in %, or in units of the data's
         σ where the fits were weighted by it), and rms_rel below (matplotlib Figure;
-        `plotting.fit.plot_residual_map`; ``impedax fit FILE --residual-map FIG.png``; added
-        2026-12-06). ``excluded``: frequencies [Hz] left out of the fits, drawn as hatched grey
+        `plotting.fit.plot_residual_map`; ``impedax fit FILE --residual-map FIG.png``).
+        ``excluded``: frequencies [Hz] left out of the fits, drawn as hatched grey
         rows (the command line's ``--exclude`` passes its own). A missing effect leaves one sign
         pattern at the same frequencies in every spectrum; noise leaves speckle."""
         from ...plotting.fit import plot_residual_map
@@ -509,10 +509,10 @@ class BatchFitResult(FrozenResult):
         return {
             "model": self.model,
             "dims": {d: int(ds.sizes[d]) for d in self.dims},
-            "sizes": {d: int(ds.sizes[d]) for d in self.dims},  # (added 2026-12-01: the key kk and drt give too; "dims" here was already this mapping)
+            "sizes": {d: int(ds.sizes[d]) for d in self.dims},  # (the key kk and drt give too; "dims" here is the same mapping)
             "n_spectra": self.n_spectra,
-            "n_points": self.n_points,  # (a single fit's key: the frequencies each fit used, after the band; added 2026-12-06)
-            "params": {  # (the spread across the spectra, and each one's unit: added 2026-12-01, as a single fit's)
+            "n_points": self.n_points,  # (a single fit's key: the frequencies each fit used, after the band)
+            "params": {  # (the spread across the spectra, and each one's unit, as a single fit's)
                 str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84)), "unit": specs[str(p)].unit}
                 for p in ds["param"].values
             },
@@ -523,8 +523,8 @@ class BatchFitResult(FrozenResult):
             "warning_kinds": self._warning_kinds(),  # (each kind with its spectra, as report() groups them)
             "spectra": self._spectrum_rows(),
             "weighting": self.weighting,  # (as a single fit's JSON)
-            "user_bounds": bounds_attr(self.user_bounds()),  # (added 2026-12-01, as a single fit's JSON)
-            "notes": list(self.notes),  # (added 2026-12-02, as a single fit's JSON)
+            "user_bounds": bounds_attr(self.user_bounds()),  # (as a single fit's JSON)
+            "notes": list(self.notes),  # (as a single fit's JSON)
         }
 
     def user_bounds(self) -> dict[str, tuple[float, float]]:
@@ -546,7 +546,7 @@ class BatchFitResult(FrozenResult):
     def _warning_kinds(self) -> list[dict]:
         """`warning_kinds` of the spectra's warnings, each kind also with ``labels``: its spectra's
         labels as dicts ({dimension: label}, as ``spectra[].labels``; same order as its
-        ``spectra``, the texts "cycle=64"; added 2026-12-01)."""
+        ``spectra``, the texts "cycle=64")."""
         label_of = dict(self.spectrum_keys())
         return [{**kind, "labels": [label_of.get(place, {}) for place in kind["spectra"]]} for kind in warning_kinds(self.warnings)]
 
@@ -555,8 +555,8 @@ class BatchFitResult(FrozenResult):
         """Per spectrum (bool over `dims`), whether its model misses structure the data hold, by
         `FitResult.misses_structure`'s rule: a warning says so (`result.MODEL_MISFIT_MARKS`; its
         misfit checked from 2 % rms_rel), or `misfit_hints` names it (below 2 %, over 5× what the
-        Kramers–Kronig chain reaches). Until 2026-12-06 the warnings alone: on the REAL 130
-        battery cycles it was False for all 130 while the hints named 49. The warning's blame is
+        Kramers–Kronig chain reaches). Not the warnings alone: on the REAL 130 battery
+        cycles they name none while the hints name 49. The warning's blame is
         `model_misfits`, set where the notes are made, not read from their words (a batch
         without it: their words)."""
         ds = self.dataset
@@ -614,11 +614,11 @@ class BatchFitResult(FrozenResult):
         (the position where a dimension has no coordinates), then ``labels`` (dimension → label,
         every dimension, as a KK or DRT batch's rows), ``values``, ``stderr`` (None when fixed or
         there is none, as `to_table`), ``linearised_stderr`` (the linearisation's, bounds ignored,
-        as a single fit's JSON: at a bound, the number its note quotes; added 2026-12-06), ``rms_rel``, ``chi2``, ``chi2_red``, ``aic``, ``bic`` (as a
-        single fit's JSON; added 2026-12-01), ``converged``, ``at_bound`` (names, as a
+        as a single fit's JSON: at a bound, the number its note quotes), ``rms_rel``, ``chi2``, ``chi2_red``, ``aic``, ``bic`` (as a
+        single fit's JSON), ``converged``, ``at_bound`` (names, as a
         single fit's JSON), its ``warnings`` and ``unidentified_groups`` (lists of names, as a
         single fit's JSON; only where the result records them, `unidentified_groups_of`) and
-        ``misses_structure`` (`misses_structure`; added 2026-12-06). A dimension named as one of these keys (a batch
+        ``misses_structure`` (`misses_structure`). A dimension named as one of these keys (a batch
         over ``values``) is only under ``labels``: its label would clobber the fit's key."""
         ds = self.dataset
         names = [str(p) for p in ds["param"].values]
@@ -634,14 +634,14 @@ class BatchFitResult(FrozenResult):
             own = {
                 "values": {n: float(value[index + (p,)]) for p, n in enumerate(names)},
                 "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
-                # (the linearisation's, bounds ignored, as a single fit's params[NAME]["linearised_stderr"]: the number a bound note quotes; added 2026-12-06)
+                # (the linearisation's, bounds ignored, as a single fit's params[NAME]["linearised_stderr"]: the number a bound note quotes)
                 **({} if linearised is None else {"linearised_stderr": {n: shown_stderr(float(linearised[index + (p,)]), fixed[p]) for p, n in enumerate(names)}}),
                 **{k: float(a[index]) for k, a in statistics.items()},
                 "converged": bool(converged[index]),
                 "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],
                 "warnings": list(self.warnings.get(key, ())),
                 **({} if stored_groups is None else {"unidentified_groups": [list(g) for g in parameter_groups(stored_groups.get(key, ()))]}),
-                "misses_structure": bool(misses[position]),  # (`misses_structure`: added 2026-12-06)
+                "misses_structure": bool(misses[position]),  # (`misses_structure`)
             }
             rows.append({**{d: c for d, c in label.items() if d not in own and d != "labels"}, "labels": label, **own})
         return rows
@@ -650,7 +650,7 @@ class BatchFitResult(FrozenResult):
         """The parameter table (`_parameter_lines`), the warnings and notes, and the hint of the
         fits that miss structure small as their misfits look (`misfit_hints`; ``misfit_hints=``
         what that method returned already, dict or None, so that a caller that has them does not
-        run the Kramers–Kronig chains again, as ``impedax fit`` did until 2026-12-03)."""
+        run the Kramers–Kronig chains again, as ``impedax fit`` would)."""
         hints = self.misfit_hints() if misfit_hints is _COMPUTED_HERE else misfit_hints
         return "\n".join(self._parameter_lines() + self._warning_lines() + ([] if hints is None else ["", f"hint: {hints['note']}"]))
 
@@ -661,10 +661,9 @@ class BatchFitResult(FrozenResult):
         ~0.5 ms of chain per spectrum in that range, computed when asked): ``spectra`` (how
         many), ``worst`` (``labels``, ``rms_rel``, ``chain_rms_rel``, ``ratio``: the largest
         ratio's spectrum), ``note`` and ``labels``: every such spectrum's labels (dicts, in the
-        batch's order; added 2026-12-06: on the REAL 130 battery cycles 49 fits were counted and
-        one named, and users could not find the others in any output), which the note names
-        too; None when there is none (added 2026-12-03: a batch's warnings begin at 2 %, so these
-        fits were told nothing)."""
+        batch's order: on the REAL 130 battery cycles 49 fits are counted, and the worst one
+        named alone would leave the others unfound), which the note names too; None when there is none (a batch's warnings begin at
+        2 %, so these fits are told nothing else)."""
         rows, ratio, chain = self._hinted
         if not rows.size:
             return None
@@ -676,7 +675,7 @@ class BatchFitResult(FrozenResult):
         hinted = [keys[i][1] for i in sorted(rows.tolist())]
         rule = f"rms_rel below {MISFIT_CHECKED_FROM * 100:g} % and over {MISFIT_RATIO_MAX:g}× what a Kramers–Kronig-consistent model reaches on that spectrum"
         figures = f"{rms[rows[worst]] * 100:.3g} %, {ratio[worst]:.3g}× the chain's {chain[worst] * 100:.3g} % (a diagnosis of that spectrum shows where and what)"
-        if rows.size == 1:  # (one: named once, not "1 of the 1 fits ... their misfits ...; the worst, cycle=0", until 2026-12-06)
+        if rows.size == 1:  # (one: named once, not "1 of the 1 fits ... their misfits ...; the worst, cycle=0")
             of = "the only one" if self.n_spectra == 1 else f"1 of the {self.n_spectra}"
             note = f"the fit of {key} ({of}) misses structure the data hold, small as its misfit looks ({rule}): {figures}"
         else:
@@ -733,14 +732,14 @@ class BatchFitResult(FrozenResult):
 
     def _against_sigma(self) -> bool:
         """Whether the fits were weighted by the data's σ, where the report gives each one's
-        χ²_red beside rms_rel (about 1 at the noise σ states; added 2026-12-06: a SYNTHETIC
-        σ-weighted batch's report gave rms_rel alone, the number σ-weighted fits are not judged by)."""
+        χ²_red beside rms_rel (about 1 at the noise σ states: rms_rel alone, in a SYNTHETIC
+        σ-weighted batch's report, is the number σ-weighted fits are not judged by)."""
         return self.weighting == "sigma" and "chi2_red" in self.dataset
 
     def _points_text(self) -> str:
         """The points each fit used and their band, for the report's second line
         ("   29 points each (588 mHz–17 kHz)"; "" for a result stored without its spectra): what
-        ``fmin``/``fmax`` and ``--exclude`` left (added 2026-12-06)."""
+        ``fmin``/``fmax`` and ``--exclude`` left."""
         if self.n_points is None:
             return ""
         f = self.dataset["frequency"].values
@@ -771,8 +770,8 @@ class BatchFitResult(FrozenResult):
 
     def _warning_lines(self) -> list[str]:
         """The warnings, one line per kind with the spectra it applies to (`grouped_warnings`),
-        where the rest are when a line names only the first of its spectra (`WARNED_SPECTRA_WHERE`;
-        added 2026-12-06), then the notes (`notes`), after an empty line; none when there are none."""
+        where the rest are when a line names only the first of its spectra (`WARNED_SPECTRA_WHERE`),
+        then the notes (`notes`), after an empty line; none when there are none."""
         warned = ["", *grouped_warnings(self.warnings, self.n_spectra, spectra=[key for key, _ in self.spectrum_keys()])] if any(self.warnings.values()) else []
         if any(" in all)" in line for line in warned):  # (`labels_text` cut a kind's spectra short)
             warned.append(f"every spectrum of each kind: {WARNED_SPECTRA_WHERE}")
@@ -841,7 +840,7 @@ def _cell(value: float, stderr, fixed: bool, at_bound: bool, name: str = "", not
 
 
 def _looks_like(ds: xr.Dataset) -> str | None:
-    """The kind of fit result a dataset without ``impedax_kind`` (written before 2026-11-30)
+    """The kind of fit result a dataset without ``impedax_kind`` (written by older versions)
     holds, by its variables: a joint fit's ``shared_value``, a batch's values over extra
     dimensions; None for anything else (a KK batch, a spectrum)."""
     if "value" not in ds.variables or "rms_rel" not in ds.variables or not ds["rms_rel"].dims or len(ds["value"].dims) < 2:
@@ -1462,7 +1461,7 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
 
 RESULT_NAMES = frozenset({
     "param", "fit_output", "value", "stderr", "linearised_stderr", "fixed", "lower", "upper", "at_bound", "chi2", "chi2_red", "aic", "bic", "rms_rel", "converged", "n_evaluations", "Z_model", "sigma", "unit",  # ("unit": to_xarray's coordinate along param)
-    "covariance", "free_param", "free_param_2",  # (each spectrum's covariance, added 2026-12-01)
+    "covariance", "free_param", "free_param_2",  # (each spectrum's covariance)
 })
 """The names of a batch result's dimensions and variables (`fit_batch`'s Dataset, and the core
 dimension of the chunked path's ``apply_ufunc``): a batch dimension of one of these names is
