@@ -145,7 +145,7 @@ def nested_as_held(simple: Circuit, simple_held: Mapping[str, object], complex_:
     parameter of an element ``simple`` lacks, or reaches only through a limit, breaks the
     nesting: the reduction needs it at its bound or limit, which a held value does not reach
     (``R0 + R1 || CPE1 + L1`` with L1 held at 100 µH does not contain ``R0 + R1 || C1``: an
-    F-test between them compared models that are not nested, 2026-12-03)."""
+    F-test between them would compare models that are not nested)."""
     if not is_nested(simple, complex_, registry):
         return False
     if not complex_held:
@@ -252,12 +252,12 @@ class Comparison(FrozenResult):
             # (the models' labels: the model text with the fixed values, `fit_label`)
             "best_label": self.rows[self.best_index]["label"], "best_determined_label": None if j is None else self.rows[j]["label"],
             "best_aicc_label": None if i is None else self.rows[i]["label"],
-            "weak_evidence": self.weak_evidence(),  # (added 2026-11-30: None when the best model's lead is clear)
-            "reduces_to_best": self.reduces_to_best(),  # (added 2026-12-01: None when no model reduces to the best)
-            "tied_with_best": [self.rows[i]["label"] for i in self.tied_with_best_indices()],  # (added 2026-12-01: [] when no AIC ties the best's)
-            "best_misfit_hint": self.best_misfit_hint(),  # (added 2026-12-03: None unless the best still misses structure, small as its misfit looks)
-            "undetermined_best": self.undetermined_best(),  # (added 2026-12-04: None unless the best leaves a parameter undetermined)
-            "warnings": labelled_warnings((m["label"], m["warnings"]) for m in models),  # (added 2026-12-06, as every command's JSON has it)
+            "weak_evidence": self.weak_evidence(),  # (None when the best model's lead is clear)
+            "reduces_to_best": self.reduces_to_best(),  # (None when no model reduces to the best)
+            "tied_with_best": [self.rows[i]["label"] for i in self.tied_with_best_indices()],  # ([] when no AIC ties the best's)
+            "best_misfit_hint": self.best_misfit_hint(),  # (None unless the best still misses structure, small as its misfit looks)
+            "undetermined_best": self.undetermined_best(),  # (None unless the best leaves a parameter undetermined)
+            "warnings": labelled_warnings((m["label"], m["warnings"]) for m in models),  # (as every command's JSON has it)
         }
 
     def undetermined_best(self) -> dict | None:
@@ -307,8 +307,8 @@ class Comparison(FrozenResult):
         """One row per model, as ``compare --out FILE.csv`` writes them: the columns of the table
         with chi2, the AICc deltas and weights, the undetermined parameters and the user's bounds
         (``bounds``, `bounds_text`; both ``;``-joined), and the ``weighting`` (what chi2 and AIC
-        are against; added 2026-12-06), then ``warnings`` (the fit's, joined by "; ", "" if none,
-        as a single fit's and a batch comparison's tables have them; added 2026-12-06)."""
+        are against), then ``warnings`` (the fit's, joined by "; ", "" if none,
+        as a single fit's and a batch comparison's tables have them)."""
         return [{**r, "undetermined": ";".join(undetermined_names(f)), "bounds": ";".join(bounds_text(f)), "weighting": f.weighting, "warnings": "; ".join(f.warnings)}
                 for r, f in zip(self.rows, self.fits)]
 
@@ -406,7 +406,7 @@ class Comparison(FrozenResult):
             f"no more than noise alone would, so {'it adds' if one else 'they add'} nothing; ΔAIC {deltas} {'is' if one else 'are'} about the 2 per extra parameter AIC charges, the clearest lead it gives "
             f"the smaller model, and the Akaike weight{'' if one else 's'} {weights} {'is' if one else 'are'} that penalty, not support"
         )
-        # ("reduces_to", added 2026-12-01: for each rival, the label of the model it reduces to, the best or one tied with it)
+        # ("reduces_to": for each rival, the label of the model it reduces to, the best or one tied with it)
         return {"best": best, "rivals": names, "delta_aic": [float(self.rows[i]["delta_aic"]) for i in reduced], "note": note,
                 "reduces_to": [self.rows[targets[i]]["label"] for i in reduced]}
 
@@ -486,7 +486,7 @@ class Comparison(FrozenResult):
             lines.append(f"{self.rows[best]['label']} (the best): {hint}")
         unreliable = [r["label"] for r in self.rows if r.get("log_evidence_reliable") is False]
         waic_doubts = [r["label"] for r in self.rows if r.get("waic_reliable") is False]
-        if unreliable:  # (WAIC named as the way out only where every model's is sound: 2026-12-06)
+        if unreliable:  # (WAIC named as the way out only where every model's is sound)
             lines.append(f"{UNRELIABLE_MARK} log evidence unreliable or undefined by the posterior's own warnings (listed with the model's): {', '.join(unreliable)}"
                          + ("; compare these models by WAIC" if not waic_doubts else ""))
         if waic_doubts:
@@ -503,7 +503,7 @@ class Comparison(FrozenResult):
         """A posterior column's cell: the value, marked `UNRELIABLE_MARK` when it is a log
         evidence or a WAIC the row calls unreliable (``log_evidence_reliable``, ``waic_reliable``);
         "undefined" for a value that is not finite and "—" in a least-squares fit's row, which has
-        none (both read "nan" until 2026-12-06, where the AICc column writes "—")."""
+        none (not "nan", as the AICc column writes "—")."""
         if column not in row:
             return "—"
         value = f"{row[column]:.2f}" if math.isfinite(row[column]) else "undefined"
@@ -517,7 +517,7 @@ class Comparison(FrozenResult):
         lines = []
         n = 2 * self.fits[0].n_points
         scale = WEIGHTING_SCALES.get(self.fits[0].weighting)
-        if scale:  # (the weighting named, as a fit's report names it; the table did not: 2026-12-06)
+        if scale:  # (the weighting named, as a fit's report names it)
             lines.append(f"weighting {self.fits[0].weighting}: chi2_red relative to {scale}, not to the noise; AIC = n ln(χ²/n) + 2k, BIC = n ln(χ²/n) + k ln n")
         if self.aic_form == KNOWN_SIGMA:
             lines.append("AIC = χ² + 2k and BIC = χ² + k ln n: the data's sigma taken as the known noise (weighting sigma)")
@@ -530,7 +530,7 @@ class Comparison(FrozenResult):
                 below = [r for r in finite if r["chi2_red"] < low]
                 if lowest > high or len(below) == len(finite):  # (above the range: the lowest is, so every model is)
                     lines.append(f"the lowest reduced χ² is {lowest:.3g}: the sigma {side} the scatter about every model, and {scale}")
-                else:  # (below it: only some may be; said of every model until 2026-11-30)
+                else:  # (below it: only some may be, not every model)
                     named = lambda rs: ", ".join(f"{r['label']} {r['chi2_red']:.3g}" for r in rs)  # noqa: E731
                     lines.append(
                         f"the lowest reduced χ² is {lowest:.3g}: the sigma overstate the scatter about {named(below)}, "
@@ -554,7 +554,7 @@ class Comparison(FrozenResult):
         # the coordinate "model" holds the labels (`fit_label`: a fit with fixed values named by
         # them, so each fit has its own); the variable "circuit" the models' text; "bounds" and
         # "undetermined" as in `to_table` (``;``-joined, "" for none); "same_fit_as" the label or ""
-        # (until 2026-12-06 None, which a file read back as NaN, a float, where no model tied)
+        # (not None, which a file reads back as NaN, a float, where no model tied)
         cols = [c for c in self.rows[0] if c not in ("model", "label")]
         data = {c: ("model", [r.get(c, math.nan) for r in self.rows]) for c in cols}
         data["same_fit_as"] = ("model", np.array([r.get("same_fit_as") or "" for r in self.rows], str))
@@ -562,7 +562,7 @@ class Comparison(FrozenResult):
         table = self.to_table()
         for column in ("bounds", "undetermined"):
             data[column] = ("model", [row[column] for row in table])
-        # (added 2026-12-06) the F-tests of the report over ``f_test``: the models by their labels,
+        # the F-tests of the report over ``f_test``: the models by their labels,
         # F, its degrees of freedom, p, whether it holds and the note ("" for none)
         tests = self.f_tests
         data.update({
@@ -572,7 +572,7 @@ class Comparison(FrozenResult):
             "f_test_p_value": ("f_test", np.array([math.nan if t["p_value"] is None else t["p_value"] for t in tests], float)),
             "f_test_valid": ("f_test", np.array([t["valid"] for t in tests], bool)), "f_test_note": ("f_test", np.array([t["note"] or "" for t in tests], str)),
         })
-        # ``impedax_kind`` (added 2026-12-06): `impedax.load` of the written .nc names it, not "no variable 'Z'"
+        # ``impedax_kind``: `impedax.load` of the written .nc names it, not "no variable 'Z'"
         return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]}, attrs={"impedax_kind": "comparison", "aic_form": self.aic_form}).copy(deep=True)
 
     def _repr_html_(self) -> str:
@@ -679,11 +679,11 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
         if "log_evidence" in row:
             reason = _evidence_unreliable_reason(item)
             row["log_evidence_reliable"] = math.isfinite(row["log_evidence"]) and reason is None
-            row["log_evidence_unreliable_reason"] = reason  # (added 2026-12-07: `Posterior.log_evidence_unreliable_reason`; None when sound)
+            row["log_evidence_unreliable_reason"] = reason  # (`Posterior.log_evidence_unreliable_reason`; None when sound)
         if "waic" in row:
             reason = _waic_unreliable_reason(item, row["waic"])
-            row["waic_reliable"] = reason is None  # (added 2026-12-06)
-            row["waic_unreliable_reason"] = reason  # (added 2026-12-07: `Posterior.waic_unreliable_reason`; None when reliable)
+            row["waic_reliable"] = reason is None
+            row["waic_unreliable_reason"] = reason  # (`Posterior.waic_unreliable_reason`; None when reliable)
         rows.append(row)
     for j, r in enumerate(results):  # a fit another model also gives: the data cannot tell them apart
         twin = next((rows[i]["label"] for i in range(len(results)) if i != j and _same_fit(results[i], r)), None)
@@ -913,8 +913,8 @@ def _boundary_note(simple: FitResult, complex_: FitResult, simple_label: str, co
 def _value_at_bound(fit: FitResult, name: str) -> str:
     """A parameter of ``fit`` at its bound as a boundary note names it: "R1 → ∞" at an infinite
     upper bound (not the float the solver stopped at, "R1 = 2.11e+167"); "R0 = 0" where the
-    fit's own note puts it on its bound 0 (`value_shown_at_bound`; REAL exampleDataGamry.DTA
-    read "R0 = 1.27e-05 is at its bound" beside "R0 is at its lower bound 0" until 2026-12-06);
+    fit's own note puts it on its bound 0 (`value_shown_at_bound`; REAL exampleDataGamry.DTA,
+    not "R0 = 1.27e-05 is at its bound" beside "R0 is at its lower bound 0");
     else its value with its unit as the fit's notes write it ("R0 = 87.4 µΩ", `format_quantity`;
     a bare "8.74e-05" before)."""
     value = fit.values[name]
