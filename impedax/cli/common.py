@@ -413,7 +413,7 @@ def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **u
     from ..io.provenance import provenance
 
     settings = {k: v for k, v in vars(args).items() if k not in _NOT_SETTINGS and not callable(v)}
-    if settings.get("plugin"):  # (added 2026-12-01: the --plugin files a run used, as absolute paths)
+    if settings.get("plugin"):  # (the --plugin files a run used, as absolute paths)
         settings["plugin"] = [os.path.abspath(p) for p in settings["plugin"]]
     else:
         settings.pop("plugin", None)
@@ -423,7 +423,7 @@ def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **u
 
 
 #: What every argument naming a spectrum to read (DATA, FILE, DATA_TOTAL, --frequencies FILE) says of
-#: '-', in one wording (`data_help`; until 2026-12-06 only inspect's FILE said it).
+#: '-', in one wording (`data_help`; not inspect's FILE alone).
 STDIN_HELP = "'-' reads standard input, recognised by content as a file is (a reader of your own that goes by the extension does not claim it)"
 
 
@@ -521,7 +521,7 @@ def note_impedance_py_weighting(command: str, weighting: str | None) -> None:
     with ``weighting`` "modulus" (impedax's default; None: the command has no --weighting): an
     impedance.py user's numbers differ from impedance.py's default, unweighted fit (R0 0.015167
     against 0.015642 on its REAL exampleData.csv, docs/migrating.md), and the header's
-    "weighting modulus" did not say so (a walkthrough, 2026-12-02)."""
+    "weighting modulus" alone does not say so (a walkthrough)."""
     if weighting == "modulus":
         print(f"impedax {command}: note: {IMPEDANCE_PY_WEIGHTING_NOTE}", file=sys.stderr)
 
@@ -824,8 +824,8 @@ def _range_positions(data, dim: str, part: str, path: str, item: str) -> list[in
 def _note_labels_not_positions(item: str, dim: str, labels: Sequence, found: Sequence[int], by_position: range) -> None:
     """One line on stderr when a range of labels (``found``) picks other spectra than the same
     ends read as positions would (``by_position``): ``--select cycle=0:20`` of the REAL battery
-    cycles labelled 0, 64, 129 keeps cycle 0 alone, which a user counting spectra did not
-    expect, and until 2026-12-06 only its "1 spectrum" said so."""
+    cycles labelled 0, 64, 129 keeps cycle 0 alone, which a user counting spectra does not
+    expect, and its "1 spectrum" alone says so too quietly."""
     if by_position and list(found) != list(by_position):  # (ends past the last position: no one meant positions)
         kept = [labels[i] for i in found]
         print(f"impedax: note: --select {item} keeps {dim} {labels_text(kept)} ({len(found)} of {len(labels)}): a range is of {dim} labels, by value "
@@ -966,9 +966,9 @@ def skipped_rows(data) -> list[str]:
 
 def note_skipped_rows(data, command: str, path: str) -> None:
     """One line on stderr naming the rows of file ``path`` the reader skipped (`skipped_rows`),
-    for a command's text report; its JSON holds them under ``skipped_rows`` (added 2026-12-01:
-    the 781 DC rows of a REAL Parstat file were skipped without a word; only ``impedax
-    inspect`` listed them)."""
+    for a command's text report; its JSON holds them under ``skipped_rows`` (the 781
+    DC rows of a REAL Parstat file would otherwise be skipped without a word, listed only by
+    ``impedax inspect``)."""
     rows = skipped_rows(data)
     if rows:
         shown = "; ".join(rows[:SKIPPED_ROWS_SHOWN]) + (f"; … ({len(rows)} ranges in all: impedax inspect lists them)" if len(rows) > SKIPPED_ROWS_SHOWN else "")
@@ -1187,9 +1187,9 @@ holds 71 million pixels, about 0.3 GB."""
 
 MIN_DPI = 20
 """The least ``--dpi``: FreeType draws no text below one pixel per em, which the 5–7 pt labels of
-impedax's figures reach below about 15 dpi (``--dpi 5`` ended in matplotlib's RuntimeError
-"invalid ppem value", ``--dpi 1e-300`` in "cannot write empty image"; tests/cli_fuzz_matrix.py,
-2026-12-07). At 20 dpi a 6 pt label is 1.7 pixels tall: a thumbnail, nothing smaller is legible."""
+impedax's figures reach below about 15 dpi (``--dpi 5`` would end in matplotlib's RuntimeError
+"invalid ppem value", ``--dpi 1e-300`` in "cannot write empty image": values the fuzz matrix,
+tests/cli_fuzz_matrix.py, gave). At 20 dpi a 6 pt label is 1.7 pixels tall: a thumbnail, nothing smaller is legible."""
 
 
 def dpi_option(text: str) -> float:
@@ -1208,9 +1208,9 @@ def dpi_option(text: str) -> float:
 
 def title_option(text: str) -> str:
     """``--title``: any text; a part between dollar signs is matplotlib math text, which must
-    parse, as an argparse ``type`` (exit 2): ``--title '$\\undefined$'`` ended in matplotlib's
-    ParseFatalException when the figure was saved, after the analysis (tests/cli_fuzz_matrix.py,
-    2026-12-07). matplotlib is imported only when --title is given."""
+    parse, as an argparse ``type`` (exit 2): ``--title '$\\undefined$'`` would end in matplotlib's
+    ParseFatalException when the figure is saved, after the analysis (a value the fuzz matrix,
+    tests/cli_fuzz_matrix.py, gave). matplotlib is imported only when --title is given."""
     import argparse
 
     from matplotlib import cbook
@@ -1350,9 +1350,9 @@ def result_writer(result, source: str | None = None, provenance: Mapping | None 
     """A writer of ``result`` in the format of the path's extension (`impedax.io.write_result`),
     naming the data's ``source`` (`data_source`) and recording ``provenance``
     (`command_provenance`) when given; a JSON, CSV or netCDF file's prose in the words of the
-    command that ``provenance`` names (`InCommandWords`, as its ``--json``: JSON since
-    2026-12-06, netCDF since 2026-12-07, where ``impedax fit --out FILE.nc`` held "raise
-    max_steps" and its JSON "raise --max-steps")."""
+    command that ``provenance`` names (`InCommandWords`, as its ``--json``: JSON and
+    netCDF alike, so that ``impedax fit --out FILE.nc`` holds "raise --max-steps" as its JSON
+    does, not "raise max_steps")."""
     command = str((provenance or {}).get("command") or "").removeprefix("impedax ")
     command = command if command in COMMANDS_IN_THEIR_WORDS else None
 
@@ -1730,14 +1730,14 @@ def check_memory(flag: str, needed_bytes: float, what: str) -> None:
 PROSE_KEYS = frozenset({
     "warnings", "warning", "notes", "note", "message", "hints", "misfit_hints", "best_misfit_hint", "best_misfit_hints", "reason", "reasons",
     "removal_reasons", "suggestion_reasons", "explanation", "pattern", "sign_hint", "alarms", "advice", "lambda_note", "f_test_note", "candidate_warning", "waic_note",
-    "words",  # (kk's passing_edge.words, 2026-12-06)
+    "words",  # (kk's passing_edge.words)
     "model_comparison_notes",  # (a posterior's .nc: those of its notes, in the notes' words)
 })
 _NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "source", "provenance", "label", "spectra_with_warnings"})
 
 
 # the commands whose text output (`print_result`, compare's) and so --json say Python's words as their options
-# (kk and drt since 2026-12-06: their notes had said both, "(signed=True, --signed)", in Python too)
+# (kk and drt too: their notes would otherwise say both, "(signed=True, --signed)", in Python too)
 COMMANDS_IN_THEIR_WORDS = frozenset({"fit", "compare", "diagnose", "refine", "sample", "gap", "kk", "drt"})
 
 
@@ -1745,8 +1745,8 @@ def json_in_command_words(summary, command: str | None):
     """``summary`` (a result's JSON) with each string under a `PROSE_KEYS` key in the words of
     ``impedax command`` (`command_line_words`: ``consider weighting='modulus'`` → ``consider
     --weighting modulus``, ``steps=45000`` → ``--steps 45000``), as its text output says them;
-    keys, values, labels and models are left as they are (until 2026-12-06 ``--json`` kept
-    Python's words where the text said the option). ``command`` None: ``summary`` unchanged."""
+    keys, values, labels and models are left as they are (``--json`` does not keep
+    Python's words where the text says the option). ``command`` None: ``summary`` unchanged."""
     if command is None:
         return summary
 
@@ -1785,8 +1785,8 @@ def each_spectrum_written(out: str | None, rows: str = "a row per spectrum and p
     """Where a run's ``--out`` FILE holds each spectrum's results, in the words of a batch
     report's closing line ("written to fits.csv (a row per spectrum and parameter)"; ``rows``:
     what a CSV row is; ``netcdf``: what a .nc holds); None without a file (no ``--out``, or ``-``: the JSON went to standard
-    output and no report is printed). Until 2026-12-02 a run with ``--out batch.json`` still
-    ended by suggesting ``--out FILE.csv … or --json``."""
+    output and no report is printed). A run with ``--out batch.json`` does not end by
+    suggesting ``--out FILE.csv … or --json``."""
     if not out or out == "-":
         return None
     suffix = Path(out).suffix.lower()
@@ -1796,7 +1796,7 @@ def each_spectrum_written(out: str | None, rows: str = "a row per spectrum and p
         return f'written to {out} (its "spectra")'
     if suffix == ".nc":
         return f"written to {out} (netCDF: {netcdf})"
-    if suffix == LATEX_SUFFIX:  # (impedax fit of several spectra: `BatchFitResult.to_latex`, 2026-12-06)
+    if suffix == LATEX_SUFFIX:  # (impedax fit of several spectra: `BatchFitResult.to_latex`)
         return f"written to {out} (a LaTeX table, a row per spectrum)"
     return None
 
@@ -1814,8 +1814,8 @@ _PHRASE_OF_CALL: dict[str, tuple[str, tuple[str, ...]]] = {
     "thin less (thin=)": ("thin less (--thin)", ("--thin",)),  # (`fitting.bayes.diagnostics.more_draws_advice`)
     "leave them out (fmin/fmax)": ("leave them out (--fmin/--fmax)", ("--fmin", "--fmax")),
     "e.g. --noise 1% (noise=0.01)": ("e.g. --noise 1%", ("--noise",)),
-    # (the validity tests and the DRT, in Python's words since 2026-12-06, where their notes had
-    # said both, "(signed=True, --signed)", in Python too: `kk.NON_PASSIVE_LEAVE_OUT`, the sigma
+    # (the validity tests and the DRT, in Python's words, where their notes would otherwise
+    # say both, "(signed=True, --signed)", in Python too: `kk.NON_PASSIVE_LEAVE_OUT`, the sigma
     # line of `KKResult.report`, `DRTResult.warnings` and the report's dropped peaks)
     "leave them out (data.drop_sel(frequency=result.non_passive_frequencies))": ("leave them out with --fmin/--fmax", ("--fmin", "--fmax")),
     "kk_test(noise='residuals')": ("impedax kk --noise residuals", ()),
@@ -1856,8 +1856,8 @@ _FIXED_KEYWORD = re.compile(r"fixed=\{'([^']+)': VALUE\}")
 # a keyword named with its value in Python's words (``consider weighting='modulus'``, ``use
 # noise='proportional'``, ``over='session'``, ``over=['session', 'trial']``, ``steps='auto'``),
 # which the command line sets with the option of its name: --weighting modulus, --noise
-# proportional, --over session, --over session,trial, --steps auto (2026-12-03: noise, over, steps;
-# 2026-12-06: lam='auto' → --lam auto, lam_method='gcv' → --lam-method gcv, impedax drt's)
+# proportional, --over session, --over session,trial, --steps auto, and impedax drt's lam='auto' → --lam auto,
+# lam_method='gcv' → --lam-method gcv
 _VALUED_KEYWORDS = ("weighting", "noise", "over", "steps", "lam_method", "lam")
 _VALUED_KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(_VALUED_KEYWORDS) + r")=(?:(['\"])([\w.-]+)\2|\[((?:'[\w.-]+'(?:, )?)+)\])")
 
@@ -1867,10 +1867,10 @@ _VALUED_KEYWORD = re.compile(r"(?<![\w.-])(" + "|".join(_VALUED_KEYWORDS) + r")=
 _STEPS_NUMBER = re.compile(r"(?<![\w.-])steps=(\d+)(?![\w.])")
 
 # a DRT's λ in Python's words (``lam=1e-3``: the DRT solve's failure, `drt._drt`), which impedax
-# drt sets with --lam 1e-3 (2026-12-06)
+# drt sets with --lam 1e-3
 # the band a half decade further in of a KK test's passing band (`KKResult.passing_edge_words`) in
 # Python's words, ``(data.where((data.frequency >= 1) & (data.frequency <= 1e5), drop=True))``,
-# which the command line gives as --fmin 1 --fmax 1e5 (2026-12-06)
+# which the command line gives as --fmin 1 --fmax 1e5
 _FURTHER_IN = re.compile(r"a half decade further in \(data\.where\((?:\(data\.frequency >= (?P<lo>\d[\w.+-]*)\) & \(data\.frequency <= (?P<hi>\d[\w.+-]*)\)"
                          r"|data\.frequency (?P<op>>=|<=) (?P<value>\d[\w.+-]*)), drop=True\)\)")
 
@@ -2022,7 +2022,7 @@ def command_line_words(text: str, command: str | None = None) -> str:
     command`` that set them (``raise max_steps`` → ``raise --max-steps``, ``(pass init=)`` →
     the ``impedax fit --init`` command, ``weighting='modulus'`` → ``--weighting modulus``:
     `_phrased`); a keyword the command has no option for keeps its Python words (``impedax
-    gap`` has neither --max-steps nor --weighting; until 2026-12-01 its report said "consider
+    gap`` has neither --max-steps nor --weighting, so its report does not say "consider
     --weighting modulus", an option it refuses). ``command`` None: every translation."""
     options = None if command is None else command_options(command)
     for keyword, option in _OPTION_OF_KEYWORD.items():
@@ -2042,10 +2042,9 @@ QUIET_HELP = "no progress lines on stderr (warnings and notes still go there)"
 
 def add_quiet_option(parser) -> None:
     """``--quiet``: no progress lines (`progress_printer`'s, a sampler's) on stderr; warnings and
-    notes are still printed there (added 2026-12-01 to every command that prints progress: a
-    pipeline's log held 79 progress lines of one refine run under --json; to kk, which prints
-    none, on 2026-12-02, so that every analysis command takes it); ``-q`` for short, the
-    convention a walkthrough reached for (2026-12-04)."""
+    notes are still printed there (every analysis command takes it, kk too, which prints none:
+    a pipeline's log would otherwise hold 79 progress lines of one refine run under --json);
+    ``-q`` for short, the convention a walkthrough reached for."""
     parser.add_argument("-q", "--quiet", action="store_true", help=QUIET_HELP)
 
 
@@ -2103,7 +2102,7 @@ def csv_sigma_note(remaining, out: str | None, option: str) -> str | None:
     """The note of a trial-mean remainder written as CSV (``out``; None: standard output) by
     ``option`` (``impedax remaining --out``, ``impedax gap --remaining``): a CSV keeps no attrs, so a
     fit of it by sigma cannot tell that sigma is the trial means' SEM (`trial_means_of_sigma`) and
-    warns that it overstates the noise, as impedax fit did of every remainder until 2026-12-06; None
+    warns that it overstates the noise, as impedax fit would of any remainder without those attrs; None
     for a netCDF file, which keeps them, or a sigma of another kind."""
     from pathlib import Path
 
