@@ -96,7 +96,7 @@ def fit(
     `BatchFitResult.per_spectrum_starts`).
     ``fixed`` pins parameters; ``bounds`` narrows them; a value of ``fixed`` or ``init`` may be an
     xarray.DataArray over some of the data's extra dimensions, labelled as the data, one value per
-    spectrum (`per_spectrum.split_fits`: the spectra fitted in groups that share the values; added 2026-12-01); ``weighting`` is one of `WEIGHTINGS`.
+    spectrum (`per_spectrum.split_fits`: the spectra fitted in groups that share the values); ``weighting`` is one of `WEIGHTINGS`.
     ``data`` is a spectrum Dataset, a path or a (frequency, Z) pair of arrays. Extra dimensions
     (trial, subject, ...) are fitted together and give a `BatchFitResult`; dask-backed data are
     fitted chunk by chunk.
@@ -108,9 +108,9 @@ def fit(
     ``progress`` (e.g. ``print``) is called with a line of text as each stage begins: the fit,
     more starts, a batch's start search, its local fits, its outliers' starts and its statistics
     (a circuit's first batch in a process compiles its solvers: 10–15 s on the 130 REAL battery
-    cycles, silent before 2026-12-01); None (default): the lines go to stderr once the fit has
-    run `progress.PROGRESS_AFTER_S` (2 s), as on the command line (`progress.reported`; silent
-    in Python before 2026-12-02); False: no lines.
+    cycles); None (default): the lines go to stderr once the fit has
+    run `progress.PROGRESS_AFTER_S` (2 s), as on the command line (`progress.reported`, in
+    Python too); False: no lines.
     """
     check_argument_order("fit", circuit, data)
     if progress is not None:
@@ -138,7 +138,7 @@ def fit(
             raise ParameterError("init: a BatchFitResult starts each spectrum of a batch fit from its own optimum; a shared fit (shared=) takes a mapping name → value or a FitResult")
         starts = batch_init.per_spectrum_starts(data, table.names, circuit)
     n_spectra = int(np.prod([data.sizes[d] for d in extra])) if extra else 1
-    if shared is not None or over is not None:  # (checked before the first progress line, as every argument: 2026-12-02)
+    if shared is not None or over is not None:  # (checked before the first progress line, as every argument)
         shared_layout(table, extra, shared, over, source=source)
     first = (str(circuit), bool(extra)) not in FITTED_CIRCUITS
     FITTED_CIRCUITS.add((str(circuit), bool(extra)))
@@ -252,10 +252,10 @@ def starts_words(table, n_starts: int, used: int, start: str, at_limits: int = 0
     ``at_limits`` of them are the best fit with an element moved to its limit
     (`starts.limit_starts`), said apart; ``at_limit_in_draw`` of each draw's random starts hold
     an element at its limit (`starts.limit_draw_count`).
-    ``start``: the guess in a list ("the given start"). Until 2026-12-02 the message said "best
-    of 336 starts" after a progress line of "draws of 16 starts", and not that the given start
-    was among them; until 2026-12-03 it said "escalated to 338 (21 draws)" where the ladder's
-    21 draws of 16 are 336 and two more started at a G or Wo element's limit (REAL CHInstruments data, `R0 + G1`)."""
+    ``start``: the guess in a list ("the given start"). The message says that the given start
+    is among them, and does not say "best of 336 starts" after a progress line of "draws of 16
+    starts", nor "escalated to 338 (21 draws)" where the ladder's 21 draws of 16 are 336 and two
+    more started at a G or Wo element's limit (REAL CHInstruments data, `R0 + G1`)."""
     draw = draw_words(table, n_starts, start, at_limit_in_draw)
     ladder = used - at_limits
     size = draw_size(table, n_starts)  # (the starts a draw runs: the given start once where nothing is jittered)
