@@ -11,7 +11,7 @@ def _lam(text: str):
     try:
         value = float(text)
     except ValueError:
-        # (a rule's name given where λ goes: --lam gcv said only "expected 'auto' …", 2026-12-06; ix.drt(lam="gcv") names lam_method alike)
+        # (a rule's name given where λ goes: --lam gcv is told more than "expected 'auto' …"; ix.drt(lam="gcv") names lam_method alike)
         rule = f"; the rule that chooses λ is --lam-method {text.lower()} (with --lam auto, the default)" if text.lower() in ("gcv", "lcurve") else ""
         raise ParameterError(f"--lam {text!r}: expected 'auto' or a positive number{rule}") from None
     return value
@@ -79,8 +79,8 @@ def run(args) -> int:
     data = open_spectrum(data).data
     progress = progress_printer(quiet=args.quiet)  # (130 cycles took 7 s without a word; printed only past PROGRESS_AFTER_S)
     n_spectra = int(data["Z"].size // data.sizes["frequency"])
-    # (closed on every way out: a printer left open after an error printed its pending line 2 s
-    # later, into whatever ran next in the process: a flaky test of `fit -q`, 2026-12-05)
+    # (closed on every way out: a printer left open after an error prints its pending line 2 s
+    # later, into whatever runs next in the process, e.g. a test of `fit -q`)
     try:
         progress(f"DRT of {n_spectra} spectr{'um' if n_spectra == 1 else 'a'}: solving, then peaks and credible bands")
         result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
@@ -88,8 +88,8 @@ def run(args) -> int:
             progress(f"drawing {args.plot}")
         record = command_provenance(args, source=source, data_files=[args.data])
         kk_note = _kk_note(result, data, args)
-        # (the JSON's, as inspect --json's: added 2026-12-01; kk_note 2026-12-05; suggestion_withheld
-        # 2026-12-06: the text's "none while …" reason, where suggested_model still holds γ's circuit)
+        # (the JSON's, as inspect --json's; suggestion_withheld: the text's "none while …" reason,
+        # where suggested_model still holds γ's circuit)
         # (the notes in the command's words, as fit's: --signed, --lam auto where the Python API says signed=True, lam='auto')
         read = InCommandWords(WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), "kk_note": kk_note, "suggestion_withheld": suggestion_withheld(result)}), "drt")
         outputs.save({"--out": lambda path: _save(read, path, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})
@@ -111,8 +111,8 @@ def run(args) -> int:
 def _kk_note(result, data, args) -> str | None:
     """Where the data fail the linear KK test (`impedax.kk_test`, default options), said beside
     the DRT, or None: γ fitted to a drift or disturbance holds it as peaks, so the peaks there are
-    no evidence of arcs (a walkthrough's drifting spectrum got a third arc from the DRT and no word
-    of the data, 2026-12-05). Not said when the DRT gives a sign hint (the hint is the cause),
+    no evidence of arcs (a walkthrough's drifting spectrum gets a third arc from the DRT, and
+    otherwise no word of the data). Not said when the DRT gives a sign hint (the hint is the cause),
     nor for a spectrum too short for a conclusive test."""
     import shlex
 
@@ -127,9 +127,9 @@ def _kk_note(result, data, args) -> str | None:
     failed = [i for i, (r, t) in enumerate(zip(results, tests)) if t.conclusive and not t.valid and not r.sign_hint]
     if not failed:
         return None
-    # (the run's --fmin/--fmax/--exclude too: the test above ran on the points the DRT took; until
-    # 2026-12-07 the command named the file alone, and on REAL BioLogic with --exclude
-    # 5.34,56.2,123,270 it flagged those four where the note named 15.2 Hz)
+    # (the run's --fmin/--fmax/--exclude too: the test above ran on the points the DRT took; a
+    # command naming the file alone, on REAL BioLogic with --exclude 5.34,56.2,123,270, would flag those four where
+    # the note names 15.2 Hz)
     command = f"impedax kk {shlex.quote(str(args.data))}" + "".join(f" --select {shlex.quote(s)}" for s in (args.select or ())) + "".join(
         f" {flag} {shlex.quote(str(value))}" for flag, value in (("--fmin", args.fmin), ("--fmax", args.fmax), ("--exclude", args.exclude)) if value is not None)
     if not extra:
@@ -137,7 +137,7 @@ def _kk_note(result, data, args) -> str | None:
         inside = [p for p in results[0].peaks if any(lo <= p.frequency_hz <= hi for lo, hi in bands)]
         listed = ", ".join(f"τ = {format_time(p.tau_s)} (f = {format_frequency(p.frequency_hz)})" for p in inside)
         peaks = f"; the peak{'s' if len(inside) > 1 else ''} at {listed} {'lie' if len(inside) > 1 else 'lies'} there" if inside else ""
-        return (f"the data fail the Kramers–Kronig test at {tests[0].measured_bands_text()} ({command} says which points and what to do): "  # ("what to leave out" until 2026-12-06: on REAL Gamry kk finds none worth leaving out)
+        return (f"the data fail the Kramers–Kronig test at {tests[0].measured_bands_text()} ({command} says which points and what to do): "  # (not "what to leave out": on REAL Gamry kk finds none worth leaving out)
                 f"γ there holds their drift or disturbance as well as any relaxation{peaks}")
     labels = result.labels()
     named = "; ".join(", ".join(f"{d}={label_text(v)}" for d, v in labels[i].items()) for i in failed[:3]) + ("; …" if len(failed) > 3 else "")
@@ -193,7 +193,7 @@ def _save(result, path, source: str | None = None, provenance=None) -> None:
 class _WarningsLast:
     """``result`` whose table (`DRTResult.to_table`) has the provenance columns before its
     ``warnings``, which stays the last column: the CSV's columns up to the provenance are where
-    they were before ``warnings`` was added (2026-12-06); every other attribute is the result's."""
+    files of older versions, without ``warnings``, have them; every other attribute is the result's."""
 
     def __init__(self, result, provenance):
         self._result, self._provenance = result, provenance
