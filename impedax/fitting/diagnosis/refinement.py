@@ -361,7 +361,8 @@ class Refinement(FrozenResult):
         the final fit in full (values, stderr, covariance, ...: `FitResult.to_xarray` with its
         names prefixed ``final_fit_``, read back by `Refinement.final_fit_of`); the points every
         fit left out in ``masked_points_hz`` (the data's own problem: ``Z`` holds only the
-        kept ones); ``impedax_kind`` "refinement"."""
+        kept ones); ``impedax_kind`` "refinement"; ``diagnose_verdict`` and
+        ``diagnose_verdict_note`` as the JSON's ("" where null)."""
         f = self.steps[0].fit.frequency
         z = self.steps[0].fit.z_data
         ds = xr.Dataset(
@@ -376,7 +377,8 @@ class Refinement(FrozenResult):
                 "Z": ("frequency", self.steps[0].fit.z_data, {"units": "ohm"}),
             },
             coords={"step": np.arange(len(self.steps)), "frequency": ("frequency", f, {"units": "Hz"})},
-            attrs={"final_model": self.final_model, "verdict": str(self.verdict)},
+            attrs={"final_model": self.final_model, "verdict": str(self.verdict),
+                   "diagnose_verdict": "" if self.diagnose_verdict is None else str(self.diagnose_verdict), "diagnose_verdict_note": self.diagnose_note or ""},
         )
         ds = xr.merge([ds, embedded_fit(self.final, FINAL_FIT_PREFIX, f, z)], combine_attrs="no_conflicts")
         return ds.assign_attrs(impedax_kind="refinement", masked_points_hz=[float(x) for x in self.masked_points], notes=list(self.notes)).copy(deep=True)
