@@ -25,7 +25,7 @@ from ...errors import DataError, ParameterError
 from ..derived import bind_frequency, called, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
-from ..least_squares.result import bounds_attr, fit_blames_model, shown_stderr, stored_bounds, without_sample_advice
+from ..least_squares.result import bounds_attr, note_value_attrs, shown_stderr, stored_bounds, stored_note_values, without_sample_advice
 from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
 from .evidence import EvidenceDoubt, WaicDoubt, evidence_doubt_of_notes, model_comparison_notes_of, short_chain_waic_note, waic_doubts
@@ -619,7 +619,7 @@ class Posterior(PiledUp, FrozenResult):
             "model_comparison_notes": list(self.model_comparison_notes),
             "warnings": list(self.warnings),
             "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
-            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), "model_misfit": bool(fit_blames_model(fr)), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups], "bounds": bounds_attr(fr.bounds)},
+            "fit": {"weighting": fr.weighting, "chi2": fr.chi2, "converged": fr.converged, "message": fr.message, "n_evaluations": fr.n_evaluations, "warnings": list(fr.warnings), **note_value_attrs(fr), "n_starts": fr.n_starts, "elapsed_s": fr.elapsed_s, "at_bound": list(fr.at_bound), "unidentified_groups": [list(g) for g in fr.unidentified_groups], "bounds": bounds_attr(fr.bounds)},
             "user_bounds": bounds_attr(self.user_bounds),
             "straggler_walkers": list(self.stragglers.walkers),
             "stragglers": self.stragglers.to_attr(),
@@ -680,7 +680,7 @@ class Posterior(PiledUp, FrozenResult):
             unidentified_groups=tuple(tuple(str(n) for n in g) for g in fa.get("unidentified_groups", ())),  # (a file written by an older version: none)
             registry=registry,
             bounds=stored_bounds(fa.get("bounds")),  # (a file written by an older version: none)
-            model_misfit=bool(fa["model_misfit"]) if "model_misfit" in fa else None,  # (a file written by an older version: its warnings' words)
+            **stored_note_values(fa),  # (a file written by an older version lacks them: its warnings' words)
         )
         sampled = [str(n) for n in ds["param"].values]
         notes = tuple(ds.attrs.get("notes", ()))

@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "note_value_attrs", "stored_note_values", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -458,10 +458,7 @@ class FitResult(FrozenResult):
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
-                "bounds": bounds_attr(self.bounds), "notes": list(self.notes), "model_misfit": int(fit_blames_model(self)),
-                **dict(zip(("data_limit_note", "data_limit_hint"), fit_data_limit(self))),
-                "uneven_noise": int(fit_uneven_noise(self)),
-                "misfit_note": fit_blaming_note(self) if self.misfit_note is None else self.misfit_note,  # (not known: the note that blames the model, by its words)
+                "bounds": bounds_attr(self.bounds), "notes": list(self.notes), **note_value_attrs(self, flag=int),
             },
         ).copy(deep=True)  # (the user's to edit: the result's own arrays are read-only)
 
@@ -508,11 +505,7 @@ class FitResult(FrozenResult):
                 bounds=stored_bounds(ds.attrs.get("bounds")),
                 source=saved_source(ds),
                 notes=stored_notes(ds.attrs.get("notes", ())),  # (none in a file of older versions)
-                model_misfit=bool(ds.attrs["model_misfit"]) if "model_misfit" in ds.attrs else None,  # (a file of older versions: its warnings' words, `fit_blames_model`)
-                data_limit_note=str(ds.attrs["data_limit_note"]) if "data_limit_note" in ds.attrs else None,  # (a file of older versions: its warnings' words, `fit_data_limit`)
-                data_limit_hint=str(ds.attrs.get("data_limit_hint", "")),
-                misfit_note=str(ds.attrs["misfit_note"]) if "misfit_note" in ds.attrs else None,  # (a file of older versions: its warnings' words, `fit_blaming_note`)
-                uneven_noise=bool(ds.attrs["uneven_noise"]) if "uneven_noise" in ds.attrs else None,  # (a file of older versions: its warnings' words, `fit_uneven_noise`)
+                **stored_note_values(ds.attrs),
             )
 
 
@@ -1321,6 +1314,28 @@ def warnings_blame_model(warnings) -> bool:
     (`MODEL_MISFIT_MARKS`), by their words: for warnings without the value their fit carries
     (`FitResult.model_misfit`, `fit_blames_model`), such as those of a file written without it."""
     return any(mark in w for w in warnings for mark in MODEL_MISFIT_MARKS)
+
+
+def note_value_attrs(fit, flag=bool) -> dict:
+    """The values ``fit`` sets where it makes its notes, as a saved result's attributes (a fit's
+    `.nc`, a posterior's stored start fit): ``model_misfit`` and ``uneven_noise`` as ``flag``
+    (int in netCDF attributes), ``data_limit_note``, ``data_limit_hint`` and ``misfit_note``
+    (where not known, None: the words' answer, `fit_blames_model`, `fit_data_limit`,
+    `fit_uneven_noise`, `fit_blaming_note`). `stored_note_values` reads them back."""
+    limit, hint = fit_data_limit(fit)
+    return {"model_misfit": flag(fit_blames_model(fit)), "data_limit_note": limit, "data_limit_hint": hint, "uneven_noise": flag(fit_uneven_noise(fit)),
+            "misfit_note": fit_blaming_note(fit) if fit.misfit_note is None else fit.misfit_note}
+
+
+def stored_note_values(attrs) -> dict:
+    """`FitResult`'s note values from saved attributes (`note_value_attrs`); one a file lacks
+    (written by an older version) is None, so that the fit read back is judged by its warnings'
+    words."""
+    def known(key, kind):
+        return kind(attrs[key]) if key in attrs else None
+
+    return {"model_misfit": known("model_misfit", bool), "data_limit_note": known("data_limit_note", str), "data_limit_hint": str(attrs.get("data_limit_hint", "")),
+            "misfit_note": known("misfit_note", str), "uneven_noise": known("uneven_noise", bool)}
 
 
 def fit_data_limit(fit) -> tuple[str, str]:
