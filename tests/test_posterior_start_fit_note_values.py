@@ -1,6 +1,6 @@
 """A posterior's stored start fit (the ``fit`` attribute of its `.nc`) keeps the values a fit
 sets where it makes its notes (`FitResult.model_misfit`, ``data_limit_note``, ``data_limit_hint``,
-``uneven_noise``, ``misfit_note``), as a fit's own `.nc` does; a file without them is read by the
+``uneven_noise``, ``misfit_note``, ``sigma_residual_notes``), as a fit's own `.nc` does; a file without them is read by the
 warnings' words (`result.fit_data_limit`, `fit_uneven_noise`, `fit_blaming_note`).
 
 Oracle: the values this test gives the start fit, worded so that the words alone say otherwise
@@ -25,6 +25,7 @@ HINT = f"; {SIGN_HINT_LEAD}the signs of Im Z look flipped (this test's words)"
 LIMIT = "the data, not only the model, bound this fit (this test's words)" + HINT
 UNEVEN = "the weighted residuals differ across the band (this test's words)"
 MISFIT = "the model lacks an arc the data hold (this test's words)"
+SIGMA = "the residuals lie well below the data's σ (this test's words)"
 
 
 @pytest.fixture(scope="module")
@@ -39,12 +40,13 @@ def _with_start(post, warnings, **values):
 
 
 def test_the_start_fit_s_note_values_survive_the_posterior_s_nc(post, tmp_path):
-    mine = _with_start(post, (MISFIT, LIMIT, UNEVEN), model_misfit=True, misfit_note=MISFIT, data_limit_note=LIMIT, data_limit_hint=HINT, uneven_noise=True)
+    mine = _with_start(post, (MISFIT, LIMIT, UNEVEN, SIGMA), model_misfit=True, misfit_note=MISFIT, data_limit_note=LIMIT, data_limit_hint=HINT, uneven_noise=True, sigma_residual_notes=(SIGMA,))
     assert (fit_data_limit(dataclasses.replace(mine.fit, data_limit_note=None)), fit_uneven_noise(dataclasses.replace(mine.fit, uneven_noise=None))) == (("", ""), False)  # (the words say otherwise)
     path = tmp_path / "post.nc"
     ix.write_result(mine, path)
     back = Posterior.from_xarray(read_netcdf(path)).fit
     assert (back.model_misfit, back.misfit_note, back.data_limit_note, back.data_limit_hint, back.uneven_noise) == (True, MISFIT, LIMIT, HINT, True)
+    assert back.sigma_residual_notes == (SIGMA,)
     assert (fit_data_limit(back), fit_uneven_noise(back), fit_blaming_note(back)) == ((LIMIT, HINT), True, MISFIT)
     clean = _with_start(post, (), model_misfit=False, misfit_note="", data_limit_note="", data_limit_hint="", uneven_noise=False)
     ix.write_result(clean, path)
@@ -56,9 +58,9 @@ def test_a_posterior_file_without_them_is_read_by_the_words(post, tmp_path):
     limit = f"{MODEL_MISSES_STRUCTURE} (test){DATA_LIMIT_NOTE}{HINT}"  # (a note as a fit words one: the phrases)
     uneven = f"{UNEVEN_NOISE_NOTE} (test)"
     ds = _with_start(post, (limit, uneven)).to_xarray()
-    ds.attrs["fit"] = {k: v for k, v in ds.attrs["fit"].items() if k not in ("model_misfit", "data_limit_note", "data_limit_hint", "uneven_noise", "misfit_note")}
+    ds.attrs["fit"] = {k: v for k, v in ds.attrs["fit"].items() if k not in ("model_misfit", "data_limit_note", "data_limit_hint", "uneven_noise", "misfit_note", "sigma_residual_notes")}
     path = tmp_path / "old.nc"
     write_netcdf(ds, path)
     back = Posterior.from_xarray(read_netcdf(path)).fit
-    assert (back.model_misfit, back.misfit_note, back.data_limit_note, back.uneven_noise) == (None, None, None, None)
+    assert (back.model_misfit, back.misfit_note, back.data_limit_note, back.uneven_noise, back.sigma_residual_notes) == (None, None, None, None, None)
     assert (fit_data_limit(back), fit_uneven_noise(back), fit_blaming_note(back)) == ((limit, HINT), True, limit)

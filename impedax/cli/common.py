@@ -1732,7 +1732,7 @@ PROSE_KEYS = frozenset({
     "removal_reasons", "suggestion_reasons", "explanation", "pattern", "sign_hint", "alarms", "advice", "lambda_note", "f_test_note", "candidate_warning", "waic_note",
     "words",  # (kk's passing_edge.words)
     "model_comparison_notes",  # (a posterior's .nc: those of its notes, in the notes' words)
-    "data_limit_note", "data_limit_hint", "misfit_note",  # (a fit's .nc: a warning as a value, found among the warnings only in their words)
+    "data_limit_note", "data_limit_hint", "misfit_note", "sigma_residual_notes",  # (a fit's .nc: a warning as a value, found among the warnings only in their words)
 })
 _NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "source", "provenance", "label", "spectra_with_warnings"})
 

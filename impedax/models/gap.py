@@ -49,7 +49,7 @@ from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.kk import KKChains
 from ..fitting.least_squares.branches import undetermined_names
-from ..fitting.least_squares.result import GROSS_MISFIT_FROM, MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_BAND_WORDS, SIGMA_FROM_OWN, SIGMA_FROM_TRIALS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_OVERSTATES_WORDS, SUBTRACTION_CAUSE, fit_blaming_note, fit_data_limit, gross_misfits, known_kk_misfits, listed_frequencies, names_in_words, sigma_sources, within_stated_noise
+from ..fitting.least_squares.result import GROSS_MISFIT_FROM, MISFIT_RATIO_MAX, REMAINDER_ATTRS, SIGMA_FROM_OWN, SIGMA_FROM_TRIALS, SUBTRACTION_CAUSE, fit_blaming_note, fit_data_limit, fit_sigma_residual_notes, gross_misfits, known_kk_misfits, listed_frequencies, names_in_words, sigma_sources, within_stated_noise
 from ..fitting.statistics import non_passive
 from ..fitting.frozen import FrozenResult, freeze_fields
 from .gap_inputs import DriveVoltage, check_gap_inputs, check_spectra, check_not_a_remainder, condition_notes, drive_voltage, is_single_contact, position_notes, present_inputs, spectra_used
@@ -1660,15 +1660,16 @@ def _edl_fit_warnings(edl, remaining: xr.Dataset, known_kk: KKChains | None = No
     own note that the data limit it (`DATA_LIMIT_NOTE`), when it holds; and without the fit's note
     that the model misses structure the data hold (`MODEL_MISSES_STRUCTURE`) where the alarm MODEL
     DOES NOT FIT (`_misfit_text`) says it (both below one another on the SYNTHETIC shipped example's
-    stationary total, `--pooled`). Both notes are found by values the fit sets where
-    it makes them (`result.fit_data_limit`, `result.fit_blaming_note`), not by their words, which
-    decide only for a fit without them."""
+    stationary total, `--pooled`). These notes and the σ notes are found by values the fit sets
+    where it makes them (`result.fit_data_limit`, `result.fit_blaming_note`,
+    `result.fit_sigma_residual_notes`), not by their words, which decide only for a fit without
+    them."""
     expected = _sem_of_varying_trials(edl, remaining)
     near = _near_misfit_note(edl, remaining, known_kk) if known_kk is not None else None
     alarmed = known_kk is not None and _misfit_text(edl, remaining, known_kk) is not None  # (MODEL DOES NOT FIT says the fit's own misfit note: once)
     blaming = fit_blaming_note(edl) if alarmed else ""  # (values the fit sets where it makes the note; its words only for a fit without them)
-    kept = [w for w in edl.warnings if not (expected and any(words in w for words in (SIGMA_OVERSTATES_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_BAND_WORDS)))
-            and not (blaming and w == blaming)]
+    sigma_notes = set(fit_sigma_residual_notes(edl)) if expected else set()  # (values the fit sets where it makes the notes; its words only for a fit without them)
+    kept = [w for w in edl.warnings if w not in sigma_notes and not (blaming and w == blaming)]
     if near is None:
         return [f"EDL fit: {w}" for w in kept]
     limit, _ = fit_data_limit(edl)

@@ -1423,7 +1423,7 @@ _MANY_LANES_FROM = 4 * _LANES
 
 
 def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: KKChains | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None, n_free: int | None = None,
-               blamed_out: list | None = None, limits_out: list | None = None, uneven_out: list | None = None) -> list[tuple[str, ...]]:
+               blamed_out: list | None = None, limits_out: list | None = None, uneven_out: list | None = None, sigma_out: list | None = None) -> list[tuple[str, ...]]:
     """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
     rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
@@ -1438,7 +1438,9 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     (`misfit_notes`' ``blamed_out``, `FitResult.model_misfit`); ``limits_out``: one extended with
     each spectrum's note that the data limit its fit and that note's sign hint end (`misfit_notes`'
     ``limits_out``, `FitResult.data_limit_note`); ``uneven_out``: one extended with whether each
-    spectrum got `uneven_residual_notes`' note (`FitResult.uneven_noise`)."""
+    spectrum got `uneven_residual_notes`' note (`FitResult.uneven_noise`); ``sigma_out``: one
+    extended with each spectrum's notes of residuals below σ or uneven against it
+    (`FitResult.sigma_residual_notes`)."""
     b = len(z)
     inverse_weights = weights(z, sigma, weighting, source, freq)
     weighted = dominated_notes(weighting, freq, z, *inverse_weights)
@@ -1447,8 +1449,12 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     blamed: list[bool] = []
     misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated, blamed_out=blamed, limits_out=limits_out)
     trial_means = trial_means_of_sigma(attrs)  # (σ the standard error of trial means: what the notes of residuals below or uneven against it say)
-    uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None, trial_means=trial_means, uneven_out=uneven_out)
-    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means, blamed=blamed)
+    uneven_sigma: list[tuple[str, ...]] = []
+    scale_sigma: list[tuple[str, ...]] = []  # (the notes of residuals below σ or uneven against it: `sigma_out`)
+    uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None, trial_means=trial_means, uneven_out=uneven_out, sigma_out=uneven_sigma)
+    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means, blamed=blamed, sigma_out=scale_sigma)
+    if sigma_out is not None:
+        sigma_out.extend(u + s for u, s in zip(uneven_sigma, scale_sigma))
     if misfit_out is not None:
         misfit_out.extend(misfit)
     if blamed_out is not None:

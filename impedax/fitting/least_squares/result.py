@@ -30,7 +30,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "note_value_attrs", "stored_note_values", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "fit_sigma_residual_notes", "note_value_attrs", "stored_note_values", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -160,6 +160,7 @@ class FitResult(FrozenResult):
     data_limit_hint: str = field(default="", repr=False)  # that note's end holding the KK test's sign hint ("; hint: …", `SIGN_HINT_LEAD`), "" without one
     misfit_note: str | None = field(default=None, repr=False)  # the fit's misfit warning (`misfit_notes`; compare's in its place), as worded, "" where it has none; None: not known (`fit_blaming_note`)
     uneven_noise: bool | None = field(default=None, repr=False)  # whether a warning says the weighted residuals are uneven across the band (`uneven_residual_notes`' ``uneven_out``), set where the note is made; None: not known, read from the words (`fit_uneven_noise`)
+    sigma_residual_notes: tuple[str, ...] | None = field(default=None, repr=False)  # the warnings that read residuals below the data's σ, or uneven against it, as what σ is or a σ misstating the noise (`sigma_scale_notes`' and `uneven_residual_notes`' ``sigma_out``), as worded; None: not known, read from the words (`fit_sigma_residual_notes`)
 
     def __post_init__(self):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
@@ -1076,7 +1077,7 @@ def residual_band_rms(freq, z, z_model, inv_re, inv_im) -> tuple[np.ndarray, np.
 
 
 def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None, *, has_sigma: bool = False, trial_means: str | None = None,
-                          uneven_out: list | None = None) -> list[tuple[str, ...]]:
+                          uneven_out: list | None = None, sigma_out: list | None = None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) of spectra z (B, N) whose weighted residuals
     (inverse weights inv_re, inv_im as `problem.weights`) are over `UNEVEN_RESIDUAL_RATIO`× larger
     in rms in one band of frequencies than in another (`residual_band_rms`): the standard errors
@@ -1100,12 +1101,18 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     that the fit of the mean can take the trials' variation it holds up in one band and not in
     another (SYNTHETIC Sirin example of seed 4: its σ is not to be "checked" as a sigma
     column). ``uneven_out``: a list extended with whether each fit got the note (a value set
-    where the note is made, `FitResult.uneven_noise`; `UNEVEN_NOISE_NOTE` is its words)."""
+    where the note is made, `FitResult.uneven_noise`; `UNEVEN_NOISE_NOTE` is its words).
+    ``sigma_out``: a list extended with, per fit, its note where weighted by σ (what σ is, or that
+    it misstates the noise in a band), as worded, () otherwise (`FitResult.sigma_residual_notes`;
+    `SIGMA_BAND_WORDS`, `SIGMA_OF_TRIAL_MEANS_WORDS` are its words)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
     if uneven_out is not None:
         uneven_out.extend([False] * len(z))
         first = len(uneven_out) - len(z)  # (this call's fits: flagged below as their notes are made)
+    if sigma_out is not None:
+        sigma_out.extend([()] * len(z))
+        first_sigma = len(sigma_out) - len(z)
     if weighting not in UNEVEN_CHECKED_WEIGHTINGS or np.asarray(freq).size < 2 * UNEVEN_BAND_POINTS:
         return out
     rms, lo, hi = residual_band_rms(freq, z, z_model, inv_re, inv_im)
@@ -1138,6 +1145,8 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
         )
         if uneven_out is not None:
             uneven_out[first + i] = True
+        if sigma_out is not None and weighting == "sigma":  # (its remedy says what σ is, or that σ misstates the noise there)
+            sigma_out[first_sigma + i] = out[i]
     return out
 
 
@@ -1160,7 +1169,7 @@ def chi2_red_range(dof: int) -> tuple[float, float]:
     return float(chdtri(dof, 1.0 - SIGMA_SCALE_TAIL)) / dof, float(chdtri(dof, SIGMA_SCALE_TAIL)) / dof
 
 
-def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None, trial_means: str | None = None, *, blamed=None) -> list[tuple[str, ...]]:
+def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None, trial_means: str | None = None, *, blamed=None, sigma_out: list | None = None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) weighted by the data's σ (``inv_re`` = ``inv_im``
     = 1/σ) whose χ²_red lies outside `chi2_red_range` and whose residuals are at least
     `SIGMA_SCALE_FACTOR`× σ, or that many times below it, in rms (√χ²_red): the standard errors
@@ -1179,9 +1188,15 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
     Sirin example: residuals 0.3× its SEM, "3.4× too large" said, where the trials' own spread
     of C_gap, fitted per trial, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF).
     ``blamed`` (one bool per fit, `misfit_notes`' ``blamed_out``): which of ``misfit``'s notes blame
-    the model; None: read from their words (`warnings_blame_model`)."""
+    the model; None: read from their words (`warnings_blame_model`). ``sigma_out``: a list
+    extended with, per fit, its note of residuals below σ (what σ is, or that σ overstates the
+    noise), as worded, () otherwise (`FitResult.sigma_residual_notes`; `SIGMA_OF_TRIAL_MEANS_WORDS`,
+    `SIGMA_OVERSTATES_WORDS` are its words)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
+    if sigma_out is not None:
+        sigma_out.extend([()] * len(z))
+        first_sigma = len(sigma_out) - len(z)  # (this call's fits: their notes of residuals below σ set below as made)
     dof = 2 * z.shape[-1] - (n_free or 0)
     if weighting != "sigma" or n_free is None or dof < 1:
         return out
@@ -1225,11 +1240,15 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
                 "point to point, which such a difference is not, so they do not give the parameters' spread between trials: fit each trial for that "
                 "(impedax remaining --trials, then impedax fit; impedax gap's hierarchical model for a contact's gap)",
             )
+            if sigma_out is not None:
+                sigma_out[first_sigma + i] = out[i]
         elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR:
             out[i] = (
                 f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"{SIGMA_OVERSTATES_WORDS} (or the model follows the noise with too many parameters), and the standard errors, which take σ as stated, are then {format_factor(1 / factor)}× too large",
             )
+            if sigma_out is not None:
+                sigma_out[first_sigma + i] = out[i]
     return out
 
 
@@ -1319,12 +1338,12 @@ def warnings_blame_model(warnings) -> bool:
 def note_value_attrs(fit, flag=bool) -> dict:
     """The values ``fit`` sets where it makes its notes, as a saved result's attributes (a fit's
     `.nc`, a posterior's stored start fit): ``model_misfit`` and ``uneven_noise`` as ``flag``
-    (int in netCDF attributes), ``data_limit_note``, ``data_limit_hint`` and ``misfit_note``
-    (where not known, None: the words' answer, `fit_blames_model`, `fit_data_limit`,
-    `fit_uneven_noise`, `fit_blaming_note`). `stored_note_values` reads them back."""
+    (int in netCDF attributes), ``data_limit_note``, ``data_limit_hint``, ``misfit_note`` and
+    ``sigma_residual_notes`` (where not known, None: the words' answer, `fit_blames_model`,
+    `fit_data_limit`, `fit_uneven_noise`, `fit_blaming_note`, `fit_sigma_residual_notes`). `stored_note_values` reads them back."""
     limit, hint = fit_data_limit(fit)
     return {"model_misfit": flag(fit_blames_model(fit)), "data_limit_note": limit, "data_limit_hint": hint, "uneven_noise": flag(fit_uneven_noise(fit)),
-            "misfit_note": fit_blaming_note(fit) if fit.misfit_note is None else fit.misfit_note}
+            "misfit_note": fit_blaming_note(fit) if fit.misfit_note is None else fit.misfit_note, "sigma_residual_notes": list(fit_sigma_residual_notes(fit))}
 
 
 def stored_note_values(attrs) -> dict:
@@ -1335,7 +1354,7 @@ def stored_note_values(attrs) -> dict:
         return kind(attrs[key]) if key in attrs else None
 
     return {"model_misfit": known("model_misfit", bool), "data_limit_note": known("data_limit_note", str), "data_limit_hint": str(attrs.get("data_limit_hint", "")),
-            "misfit_note": known("misfit_note", str), "uneven_noise": known("uneven_noise", bool)}
+            "misfit_note": known("misfit_note", str), "uneven_noise": known("uneven_noise", bool), "sigma_residual_notes": known("sigma_residual_notes", stored_notes)}
 
 
 def fit_data_limit(fit) -> tuple[str, str]:
@@ -1359,6 +1378,18 @@ def fit_uneven_noise(fit) -> bool:
     words."""
     flag = getattr(fit, "uneven_noise", None)
     return any(UNEVEN_NOISE_NOTE in w for w in fit.warnings) if flag is None else bool(flag)
+
+
+def fit_sigma_residual_notes(fit) -> tuple[str, ...]:
+    """``fit``'s warnings that read residuals below the data's σ, or uneven against it, as what σ
+    is or a σ misstating the noise (`sigma_scale_notes`, `uneven_residual_notes` under σ
+    weighting): its ``sigma_residual_notes``, set where the notes are made, or, where that is not
+    known (None: a fit built by hand, a file written without it), those holding
+    `SIGMA_OVERSTATES_WORDS`, `SIGMA_OF_TRIAL_MEANS_WORDS` or `SIGMA_BAND_WORDS`, by their words."""
+    notes = getattr(fit, "sigma_residual_notes", None)
+    if notes is None:
+        return tuple(w for w in fit.warnings if any(words in w for words in (SIGMA_OVERSTATES_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_BAND_WORDS)))
+    return tuple(w for w in notes if w in fit.warnings)
 
 
 def fit_blaming_note(fit) -> str:
@@ -2106,6 +2137,7 @@ def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
     *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None, starts_words: str | None = None,
     model_misfit: bool | None = None, data_limit: tuple[str, str] | None = None, uneven_noise: bool | None = None, misfit_note: str | None = None,
+    sigma_residual_notes: tuple[str, ...] | None = None,
 ) -> FitResult:
     """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
     ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
@@ -2121,7 +2153,9 @@ def fit_result(
     ``limits_out``; None: not known), `FitResult.data_limit_note` and ``data_limit_hint``.
     ``uneven_noise``: whether ``extra_notes`` hold `uneven_residual_notes`' note (None: not
     known), `FitResult.uneven_noise`. ``misfit_note``: the note of ``extra_notes`` that
-    `misfit_notes` made, "" none (None: not known), `FitResult.misfit_note`."""
+    `misfit_notes` made, "" none (None: not known), `FitResult.misfit_note`.
+    ``sigma_residual_notes``: the notes of ``extra_notes`` of residuals below σ or uneven against
+    it (`data_notes`' ``sigma_out``; None: not known), `FitResult.sigma_residual_notes`."""
     names = table.names
     free_names = table.free_names
     x = out.x
@@ -2218,4 +2252,5 @@ def fit_result(
         data_limit_hint="" if data_limit is None else data_limit[1],
         uneven_noise=uneven_noise,
         misfit_note=misfit_note,
+        sigma_residual_notes=sigma_residual_notes,
     )

@@ -219,12 +219,13 @@ def fit(
     blamed: list[bool] = []  # (whether the misfit note blames the model: `FitResult.model_misfit`)
     limits: list[tuple[str, str]] = []  # (its note that the data limit it and its sign hint: `FitResult.data_limit_note`)
     uneven: list[bool] = []  # (whether its residuals are uneven across the band: `FitResult.uneven_noise`)
+    sigma_residual: list[tuple[str, ...]] = []  # (its notes of residuals below σ or uneven against it: `FitResult.sigma_residual_notes`)
     (notes,) = data_notes(freq, z[None], np.asarray(out.z_model)[None], None if sigma is None else sigma[None], weighting, source, kk_chains,
-                          remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size), blamed_out=blamed, limits_out=limits, uneven_out=uneven)
+                          remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size), blamed_out=blamed, limits_out=limits, uneven_out=uneven, sigma_out=sigma_residual)
     misfit = misfits[0]
     result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im),
                         starts_words=starts_words(table, n_starts, used, guess_words, at_limits, limit_draw_count(circuit, table, registry, n_starts)), model_misfit=blamed[0], data_limit=limits[0], uneven_noise=uneven[0],
-                        misfit_note=misfit[0] if misfit else "")
+                        misfit_note=misfit[0] if misfit else "", sigma_residual_notes=sigma_residual[0])
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_chains.misfit(0), weighting=weighting, fit=fit, attrs=data.attrs)
     if checked != misfit:
