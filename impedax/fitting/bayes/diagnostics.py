@@ -21,7 +21,7 @@ from ..reductions import reducing_bounds, series_shorts
 
 __all__ = [
     "CHAIN_TAU_MULTIPLE", "ACCEPTANCE_STUCK", "GAUSSIAN_ACCEPTANCE", "CORRELATION_WARNING", "EDGE_BAND", "EDGE_DENSITY", "EDGE_MIN_DRAWS",
-    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "short_advice", "reducing_bounds", "user_bound_sides", "circuit_name", "PiledUp",
+    "INTERVAL_RATIO_WARNING", "CORRELATION_ADVICE", "StrongCorrelation", "strong_correlations", "integrated_autocorr", "flat_acceptance", "acceptance_ceiling", "hdi", "chain_warnings", "PriorEdges", "prior_edges", "short_advice", "reducing_bounds", "user_bound_sides", "circuit_name", "WalkerDraws", "PiledUp",
     "acceptance_warnings", "interval_warnings", "tied_to_bound", "figure", "STRAGGLER_LOG_PROB_GAP", "Stragglers", "NO_STRAGGLERS", "find_stragglers", "straggler_warnings", "walkers_text", "kept_walkers",
 ]
 
@@ -536,6 +536,66 @@ def circuit_name(name: str) -> str:
     """The circuit parameter of a sampled name: a joint posterior's per-spectrum ``R2[cycle=64]``
     → ``R2``; any other name (``R2``, ``u``, ``sigma_rel``) is its own."""
     return name.split("[")[0]
+
+
+class WalkerDraws:
+    """The views of an emcee run's draws shared by `Posterior` and `SharedPosterior` (they hold
+    ``circuit``, ``names``, ``log_scale``, ``draws`` (walker, draw, param), ``acceptance`` and
+    ``settings``): sizes, flat samples, the acceptance, τ, the effective sample size, whether the
+    chain is long enough, and the strongly correlated pairs."""
+
+    @property
+    def model(self) -> str:
+        return str(self.circuit)
+
+    @property
+    def n_walkers(self) -> int:
+        return int(self.draws.shape[0])
+
+    @property
+    def n_draws(self) -> int:
+        return int(self.draws.shape[1])
+
+    @property
+    def samples(self) -> dict[str, np.ndarray]:
+        """Flat draws (after burn and thin) by sampled-parameter name."""
+        flat = self.draws.reshape(-1, len(self.names))
+        return {n: flat[:, i] for i, n in enumerate(self.names)}
+
+    @property
+    def mean_acceptance(self) -> float:
+        return float(np.mean(self.acceptance))
+
+    @functools.cached_property
+    def _sampled_space(self) -> np.ndarray:
+        return np.where(np.asarray(self.log_scale), np.log(np.where(np.asarray(self.log_scale), self.draws, 1.0)), self.draws)
+
+    @functools.cached_property
+    def autocorr(self) -> dict[str, float]:
+        """Integrated autocorrelation time per parameter [sampler steps] (emcee, tol=0); NaN when
+        the chain is too short to estimate it (`integrated_autocorr`)."""
+        tau = integrated_autocorr(self._sampled_space) * self.settings.get("thin", 1)
+        return {n: float(t) for n, t in zip(self.names, tau)}
+
+    @functools.cached_property
+    def ess(self) -> dict[str, float]:
+        """Effective sample size per parameter: walkers × draws / τ (τ in stored draws, ≥ 1)."""
+        tau = np.maximum(integrated_autocorr(self._sampled_space), 1.0)
+        return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
+
+    @property
+    def chain_converged(self) -> bool:
+        """Whether the kept chain is at least `CHAIN_TAU_MULTIPLE` autocorrelation times long for
+        every parameter (τ known for all)."""
+        tau = np.asarray([self.autocorr[n] for n in self.names], float) / self.settings.get("thin", 1)
+        return bool(np.all(np.isfinite(tau)) and self.n_draws >= CHAIN_TAU_MULTIPLE * max(float(np.max(tau)), 1.0))
+
+    @functools.cached_property
+    def strong_correlations(self) -> tuple[StrongCorrelation, ...]:
+        """The pairs of sampled parameters the correlation warnings name, as data: names and
+        Pearson's r in the sampled space (`diagnostics.strong_correlations` of the draws the
+        warnings read; each warning is the pair's `StrongCorrelation.warning`)."""
+        return strong_correlations(self.names, self.log_scale, self._sampled_space)
 
 
 class PiledUp:

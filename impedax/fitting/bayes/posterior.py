@@ -29,7 +29,7 @@ from ..least_squares.result import bounds_attr, note_value_attrs, shown_stderr, 
 from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
 from .evidence import EvidenceDoubt, WaicDoubt, evidence_doubt_of_notes, model_comparison_notes_of, short_chain_waic_note, waic_doubts
-from .diagnostics import CHAIN_TAU_MULTIPLE, NO_STRAGGLERS, PiledUp, StrongCorrelation, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, strong_correlations, tied_to_bound, walkers_text
+from .diagnostics import NO_STRAGGLERS, PiledUp, WalkerDraws, Stragglers, chain_warnings, draws_table, figure, interval_warnings, kept_walkers, straggler_warnings, tied_to_bound, walkers_text
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel
 from .priors import Prior
 from .reparam import Reparametrization, implausible_gap_notes, rebuild
@@ -137,7 +137,7 @@ DERIVED_FROM_UNDETERMINED = "its interval shows where the priors take over, not 
 
 
 @dataclass(frozen=True, eq=False)
-class Posterior(PiledUp, FrozenResult):
+class Posterior(WalkerDraws, PiledUp, FrozenResult):
     """Draws from the posterior of a circuit's parameters given one spectrum. Immutable.
 
     ``draws`` (walker, draw, param) are natural values of the sampled parameters ``names``
@@ -193,46 +193,6 @@ class Posterior(PiledUp, FrozenResult):
             object.__setattr__(self, "registry", DEFAULT_REGISTRY)
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
-    # -- basic views ----------------------------------------------------------------------
-    @property
-    def model(self) -> str:
-        return str(self.circuit)
-
-    @property
-    def n_walkers(self) -> int:
-        return int(self.draws.shape[0])
-
-    @property
-    def n_draws(self) -> int:
-        return int(self.draws.shape[1])
-
-    @property
-    def samples(self) -> dict[str, np.ndarray]:
-        """Flat draws (after burn and thin) by sampled-parameter name."""
-        flat = self.draws.reshape(-1, len(self.names))
-        return {n: flat[:, i] for i, n in enumerate(self.names)}
-
-    @property
-    def mean_acceptance(self) -> float:
-        return float(np.mean(self.acceptance))
-
-    @functools.cached_property
-    def _sampled_space(self) -> np.ndarray:
-        return np.where(np.asarray(self.log_scale), np.log(np.where(np.asarray(self.log_scale), self.draws, 1.0)), self.draws)
-
-    @functools.cached_property
-    def autocorr(self) -> dict[str, float]:
-        """Integrated autocorrelation time per parameter [sampler steps] (emcee, tol=0); NaN when
-        the chain is too short to estimate it (`integrated_autocorr`)."""
-        tau = integrated_autocorr(self._sampled_space) * self.settings.get("thin", 1)
-        return {n: float(t) for n, t in zip(self.names, tau)}
-
-    @functools.cached_property
-    def ess(self) -> dict[str, float]:
-        """Effective sample size per parameter: walkers × draws / τ (τ in stored draws, ≥ 1)."""
-        tau = np.maximum(integrated_autocorr(self._sampled_space), 1.0)
-        return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
-
     @functools.cached_property
     def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """(lower, upper) bounds of the sampled parameters: the user's (``user_bounds``), else the
@@ -243,13 +203,6 @@ class Posterior(PiledUp, FrozenResult):
         natural = {n: (s.lower, s.upper) for n, s in specs.items()} | physical
         pairs = [self.user_bounds.get(n, natural.get(n, (0.0, math.inf))) for n in self.names]
         return tuple(float(lo) for lo, _ in pairs), tuple(float(hi) for _, hi in pairs)
-
-    @property
-    def chain_converged(self) -> bool:
-        """Whether the kept chain is at least `CHAIN_TAU_MULTIPLE` autocorrelation times long for
-        every parameter (τ known for all)."""
-        tau = np.asarray([self.autocorr[n] for n in self.names], float) / self.settings.get("thin", 1)
-        return bool(np.all(np.isfinite(tau)) and self.n_draws >= CHAIN_TAU_MULTIPLE * max(float(np.max(tau)), 1.0))
 
     @property
     def waic_note(self) -> str:
@@ -286,13 +239,6 @@ class Posterior(PiledUp, FrozenResult):
         out.extend(implausible_gap_notes(self.reparametrization, {n: float(np.median(self.draws[..., i])) for i, n in enumerate(self.names)}))
         out.extend(self.notes)
         return tuple(out)
-
-    @functools.cached_property
-    def strong_correlations(self) -> tuple[StrongCorrelation, ...]:
-        """The pairs of sampled parameters the correlation warnings name, as data: names and
-        Pearson's r in the sampled space (`diagnostics.strong_correlations` of the draws the
-        warnings read; each warning is the pair's `StrongCorrelation.warning`)."""
-        return strong_correlations(self.names, self.log_scale, self._sampled_space)
 
     def _interval_warnings(self) -> list[str]:
         """`interval_warnings` for the sampled circuit parameters free in the start fit."""

@@ -41,7 +41,7 @@ from ..least_squares.result import parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
 from ..frozen import FrozenResult, freeze_fields
-from .diagnostics import NO_STRAGGLERS, PiledUp, circuit_name, Stragglers, chain_warnings, draws_table, figure, integrated_autocorr, interval_warnings, kept_walkers, straggler_warnings, tied_to_bound, walkers_text
+from .diagnostics import NO_STRAGGLERS, PiledUp, WalkerDraws, circuit_name, Stragglers, chain_warnings, draws_table, figure, interval_warnings, kept_walkers, straggler_warnings, tied_to_bound, walkers_text
 from ..stored import StoredProgram
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting, walkers_log_prob
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
@@ -111,7 +111,7 @@ def _log_prob_functions(st: _Structure):
 
 
 @dataclass(frozen=True, eq=False)
-class SharedPosterior(PiledUp, FrozenResult):
+class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
     """Draws from the joint posterior of a global fit. Immutable.
 
     ``names`` are the sampled parameters: the ``shared`` ones, then every other free parameter
@@ -146,52 +146,10 @@ class SharedPosterior(PiledUp, FrozenResult):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
-    def model(self) -> str:
-        return str(self.circuit)
-
-    @property
     def fixed(self) -> dict[str, float]:
         """The parameters held fixed (name → value), as the start fit holds them."""
         ds = self.fit.dataset
         return {str(n): float(ds["value"].sel(param=n).values.ravel()[0]) for n in ds["param"].values if bool(ds["fixed"].sel(param=n))}
-
-    @property
-    def n_walkers(self) -> int:
-        return int(self.draws.shape[0])
-
-    @property
-    def n_draws(self) -> int:
-        return int(self.draws.shape[1])
-
-    @property
-    def samples(self) -> dict[str, np.ndarray]:
-        """Flat draws (after burn and thin) by sampled-parameter name."""
-        flat = self.draws.reshape(-1, len(self.names))
-        return {n: flat[:, i] for i, n in enumerate(self.names)}
-
-    @property
-    def mean_acceptance(self) -> float:
-        return float(np.mean(self.acceptance))
-
-    @functools.cached_property
-    def _sampled_space(self) -> np.ndarray:
-        log_scale = np.asarray(self.log_scale)
-        return np.where(log_scale, np.log(np.where(log_scale, self.draws, 1.0)), self.draws)
-
-    @functools.cached_property
-    def autocorr(self) -> dict[str, float]:
-        """Integrated autocorrelation time per parameter [sampler steps]."""
-        tau = integrated_autocorr(self._sampled_space) * self.settings.get("thin", 1)
-        return {n: float(t) for n, t in zip(self.names, tau)}
-
-    @functools.cached_property
-    def ess(self) -> dict[str, float]:
-        """Effective sample size per parameter: walkers × draws / τ (τ in stored draws, ≥ 1)."""
-        tau = np.maximum(integrated_autocorr(self._sampled_space), 1.0)
-        return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
-
-    chain_converged = Posterior.chain_converged  # (the same rule as a single spectrum's)
-    strong_correlations = Posterior.strong_correlations  # (the correlation warnings' pairs and r, as a single spectrum's)
 
     @functools.cached_property
     def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
