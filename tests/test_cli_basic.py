@@ -217,7 +217,7 @@ def test_info_table_writes_units_as_symbols(capsys):
     ["simulate", "R0 + R1 || C1", "--param=R0=10", "R1=1k", "--param", "C1=1u", "--points", "5"],
 ])
 def test_several_name_value_after_one_param(capsys, argv):
-    """The README's `--param NAME=VALUE ...`: several values after one --param, as repeated
+    """docs/cli.md's `--param NAME=VALUE ...`: several values after one --param, as repeated
     --param. Oracle: R0 + R1/(1 + jωR1C1) written out."""
     assert main(argv) == 0
     rows = np.array([[float(v) for v in ln.split(",")] for ln in capsys.readouterr().out.strip().splitlines()[1:]])

@@ -1,7 +1,8 @@
 """What a tour of the command line found, each with the case that showed it:
 
 - the Ivium reader claimed any text that mentions its keys (a CSV whose comment says
-  ``Technique=EIS, Solarcell=no``, the README): it now wants its key lines at line starts;
+  ``Technique=EIS, Solarcell=no``, or a page such as docs/io.md whose table of formats names
+  them): it now wants its key lines at line starts;
 - errors named Python arguments (``fixed:``, ``init:``, ``max_rc``, ``c``) where the command
   line has options (``--fix``, ``--init``, ``--max-rc``, ``--c``); ``--fix CPE1.a`` suggested
   CPE1.Q, ``--param r1`` nothing; ``--points`` said "at least 1" and refused 1; ``simulate``

@@ -83,7 +83,7 @@ def test_other_tools_names_of_a_parameter_are_hinted(data, typed, meant):
 
 
 def test_sample_given_a_progress_callback_hands_it_the_lines(data):
-    """The README says a long call's stages go to ``progress=print``: `fit`, `diagnose` and
+    """docs/cli.md ("From Python") says a long call's stages go to ``progress=print``: `fit`, `diagnose` and
     `refine` take a callback, and `sample` refused one ("progress must be True or False, got
     <built-in function print>", then a message naming the functions that take one); since
     2026-12-06 it takes one as they do (tests/test_sample_progress_like_fit.py)."""

@@ -445,7 +445,7 @@ def test_bad_shared_arguments_are_caught_before_the_progress_line(problem):
         ix.fit("R0 + R1 || C1", problem[0], shared=["R9"], progress=lines.append)
     with pytest.raises(ix.ParameterError, match="'session' is not a dimension"):
         ix.fit("R0 + R1 || C1", problem[0], shared=["R0"], over="session", progress=lines.append)
-    assert lines == []  # (the README: inputs are checked before any work; "fitting … together" came first until 2026-12-02)
+    assert lines == []  # (docs/cli.md, "From Python": inputs are checked before any work; "fitting … together" came first until 2026-12-02)
 
 
 def test_a_global_fit_per_group_names_its_groups_in_the_grouped_warning_line():
