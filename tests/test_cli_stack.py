@@ -208,6 +208,41 @@ def test_stack_refuses_a_file_of_several_spectra_and_a_wrong_count_of_coords(day
     assert not (tmp_path / "again.nc").exists()
 
 
+# the name of the new dimension: one rule, one message, in Python and on the command line
+# (docs/io.md, "Several files as one series"); the reasons below are written by hand from the rule
+REFUSED_DIMENSION_NAMES = [
+    ("a b", "' ' cannot stand in it"), ("a=b", "'=' cannot stand in it"), ("a,b", "',' cannot stand in it"),
+    ("-x", "'-' cannot lead it"), ("0", "'0' cannot lead it"), ("1e3", "'1' cannot lead it"),
+    ("_a", "'_' cannot lead it (netCDF keeps names led by '_' for its own)"),
+    ("nan", "it reads as a number"), ("Infinity", "it reads as a number"),
+    ("½", "'½' (U+00BD) cannot stand in it"), ("température", "'é' (U+00E9) cannot stand in it"), ("温度", "'温' (U+6E29), '度' (U+5EA6) cannot stand in it"),
+    ("class", "it is a Python keyword"), ("None", "it is a Python keyword"),
+    ("a" * 257, "its 257 characters are more than netCDF's 256"),
+]
+
+
+@pytest.mark.parametrize("dim, reason", REFUSED_DIMENSION_NAMES, ids=[d[:12] for d, _ in REFUSED_DIMENSION_NAMES])
+def test_a_dimension_name_is_refused_alike_by_stack_files_and_impedax_stack(days, tmp_path, capsys, dim, reason):
+    paths, _ = days
+    with pytest.raises(ValueError) as info:
+        ix.stack_files(paths, dim=dim)
+    message = str(info.value)
+    assert isinstance(info.value, ix.ParameterError) and message.startswith(f"dim: {dim!r}"[:60]) and reason in message, message
+    out = tmp_path / "s.nc"
+    code, printed, err = run(["stack", *paths, f"--dim={dim}", "--out", out], capsys)
+    assert (code, printed, err) == (2, "", f"impedax stack: error: --{message}\n") and not out.exists()
+
+
+@pytest.mark.parametrize("dim", ["day", "cell_2", "cell_2.v-1", "Day3", "x" * 256])
+def test_a_dimension_name_of_the_rule_names_the_series_and_selects_it(days, tmp_path, dim):
+    paths, zs = days
+    series = ix.stack_files(paths, dim=dim, coords=[1, 2, 3])
+    assert series["Z"].dims == (dim, "frequency")
+    np.testing.assert_allclose(series.sel({dim: 2})["Z"].values, zs[1], rtol=1e-15)
+    ix.save(series, tmp_path / "s.nc")
+    assert ix.load(tmp_path / "s.nc")["Z"].dims == (dim, "frequency")
+
+
 def test_a_folder_names_stack(tmp_path, capsys):
     code, _, err = run(["kk", tmp_path], capsys)
     assert code == 2 and "is a directory, not a spectrum file (its files of one spectrum each join into one series with impedax stack" in err

@@ -742,6 +742,8 @@ API_CASES = [
     ("stack-files-empty", "stack_files", lambda s: ix.stack_files([]), P, "paths is empty"),
     ("stack-files-dim-frequency", "stack_files", lambda s: ix.stack_files(["a.csv"], dim="frequency"), P, "'frequency' is every spectrum's own dimension"),
     ("stack-files-dim-number", "stack_files", lambda s: ix.stack_files(["a.csv"], dim=3), P, "dim must be the name of the new dimension"),
+    ("stack-files-dim-blank", "stack_files", lambda s: ix.stack_files(["a.csv"], dim="a b"), P, "dim: 'a b' cannot name a dimension: ' ' cannot stand in it"),
+    ("stack-files-dim-nan", "stack_files", lambda s: ix.stack_files(["a.csv"], dim="nan"), P, "dim: 'nan' cannot name a dimension: it reads as a number"),
     ("stack-files-coords-count", "stack_files", lambda s: ix.stack_files(["a.csv", "b.csv"], coords=[1]), P, "coords: 1 label for 2 files"),
     ("stack-files-coords-repeated", "stack_files", lambda s: ix.stack_files(["a.csv", "b.csv"], coords=[1, 1.0]), P, "the label 1 is given twice"),
     ("stack-files-missing-file", "stack_files", lambda s: ix.stack_files(["no/such/file.csv"]), D, "file not found"),

@@ -5,7 +5,6 @@ netCDF over a new dimension, which ``impedax fit OUT.nc --model ...`` fits as a 
 
 from __future__ import annotations
 
-import re
 import sys
 
 
@@ -24,7 +23,7 @@ def register(sub) -> None:
         "one frequency grid (within 0.1 %), or, with --common-frequencies, the frequencies every file has are kept and the rest left out. Labels along NAME: --coords, else the file names without extension.",
     )
     p.add_argument("files", nargs="+", metavar="FILE", help=data_help("spectrum files, one spectrum each (or each over the same dimensions), in the order of the series"))
-    p.add_argument("--dim", default="file", metavar="NAME", help="name of the new dimension (default: file), e.g. day: letters, digits, _, - and .")
+    p.add_argument("--dim", default="file", metavar="NAME", help="name of the new dimension (default: file), e.g. day: an ASCII letter, then letters, digits, _, - and .; no Python keyword, nan or inf")
     p.add_argument("--coords", nargs="+", metavar="V", help="one label per FILE, in order: numbers when every one reads as a number (1 2 3, 0.5 1.5), else text; default: the file names without extension (day01)")
     p.add_argument("--common-frequencies", action="store_true",
                    help="files whose grids differ (a point skipped in one sweep): keep the frequencies every file has (within 0.1 %%) and leave out the rest, "
@@ -35,34 +34,16 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
-# what --select DIM=LABEL (split at the first '=', blanks around DIM stripped), --over DIM and
-# --plot-x DIM read whole as a dimension's name: letters, digits, '_', '-' and '.', not led by
-# '-' (argparse would take "-x=1" for an option)
-DIMENSION_NAME = re.compile(r"[\w.][\w.-]*")
-
-
-def check_dimension_name(dim: str) -> None:
-    """`ParameterError` naming the characters of ``--dim`` that `DIMENSION_NAME` leaves out."""
-    from ..errors import ParameterError
-
-    if not dim or DIMENSION_NAME.fullmatch(dim):
-        return  # (an empty name: stack_files' own message)
-    bad = sorted({c for c in dim if not re.fullmatch(r"[\w.-]", c)}, key=dim.index)
-    said = f"{', '.join(repr(c) for c in bad)} cannot stand in" if bad else "'-' cannot lead"
-    raise ParameterError(f"--dim {dim!r}: {said} a dimension's name, which --select NAME=LABEL, --over and --plot-x read whole; "
-                         "use letters, digits, '_', '-' and '.', not starting with '-' (e.g. day, cell_2)")
-
-
 def run(args) -> int:
     from pathlib import Path
 
     from ..data import counted, format_frequency
     from ..errors import DataError
     from ..io.loader import NETCDF_SUFFIXES
-    from ..io.stack import stack_files
+    from ..io.stack import check_dimension_name, stack_files
     from .common import command_provenance, data_source, emit_json, labels_text, plan_outputs, spectrum_summary, spectrum_writer, with_source
 
-    check_dimension_name(args.dim)
+    check_dimension_name(args.dim)  # (before --out is planned; stack_files' own check, one message in Python and here)
     if Path(args.out).suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(f"--out: a stack of spectra is written as netCDF: give a {', '.join(NETCDF_SUFFIXES)} name (a CSV file holds one spectrum)", path=args.out)
     outputs = plan_outputs([("--out", args.out, "spectrum")], inputs=args.files)

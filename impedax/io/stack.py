@@ -4,8 +4,10 @@ dimension, which `impedax.fit` then fits as a batch (docs/io.md, "Several files 
 
 from __future__ import annotations
 
+import keyword
 import math
 import os
+import re
 from pathlib import Path
 from typing import Sequence
 
@@ -20,7 +22,7 @@ from .provenance import PROVENANCE_ATTRS
 from .loader import STDIN, STDIN_NAME, load
 from .table import SWEEP_RTOL
 
-__all__ = ["stack_files", "stack_labels"]
+__all__ = ["stack_files", "stack_labels", "check_dimension_name", "DIMENSION_NAME"]
 
 
 STDIN_LABEL = "stdin"
@@ -42,6 +44,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     that differ between them are kept labelled (``day01: ...; day02: ...``); the readers' records
     of the columns they read (``attrs["columns"]``) are kept as one when the files agree, else
     each file's in ``attrs["columns_by_file"]`` (file path → record).
+    ``dim``: a name `check_dimension_name` takes (``day``, ``cell_2``).
     Raises `ParameterError` for bad ``dim``/``coords`` and `DataError` naming the file that cannot
     join (missing, unreadable, other dimensions or labels than the first file's, already over
     ``dim``, another grid, sigma in some files only).
@@ -66,6 +69,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
             raise ParameterError(f"paths: item {i + 1} of {len(paths)} is not a file name: {shown(path)} ({type(path).__name__})")
     if not isinstance(dim, str) or not dim.strip():
         raise ParameterError(f"dim must be the name of the new dimension (text, e.g. 'day'), got {shown(dim)}")
+    check_dimension_name(dim)
     if dim == "frequency":
         raise ParameterError("dim: 'frequency' is every spectrum's own dimension; name the new one otherwise, e.g. 'day'")
     if dim in ("Z", "sigma"):  # (Z ended in xarray's ValueError, sigma in make_spectrum's words on sigma's shape)
@@ -118,6 +122,63 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         if d in first.coords:
             stacked[d].attrs = dict(first[d].attrs)
     return stacked
+
+
+DIMENSION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_.-]*")
+"""The names `stack_files` gives a new dimension: an ASCII letter, then ASCII letters, digits,
+``_``, ``-`` and ``.``, which ``--select NAME=LABEL`` (split at the first ``=``), ``--over`` and
+``--plot-x`` read whole, and netCDF stores as they are. Left out: blanks, ``=``, ``,``, ``/``
+and the like (``--select`` would split the name, netCDF refuses ``/``); a leading ``-`` (an
+option to argparse), digit (``0``, ``1e3``: a number, which ``ds.sel(0=...)`` cannot take) or
+``_`` (netCDF keeps names led by ``_`` for its own); any other character (``é``, ``½``, ``Ω``):
+netCDF names are UTF-8, and the netCDF3 writer impedax uses (scipy's) stores each character of
+a name as one byte, ``é`` as a byte that is no UTF-8 text and ``Ω`` not at all."""
+
+NAME_CHARACTERS_MAX = 256
+"""The longest name netCDF's library reads (its ``NC_MAX_NAME``)."""
+
+
+def check_dimension_name(dim: str) -> None:
+    """`ParameterError` (a ValueError) naming ``dim`` and what in it a dimension's name may not
+    hold, unless it matches `DIMENSION_NAME`, is no Python keyword (``class``, ``None``:
+    ``ds.sel(class=...)`` is a syntax error) nor a word that reads as a number (``nan``, ``inf``,
+    ``infinity`` in any case), and has at most `NAME_CHARACTERS_MAX` characters. An empty or
+    non-text ``dim`` is `stack_files`' to refuse; ``frequency``, ``Z`` and ``sigma`` too."""
+    if not isinstance(dim, str) or not dim or DIMENSION_NAME.fullmatch(dim) and not _reserved_word(dim) and len(dim) <= NAME_CHARACTERS_MAX:
+        return
+    bad = sorted({c for c in dim if not re.fullmatch(r"[A-Za-z0-9_.-]", c)}, key=dim.index)
+    if bad:
+        listed = ", ".join(_character(c) for c in bad[:3]) + (f", … ({len(bad)} characters)" if len(bad) > 3 else "")
+        said = f"{listed} cannot stand in it" + (" (netCDF reads names as UTF-8, which impedax's netCDF3 writer writes for ASCII only)" if any(not c.isascii() for c in bad) else "")
+    elif not re.fullmatch(r"[A-Za-z]", dim[0]):
+        said = f"{dim[0]!r} cannot lead it" + (" (netCDF keeps names led by '_' for its own)" if dim[0] == "_" else "")
+    elif len(dim) > NAME_CHARACTERS_MAX:
+        said = f"its {len(dim)} characters are more than netCDF's {NAME_CHARACTERS_MAX}"
+    else:
+        said = _reserved_word(dim)
+    raise ParameterError(f"dim: {_name(dim)} cannot name a dimension: {said}; name it with an ASCII letter, then letters, digits, '_', '-' or '.' "
+                         "(e.g. day, cell_2), no Python keyword, nan or inf")
+
+
+def _reserved_word(name: str) -> str:
+    """What ``name`` means to Python or to a reader of numbers (``float``), or "" if nothing."""
+    if keyword.iskeyword(name):
+        return f"it is a Python keyword (ds.sel({name}=...) is a syntax error)"
+    if _number(name) is not None or name.lower() in ("nan", "inf", "infinity"):
+        return f"it reads as a number (float({name!r}) is {float(name)!r})"
+    return ""
+
+
+def _character(c: str) -> str:
+    """One character of a name as the message shows it: quoted, escaped when invisible, with
+    its code point when it is not ASCII."""
+    return repr(c) if c.isascii() else f"{c!r} (U+{ord(c):04X})"
+
+
+def _name(name: str, limit: int = 60) -> str:
+    """``name`` quoted (invisible characters escaped), cut to ``limit`` characters."""
+    text = repr(name)
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def _refuse_repeated(paths: Sequence) -> None:
