@@ -107,9 +107,19 @@ class RefinementStep(FrozenResult):
             return f"+ {self.added} [{self.effect}]" + (f", − {', '.join(self.removed)}" if self.removed else "")
         return f"− {', '.join(self.removed)} [simplified]" if self.removed else "(start)"
 
+    @property
+    def band(self) -> tuple[float, float]:
+        """The lowest and highest frequency [Hz] of the points the step's fit used (its
+        diagnosis judged it on them): after a start again on the band the KK test passes
+        (`_on_valid_band`) every step's, step 0's too, is that band, narrower than the data's."""
+        f = self.fit.frequency
+        return float(np.min(f)), float(np.max(f))
+
     def as_json(self) -> dict:
         return {"model": self.model, "rms_rel": self.fit.rms_rel, "aic": self.fit.aic, "added": self.added, "effect": self.effect, "bic": self.fit.bic, "chi2_red": self.fit.chi2_red, "verdict": self.diagnosis.verdict if self.diagnosis else None, "removed": list(self.removed), "same_fit": list(self.same_fit), "where": self.where or None, "removal_reasons": self.removal_reasons, "vanished": list(self.vanished),
-                "noise_ratio": self.noise_ratio}  # (the table's ×noise column)
+                "noise_ratio": self.noise_ratio,  # (the table's ×noise column)
+                # the points the step's fit used: their band [Hz] and number (a start again on the KK band narrows step 0's too)
+                "band_hz": list(self.band), "n_points": int(self.fit.frequency.size)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,6 +139,10 @@ class Refinement(FrozenResult):
     # from it (`_diagnose_verdict_words`), None when it does not or differs as refine's purpose
     diagnose_verdict: Verdict | None = None
     diagnose_note: str | None = None
+    # refine started again on the band the KK test passes (`_on_valid_band`): that band [Hz], the
+    # points in it and the points of the data left out, and why (its note, the first of ``notes``);
+    # None when every step is on the data refine was given
+    restart: Mapping | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "verdict", Verdict(self.verdict))
@@ -229,6 +243,9 @@ class Refinement(FrozenResult):
             # what diagnose of the same data, model and options says (refine's first diagnosis on every point), and the
             # report's sentence on why "verdict" differs from it, or null (`_diagnose_verdict_words`)
             "diagnose_verdict": self.diagnose_verdict, "diagnose_verdict_note": self.diagnose_note,
+            # refine started again on the band the KK test passes: {"band_hz", "n_points_kept", "n_points_left_out", "reason"},
+            # the band every step (step 0 too) is on; null when the steps are on the data refine was given
+            "restart": None if self.restart is None else dict(self.restart),
         }
 
     @property
@@ -276,6 +293,17 @@ class Refinement(FrozenResult):
         return (f"(that ΔAIC, {best.delta_aic:.1f}, is the ranking's, over the residuals divided by the noise, on which refine decides every step; "
                 f"between the fits' own AICs under {base.weighting} weighting, as in the table, adding {best.effect} is ΔAIC {own:.1f}: {base.aic:.1f} → {best.fit.aic:.1f})")
 
+    @property
+    def restart_line(self) -> str:
+        """The report's line, under the table, that every step (step 0 too) is on the band refine
+        started again on (`restart`), not on all the points `diagnose` judges; empty when it did not."""
+        if self.restart is None:
+            return ""
+        lo, hi = self.restart["band_hz"]
+        kept, left = self.restart["n_points_kept"], self.restart["n_points_left_out"]
+        return (f"every step, step 0 too, is on {format_frequency(lo)} – {format_frequency(hi)} ({kept} of {kept + left} points): "
+                "refine started again where the KK test passes (the first note says why)")
+
     def table(self) -> str:
         """One row per step: rms_rel, AIC, the residuals against the noise its verdict was judged
         on (``×noise``, `RefinementStep.noise_ratio`: whether a step's gain is beyond the noise)
@@ -290,7 +318,10 @@ class Refinement(FrozenResult):
     def report(self) -> str:
         first, last = self.steps[0].fit, self.final
         # (the weighting named, as fit, diagnose and compare name it)
-        lines = [f"refinement of {first.model} under {first.weighting} weighting (rms_rel and AIC of each step's fit)", self.table(), ""]
+        lines = [f"refinement of {first.model} under {first.weighting} weighting (rms_rel and AIC of each step's fit)", self.table()]
+        if self.restart is not None:
+            lines.append(self.restart_line)
+        lines.append("")
         if len(self.steps) > 1:
             before, after = f"{first.rms_rel * 100:.3g}", f"{last.rms_rel * 100:.3g}"
             # (a step that only simplified leaves rms_rel as it was: "fell from 1.4 % to 1.4 %" would read oddly)
@@ -1083,7 +1114,8 @@ def _on_valid_band(ds: xr.Dataset, band: xr.Dataset, steps: list[RefinementStep]
     start = again.steps[0].diagnosis
     measured = dict(zip(start.masked_points, start.masked_impedance)) | {float(x): complex(v) for x, v in zip(f, ds["Z"].values) if not lo <= x <= hi}
     first = replace(again.steps[0], diagnosis=replace(start, masked_points=masked, masked_impedance=tuple(measured[x] for x in masked)))
-    return Refinement((first,) + tuple(again.steps[1:]), again.verdict, (note,) + again.notes, masked, final_from_values=again.final_from_values), note
+    restart = {"band_hz": [float(lo), float(hi)], "n_points_kept": int(band.sizes["frequency"]), "n_points_left_out": len(outside), "reason": note}
+    return Refinement((first,) + tuple(again.steps[1:]), again.verdict, (note,) + again.notes, masked, final_from_values=again.final_from_values, restart=restart), note
 
 
 def _named_band_instead(ds: xr.Dataset, stop: Diagnosis, run_band: tuple[float, float]) -> tuple[float, float, xr.Dataset] | None:
