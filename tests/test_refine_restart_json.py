@@ -61,6 +61,8 @@ def test_refine_s_json_says_its_steps_are_on_the_band_it_started_again_on(tmp_pa
     assert summary["steps"][0]["verdict"] != d.verdict  # (why a program needs the keys: step 0 is another diagnosis)
     # (the decisions are the code's: the drifting points left out, the CPE taken, as the formula has)
     assert summary["masked_points"] == [pytest.approx(f) for f in F[25:]] and summary["final_model"] == "R0 + R1 || CPE1"
+    attrs = r.to_xarray().attrs  # (the .nc holds the band and the reason too)
+    assert list(attrs["restart_band_hz"]) == band and attrs["restart_reason"] == r.notes[0]
     lines = r.report().splitlines()
     assert lines[lines.index("") - 1] == ("every step, step 0 too, is on 10 Hz – 2.51 kHz (25 of 31 points): "
                                           "refine started again where the KK test passes (the first note says why)")
@@ -86,4 +88,5 @@ def test_a_refinement_on_the_data_it_was_given_has_no_restart_and_each_step_name
     r = Refinement((RefinementStep(fit, None, None, None),), "adequate")
     summary = r.summary()
     assert summary["restart"] is None and "refine started again" not in r.report()
+    assert list(r.to_xarray().attrs["restart_band_hz"]) == [] and r.to_xarray().attrs["restart_reason"] == ""
     assert summary["steps"][0]["band_hz"] == [pytest.approx(2.5e3), pytest.approx(2e5)] and summary["steps"][0]["n_points"] == 20

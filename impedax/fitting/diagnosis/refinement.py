@@ -393,7 +393,8 @@ class Refinement(FrozenResult):
         names prefixed ``final_fit_``, read back by `Refinement.final_fit_of`); the points every
         fit left out in ``masked_points_hz`` (the data's own problem: ``Z`` holds only the
         kept ones); ``impedax_kind`` "refinement"; ``diagnose_verdict`` and
-        ``diagnose_verdict_note`` as the JSON's ("" where null)."""
+        ``diagnose_verdict_note`` as the JSON's ("" where null); ``restart_band_hz`` and
+        ``restart_reason``, the JSON's ``restart`` band and reason ([] and "" where null)."""
         f = self.steps[0].fit.frequency
         z = self.steps[0].fit.z_data
         ds = xr.Dataset(
@@ -409,7 +410,8 @@ class Refinement(FrozenResult):
             },
             coords={"step": np.arange(len(self.steps)), "frequency": ("frequency", f, {"units": "Hz"})},
             attrs={"final_model": self.final_model, "verdict": str(self.verdict),
-                   "diagnose_verdict": "" if self.diagnose_verdict is None else str(self.diagnose_verdict), "diagnose_verdict_note": self.diagnose_note or ""},
+                   "diagnose_verdict": "" if self.diagnose_verdict is None else str(self.diagnose_verdict), "diagnose_verdict_note": self.diagnose_note or "",
+                   "restart_band_hz": [] if self.restart is None else list(self.restart["band_hz"]), "restart_reason": "" if self.restart is None else self.restart["reason"]},
         )
         ds = xr.merge([ds, embedded_fit(self.final, FINAL_FIT_PREFIX, f, z)], combine_attrs="no_conflicts")
         return ds.assign_attrs(impedax_kind="refinement", masked_points_hz=[float(x) for x in self.masked_points], notes=list(self.notes)).copy(deep=True)
