@@ -305,7 +305,7 @@ def nyquist_view(ax, z_data, *z_models, frequency=None, frame: tuple[float, floa
     data ``z_data`` (`nyquist_frame`: the model curves ``z_models`` widen it by at most
     `MODEL_OVERSHOOT` of the data's span, farther they run off; ``points``, complex Z drawn as
     data apart, masked points, are held inside as the data are); over ``frame`` when given, or
-    over all that is drawn with ``frame="drawn"``. For data with a capacitive tail beside the
+    over all that is drawn with ``frame="drawn"`` (its extent when called, the box narrowed to it). For data with a capacitive tail beside the
     model curves (`tail_frame`): zoomed on the structure with the tail marked (`mark_tail`,
     ``frequency`` [Hz] of the data when known). Every Nyquist panel of a single spectrum (fit,
     KK, DRT, diagnosis, refinement, comparison) is framed here: framed otherwise, equal scales
@@ -318,7 +318,10 @@ def nyquist_view(ax, z_data, *z_models, frequency=None, frame: tuple[float, floa
         if frame is None:
             held = np.concatenate([np.asarray(z_data, complex).ravel(), np.asarray(points, complex).ravel()])
             frame = nyquist_frame(held, *z_models)
-        equal_aspect(ax, frame=None if isinstance(frame, str) else frame)
+        elif isinstance(frame, str):  # (the extent of what is drawn as a frame: the box narrows to it, as to the data's, where
+            lim = ax.dataLim          # equal scales over the whole box ran REAL ZPlot's posterior to 920 Ω beside curves that end at 620 Ω)
+            frame = (lim.x0, lim.x1, lim.y0, lim.y1) if np.isfinite([lim.x0, lim.x1, lim.y0, lim.y1]).all() and lim.width > 0 and lim.height > 0 else None
+        equal_aspect(ax, frame=frame)
         return
     equal_aspect(ax, frame=zoom, fill=True)
     mark_tail(ax, zoom, z_data, frequency)

@@ -21,6 +21,11 @@ __all__ = ["plot_posterior_bands", "plot_joint_posterior_bands", "plot_corner", 
 
 BAND_QUANTILES = (0.05, 0.16, 0.5, 0.84, 0.95)
 
+# the data and the model wear the colours of every other figure of a spectrum (`plot_spectrum`:
+# data blue open circles, model orange), so that `impedax sample --plot` beside `impedax fit
+# --plot` of one file reads the same; the predictive band, noise added, is dashed grey
+DATA_COLOUR, MODEL_COLOUR, PREDICTIVE_COLOUR = "C0", "C1", "0.35"
+
 
 def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: str, n_lines: int = 40, z_predictive=None, figsize=None):
     """Data (``frequency`` [Hz], ``z_data`` [Ω]) with the model's draws ``z_draws`` (draws,
@@ -80,22 +85,22 @@ def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
     ax_nyq, ax_mod, ax_ph = axes
     med = _median(zs)
     for k in np.linspace(0, zs.shape[0] - 1, min(n_lines, zs.shape[0])).astype(int):
-        ax_nyq.plot(zs[k].real, -zs[k].imag, "-", color="tab:blue", alpha=0.08, lw=0.8)
-    ax_nyq.plot(med.real, -med.imag, "-", color="tab:blue", lw=1.5, label="posterior median")
-    ax_nyq.plot(z.real, -z.imag, "o", ms=3.5, mfc="none", color="k", label="data")
+        ax_nyq.plot(zs[k].real, -zs[k].imag, "-", color=MODEL_COLOUR, alpha=0.08, lw=0.8)
+    ax_nyq.plot(med.real, -med.imag, "-", color=MODEL_COLOUR, lw=1.5, label="posterior median")
+    ax_nyq.plot(z.real, -z.imag, "o", ms=3.5, mfc="none", color=DATA_COLOUR, label="data")
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]")
     nyquist_view(ax_nyq, z, med, frequency=frequency, frame="drawn")  # (over every draw: a frame that follows the data would cut the posterior's spread)
     zp = None if z_predictive is None else np.asarray(z_predictive, complex)
     for ax, values, data_values, transform in ((ax_mod, np.abs(zs), np.abs(z), np.abs), (ax_ph, np.degrees(np.angle(zs)), np.degrees(np.angle(z)), lambda v: np.degrees(np.angle(v)))):
         if zp is not None:
             qp = np.quantile(transform(zp), [0.05, 0.95], axis=0)
-            ax.plot(f, qp[0], "--", color="tab:orange", lw=1.0, label="90% predictive (model + noise)")
-            ax.plot(f, qp[1], "--", color="tab:orange", lw=1.0)
+            ax.plot(f, qp[0], "--", color=PREDICTIVE_COLOUR, lw=1.0, label="90% predictive (model + noise)")
+            ax.plot(f, qp[1], "--", color=PREDICTIVE_COLOUR, lw=1.0)
         q = np.quantile(values, BAND_QUANTILES, axis=0)
-        ax.fill_between(f, q[0], q[4], color="tab:blue", alpha=0.18, lw=0, label="90% band")
-        ax.fill_between(f, q[1], q[3], color="tab:blue", alpha=0.35, lw=0, label="68% band")
-        ax.plot(f, q[2], "-", color="tab:blue", lw=1.2, label="median")
-        ax.plot(frequency, data_values, "o", ms=3.5, mfc="none", color="k", label="data")
+        ax.fill_between(f, q[0], q[4], color=MODEL_COLOUR, alpha=0.18, lw=0, label="90% band")
+        ax.fill_between(f, q[1], q[3], color=MODEL_COLOUR, alpha=0.35, lw=0, label="68% band")
+        ax.plot(f, q[2], "-", color=MODEL_COLOUR, lw=1.2, label="median")
+        ax.plot(frequency, data_values, "o", ms=3.5, mfc="none", color=DATA_COLOUR, label="data")
         ax.set_xscale("log")
     ax_mod.set(yscale="log", ylabel="|Z| [Ω]")
     plain_log_ticks(ax_mod.yaxis, nyquist=ax_nyq)
