@@ -324,3 +324,22 @@ def test_simulate_at_the_frequencies_of_one_sweep_of_a_file_of_two_grids(tmp_pat
     assert rows[:, 0].tolist() == [float(f) for f in second] and (rows[:, 1] == 5).all() and (rows[:, 2] == 0).all()
     assert main(["simulate", "R1", "--select", "sweep=1"]) == 2
     assert "--select picks spectra of the --frequencies FILE" in capsys.readouterr().err
+
+
+def test_simulate_plot_draws_the_model_as_a_smooth_curve(tmp_path, monkeypatch):
+    """`impedax simulate --plot` draws the model on `MODEL_POINTS_PER_DECADE` points a decade
+    (`model_curve`), as `fit --plot` does, while the CSV keeps its 61 frequencies: 61 points over
+    7 decades drew a SYNTHETIC R0 + R1 ∥ CPE1 + R2 ∥ C2's arcs as visible chords. Oracle: every
+    point of the Nyquist curve lies on the closed form R0 + R1/(1 + jωR1C1) of its frequency."""
+    from impedax.plotting import MODEL_POINTS_PER_DECADE
+
+    figure, _ = _saved_simulate_figure(tmp_path, monkeypatch, "--param", "R0=20", "R1=1k", "C1=1u", "--fmin", "0.01", "--fmax", "1e5", model="R0 + R1 || C1")
+    assert len((tmp_path / "s.csv").read_text().splitlines()) == 62  # (header + the 61 frequencies written)
+    (curve,) = [line for line in figure.axes[0].get_lines() if len(line.get_xdata()) > 1]
+    x, y = np.asarray(curve.get_xdata()), np.asarray(curve.get_ydata())
+    assert x.size >= MODEL_POINTS_PER_DECADE * 7
+    (bode,) = [line for line in figure.axes[1].get_lines() if len(line.get_xdata()) > 1]
+    f = np.asarray(bode.get_xdata())
+    assert f.size == x.size and np.isclose(f[0], 0.01) and np.isclose(f[-1], 1e5)
+    z = 20 + 1e3 / (1 + 2j * np.pi * f * 1e3 * 1e-6)
+    assert np.allclose(x + 1j * y, z.real - 1j * z.imag, rtol=1e-9)

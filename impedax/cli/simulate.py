@@ -68,7 +68,8 @@ def run(args) -> int:
         freq = log_frequencies(args.fmin, args.fmax, points)
     params = {**circuit.defaults(args.registry), **given}
     defaulted = [n for n in specs if n not in given]
-    z = np.asarray(compile_circuit(circuit, args.registry)(params, freq))
+    fn = compile_circuit(circuit, args.registry)
+    z = np.asarray(fn(params, freq))
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
         raise ParameterError(f"the model's impedance is not finite (overflow) at {freq[bad[0]]:g} Hz and {bad.size - 1} other frequencies; check the parameter values ({', '.join(f'{n}={params[n]:g}' for n in specs)})")
@@ -77,9 +78,10 @@ def run(args) -> int:
     in_legend = len(text) <= LEGEND_MODEL_CHARS
 
     def figure():
-        from ..plotting import plot_spectrum, wrap_model
+        from ..plotting import dense_model, plot_spectrum, wrap_model
 
-        fig = plot_spectrum(model=ds, model_label=text if in_legend else "model")
+        # (drawn on a dense grid over the band, as a fit's model: 61 points over 7 decades drew arcs as chords)
+        fig = plot_spectrum(model=dense_model(freq, z, lambda grid: np.asarray(fn(params, grid))), model_label=text if in_legend else "model")
         append_title_line(fig, text, wrap_model)  # (the title: the circuit, wrapped to the figure's width)
         return fig
 
