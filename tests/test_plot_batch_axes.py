@@ -249,3 +249,29 @@ def test_values_beyond_the_axis_have_their_triangles_in_the_legend():
         assert "above" in entries["^"] and "below" in entries["v"]
     finally:
         plt.close(fig)
+
+
+@pytest.mark.parametrize("cycles, integral", [([1, 2, 3], True), ([0.0, 50.0, 100.0], True), ([0.1, 0.2, 0.4], False)])
+def test_plot_x_of_a_whole_number_coordinate_has_whole_number_ticks(cycles, integral):
+    """``batch.plot(x="cycle")`` (`impedax fit --plot-x cycle`) over cycles 1, 2, 3: ticks at 1,
+    2, 3 only, where matplotlib put 1.0, 1.5, 2.0, 2.5, 3.0 (half a cycle). A coordinate of
+    whole numbers stored as floats (0, 50, 100 V) is ticked in whole numbers too; one with
+    fractions keeps matplotlib's ticks. SYNTHETIC R0 + R1 ∥ C1, R1 growing with the cycle, 0.3 %
+    noise. Oracle: the tick positions inside the view and their labels' text."""
+    rng = np.random.default_rng(2)
+    f = np.geomspace(1.0, 1e5, 25)
+    r1 = 500.0 * (1 + 0.1 * np.arange(3))[:, None]
+    z = (20.0 + r1 / (1 + 2j * np.pi * f * r1 * 1e-6)) * (1 + 0.003 * rng.standard_normal((3, f.size)))
+    batch = ix.fit("R0 + R1 || C1", xr.Dataset({"Z": (("cycle", "frequency"), z)}, coords={"cycle": cycles, "frequency": f}))
+    fig = batch.plot(x="cycle")
+    fig.canvas.draw()
+    for ax in fig.axes[:3]:  # (R0, R1, C1)
+        lo, hi = ax.get_xlim()
+        ticks = [t for t in ax.get_xticks() if lo <= t <= hi]
+        texts = [t.get_text() for t in ax.get_xticklabels() if lo <= t.get_position()[0] <= hi]
+        if integral:
+            assert all(float(t).is_integer() for t in ticks), ticks
+            assert all("." not in text for text in texts), texts
+        else:
+            assert any(not float(t).is_integer() for t in ticks), ticks
+    plt.close(fig)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from matplotlib.ticker import MaxNLocator
 
 from ..arguments import figure_size, shown
 from ..data import coordinate_labels, unit_text
@@ -51,6 +52,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     axes = [fig.add_subplot(grid[i // cols, i % cols]) for i in range(len(panels))]
     index = np.arange(batch.n_spectra)
     series = None if x is None else _x_series(batch, x)
+    whole = series is not None and bool(np.all(np.mod(np.asarray(ds[x].values, float), 1.0) == 0))  # (a coordinate of whole numbers)
     for _, members, position in series or ():  # (each spectrum at its coordinate)
         index = np.where(members, position, index)
     places = [coordinate_labels(ds, d) for d in batch.dims]
@@ -111,6 +113,8 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
             label_spectra_axis(ax, labels, batch.dims)
         else:
             ax.set_xlabel(x, fontsize=font_size("label", 8))
+            if whole:  # (cycles 1, 2, 3 ticked 1, 2, 3: matplotlib put ticks at 1.5 and 2.5, half a cycle)
+                ax.xaxis.set_major_locator(MaxNLocator(integer=True))
         ax.grid(alpha=0.3, which="both")
     if with_fits:
         ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
