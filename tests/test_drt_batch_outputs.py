@@ -340,3 +340,30 @@ def test_the_plot_option_says_what_a_file_of_several_spectra_gets(capsys):
     start = text.index("--plot FILE", text.index("options:"))
     plot_help = text[start:text.index("--dpi N", start)]
     assert "several spectra" in plot_help and "mapped over the spectra" in plot_help and "peaks" in plot_help
+
+
+def test_the_batch_map_counts_gamma_in_the_overlay_panels_prefix():
+    """The γ map's colour bar of `plot_drt_batch` (`impedax drt FILE.nc --plot`) counts γ in the
+    SI prefix of the overlay panel above it: the overlay read γ [kΩ] up to 7.6 and the bar γ [Ω]
+    up to 7000 in one figure (SYNTHETIC stack of three R0 + R1 ∥ CPE1 + R2 ∥ C2, kΩ arcs). Here
+    the cycles' arcs times 100 (γ of tens of kΩ). Oracle: the label texts and the largest tick
+    value against the bar's top γ from the result."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    spectra = np.stack([noisy(arcs(100.0), 0.005, 1), noisy(arcs(200.0), 0.005, 2)])
+    batch = drt(ix.make_spectrum(F, spectra, dims=("cycle",), coords={"cycle": [1, 2]}))
+    fig = batch.plot()
+    try:
+        fig.canvas.draw()
+        overlay, bar_ax = fig.axes[0], fig.axes[-1]
+        assert overlay.get_ylabel() == "γ [kΩ]"
+        assert bar_ax.get_ylabel().startswith("γ [kΩ]")
+        top = max(bar_ax.get_ylim())
+        assert 1e3 <= top < 1e6  # (the map's γ in Ω: the prefix is k)
+        ticks = [float(t.get_text().replace("\N{MINUS SIGN}", "-")) for t in bar_ax.get_yticklabels() if t.get_text() and t.get_position()[1] <= top]
+        assert ticks and max(ticks) <= top / 1e3 + 1e-9 and max(ticks) >= 0.3 * top / 1e3
+    finally:
+        plt.close(fig)

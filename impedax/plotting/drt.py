@@ -242,6 +242,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     mesh, (above, below) = gamma_map(ax_map, batch, (lo, hi))
     bar = fig.colorbar(mesh, ax=ax_map, extend={(True, True): "both", (True, False): "max", (False, True): "min"}.get((above, below), "neither"))
     bar.set_label("γ [Ω]" + ("\n(scale: the largest γ inside\nthe measured τ range)" if above or below else ""))
+    prefixed_axis(bar.ax.yaxis)  # (in the overlay's prefix, γ [kΩ] up to 7.6: the bar read γ [Ω] up to 7000 beside it)
     # (above the map: inside, it covered the peaks below f_min, at the map's top)
     ax_map.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), fontsize=font_size("legend", 7), frameon=False, ncols=3)
     ax_map.tick_params(axis="x", labelbottom=False)
