@@ -72,3 +72,25 @@ def test_posterior_data_and_model_wear_the_fit_figure_colours():
             assert all(np.allclose(to_rgba(c.get_facecolor()[0])[:3], model_colour[:3]) for c in bands)
         plt.close(fig)
     plt.close(fit)
+
+
+def test_a_comparison_draws_data_and_its_first_model_as_a_fit_figure_does():
+    """`impedax compare --plot` (`Comparison.plot`): the data blue open circles and the first
+    model orange, as `impedax fit --plot` draws data and model; the further models in further
+    colours of the cycle, none in the data's (the data were black). SYNTHETIC arc fitted by
+    R0 + R1 ∥ C1 and R0 + R1 ∥ CPE1."""
+    import impedax as ix
+
+    freq, z, f_model, draws = _posterior()
+    data = ix.make_spectrum(freq, z)
+    comparison = ix.compare([ix.fit("R0 + R1 || C1", data), ix.fit("R0 + R1 || CPE1", data)])
+    fig = comparison.plot()
+    fit = plot_spectrum((freq, z), (f_model, draws[0]))
+    data_style, model_colour = _styles(fit.axes[:1])["data"], _styles(fit.axes[:1])["model"][0]
+    for ax in fig.axes[:3]:
+        styles = _styles([ax])
+        assert styles["data"] == data_style, ax.get_ylabel()
+        models = [colour for label, (colour, _) in styles.items() if label != "data"]
+        assert len(models) == 2 and models[0] == model_colour and data_style[0] not in models and models[1] != models[0]
+    plt.close(fig)
+    plt.close(fit)

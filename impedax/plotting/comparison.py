@@ -19,9 +19,10 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     f, z = ref.frequency, ref.z_data
     # the layout and the Nyquist limits follow the data: a poor model's curve may run past them
     fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape((f, z)), True, figsize=figsize)
-    ax_nyq.plot(z.real, -z.imag, "o", mfc="none", ms=3.5, color="k", label="data")
-    ax_mod.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label="data")
-    ax_ph.semilogx(f, np.degrees(np.angle(z)), "o", mfc="none", ms=3.5, color="k", label="data")
+    # (the data blue and the models from orange on, as `impedax fit --plot` draws data and model)
+    ax_nyq.plot(z.real, -z.imag, "o", mfc="none", ms=3.5, color="C0", label="data")
+    ax_mod.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="C0", label="data")
+    ax_ph.semilogx(f, np.degrees(np.angle(z)), "o", mfc="none", ms=3.5, color="C0", label="data")
     # a line style of its own for each model, so that two fits of the same curve (a CPE at α = 1
     # and a capacitor) are both seen, one drawn over the other
     styles = ("-", "--", "-.", ":")
@@ -29,13 +30,13 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     rows = getattr(comparison, "rows", None) or [{}] * len(comparison.fits)
     for k, (r, row) in enumerate(zip(comparison.fits, rows)):
         label = f"{row.get('label', r.model)} (rms_rel {r.rms_rel * 100:.3g} %)"  # (a fit with fixed values named by them)
-        ls = styles[k % len(styles)]
+        ls, colour = styles[k % len(styles)], f"C{k % 9 + 1}"
         f_model, z_model = model_curve(r)
         curves.append(z_model)
-        ax_nyq.plot(z_model.real, -z_model.imag, ls=ls, label=label)
-        ax_mod.loglog(f_model, np.abs(z_model), ls=ls, label=label)
-        ax_ph.semilogx(f_model, np.degrees(np.angle(z_model)), ls=ls, label=label)
-        ax_res.semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, label=label)
+        ax_nyq.plot(z_model.real, -z_model.imag, ls=ls, color=colour, label=label)
+        ax_mod.loglog(f_model, np.abs(z_model), ls=ls, color=colour, label=label)
+        ax_ph.semilogx(f_model, np.degrees(np.angle(z_model)), ls=ls, color=colour, label=label)
+        ax_res.semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, color=colour, label=label)
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
     nyquist_view(ax_nyq, z, *curves, frequency=f, frame=nyquist_frame(z, *curves))
     ax_nyq.legend(fontsize=font_size("legend", 7), loc="best")  # (data and every model; the Bode panels draw them alike)
