@@ -82,3 +82,26 @@ def test_a_single_contacts_force_is_flat_in_the_json_as_in_the_report(gap):
     does not depend on frequency; the JSON's force_max_n.band_edge said "fmin" (rising past 1 Hz)."""
     assert gap.force_at_max()["band_edge"] == "flat" and gap.force_at_max("without_ep")["band_edge"] == "flat"
     assert "at every frequency" in gap.report()
+
+
+def test_the_remaining_impedance_panel_wears_the_fit_figure_colours(figure):
+    """The remaining-impedance panel draws the data as every spectrum figure does (blue open
+    circles, `plot_spectrum`), the fitted EDL model orange and the naive C_gap-only start grey
+    dashed, as `refine --plot` draws a start (the data were black and the naive fit blue, the
+    data's colour elsewhere). Oracle: the colours of `plot_spectrum`'s data and model lines."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import to_rgba
+
+    from impedax.plotting import plot_spectrum
+
+    fit_fig = plot_spectrum(ix.load(DFR), ix.load(DFR))
+    (data_line,) = [l for l in fit_fig.axes[0].get_lines() if l.get_label() == "data"]
+    (model_line,) = [l for l in fit_fig.axes[0].get_lines() if l.get_label() == "model"]
+    lines = {l.get_label(): l for l in figure.axes[0].get_lines()}
+    data = next(l for label, l in lines.items() if label.startswith("Z"))
+    naive = next(l for label, l in lines.items() if label.startswith("C_gap only"))
+    edl = next(l for label, l in lines.items() if label.startswith("R_EP"))
+    assert to_rgba(data.get_color()) == to_rgba(data_line.get_color()) and data.get_marker() == "o" and data.get_markerfacecolor() == "none"
+    assert to_rgba(edl.get_color()) == to_rgba(model_line.get_color())
+    assert to_rgba(naive.get_color())[:3] == to_rgba("0.5")[:3] and naive.get_linestyle() == "--"
+    plt.close(fit_fig)

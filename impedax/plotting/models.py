@@ -32,7 +32,8 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     z = gap.remaining["Z"].values
     ax = axes[0]
     averaged = " (mean of trials)" if getattr(gap, "averages_trials", True) else " (one spectrum each)" if not getattr(gap, "single_contact", False) else " (one spectrum)"
-    ax.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="k", label=("Z" if getattr(gap, "single_contact", False) else "Z_R") + averaged)
+    # (the data blue, the fitted model orange, the naive start grey dashed: the colours of every spectrum figure, `refine --plot`'s start)
+    ax.loglog(f, np.abs(z), "o", mfc="none", ms=3.5, color="C0", label=("Z" if getattr(gap, "single_contact", False) else "Z_R") + averaged)
     if "sigma" in gap.remaining:
         s = gap.remaining["sigma"].values
         ax.fill_between(f, np.maximum(np.abs(z) - s, np.abs(z) * 0.05), np.abs(z) + s, color="0.8", label="± SEM")
@@ -45,11 +46,11 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     shown = shown[np.isfinite(shown) & (shown > 0)]
     data_low, data_high = (float(shown.min()), float(shown.max())) if shown.size else (None, None)
     low, high = data_low, data_high
-    for fit, style, label in ((gap.naive_fit, "--", "C_gap only"), (gap.edl_fit, "-", gap.edl_fit.model)):
+    for fit, style, colour, label in ((gap.naive_fit, "--", "0.5", "C_gap only"), (gap.edl_fit, "-", "C1", gap.edl_fit.model)):
         f_model, z_model = model_curve(fit)
         mag = np.abs(z_model)
         within = mag[(mag >= data_low / MODEL_MARGIN) & (mag <= data_high * MODEL_MARGIN)] if data_low is not None else mag
-        ax.loglog(f_model, mag, style, label=f"{label} (rms_rel {format_percent(fit.rms_rel)})" + ("" if within.size else ", off the axis"))
+        ax.loglog(f_model, mag, style, color=colour, label=f"{label} (rms_rel {format_percent(fit.rms_rel)})" + ("" if within.size else ", off the axis"))
         if data_low is not None and within.size:
             low, high = min(low, float(within.min())), max(high, float(within.max()))
     if data_low is not None:
