@@ -78,3 +78,29 @@ def test_a_joint_posterior_draws_its_trace_named_per_spectrum():
         np.testing.assert_array_equal(fig.axes[i].get_lines()[0].get_ydata(), post.draws[0, :, i])
     finally:
         plt.close(fig)
+
+
+def test_a_narrow_dimensionless_trace_has_no_offset_beside_its_axis():
+    """A trace row of a dimensionless parameter whose draws span 1e-5 about 0.85 (a CPE's α on
+    SYNTHETIC noise-free data) reads its values on the ticks (0.84990, 0.84991, ...), not
+    9.0, 9.5, 10 under matplotlib's "1e−5+8.499e−1", which ran over the row above; the same
+    for sigma_rel about 1e-5 and for a resistance in Ω. Oracle: the offset text and the tick
+    labels read back as numbers inside the draws' range."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from impedax.plotting.bayes import plot_trace
+
+    rng = np.random.default_rng(5)
+    centres = np.array([0.8499, 1.02e-5, 20.0])
+    draws = centres * (1 + 1e-5 * rng.standard_normal((16, 50, 3)))
+    fig = plot_trace(draws, ["CPE1.alpha", "sigma_rel", "R0"], [False, False, True], units=["", "", "Ω"])
+    fig.canvas.draw()
+    for ax, centre in zip(fig.axes, centres):
+        assert ax.yaxis.get_offset_text().get_text() == "", ax.get_ylabel()
+        lo, hi = ax.get_ylim()
+        values = [float(t.get_text().replace("\N{MINUS SIGN}", "-")) for t in ax.get_yticklabels() if t.get_text() and lo <= t.get_position()[1] <= hi]
+        assert values and all(abs(v - centre) < 1e-3 * centre for v in values), (ax.get_ylabel(), values)
+    plt.close(fig)

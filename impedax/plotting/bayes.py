@@ -15,7 +15,7 @@ import numpy as np
 from ..arguments import count, figure_size, literal_text, real, shown, unknown_parameter
 from ..data import format_quantity, si_prefix, unit_text
 from ..errors import ParameterError
-from . import characters_across, font_size, legends_off_data, nyquist_view, nyquist_shape, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
+from . import characters_across, font_size, legends_off_data, nyquist_view, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_joint_posterior_bands", "plot_corner", "plot_trace"]
 
@@ -312,6 +312,8 @@ def plot_trace(
             plain_log_ticks(ax.yaxis, prefixes=units[row] not in DIMENSIONLESS)
         else:
             prefixed_axis(ax.yaxis, max_bins=4)
+            if not prefixable_unit(label):  # (sigma_rel 1.02e-5 on its ticks, not 0 to 5 under "1e−10+1.02e−5", which ran over the row above)
+                plain_linear_ticks(ax.yaxis)
         tau = (autocorr or {}).get(names[i])
         if tau is not None and np.isfinite(tau):
             ax.set_title(f"τ = {tau:.3g} steps", loc="right", fontsize=font_size("title", 7))
