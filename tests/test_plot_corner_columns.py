@@ -38,3 +38,30 @@ def test_each_histogram_shares_its_columns_range_and_reads_right_on_its_axis():
         read = [bottom.transData.inverted().transform(diagonal.transData.transform((x, 0.5)))[0] for x in drawn]
         np.testing.assert_allclose(read, expected, rtol=1e-6)
     plt.close(fig)
+
+
+def test_a_narrow_dimensionless_column_has_no_offset_text_over_its_label():
+    """Corner columns of α about 0.85 and sigma_rel about 1e-5, each spanning 1e-5 of its value
+    (SYNTHETIC noise-free data): the offset "1e−5+8.499e−1" under the α column ran over its label
+    "CPE1.alpha" and the next column's. Their ticks carry the values (`PlainTicks`), no offset
+    text is drawn, and no two tick labels of a column overlap (matplotlib's text boxes)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from impedax.plotting.bayes import plot_corner
+
+    rng = np.random.default_rng(8)
+    centres = np.array([20.0, 0.8499, 1.02e-5])
+    flat = centres * (1 + 1e-5 * rng.standard_normal((3000, 3)))
+    fig = plot_corner(flat, ["R0", "CPE1.alpha", "sigma_rel"], [True, False, False], units=["Ω", "", ""])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            assert axis.get_offset_text().get_text() == "" or not axis.get_offset_text().get_visible(), (ax.get_xlabel(), ax.get_ylabel())
+            boxes = [t.get_window_extent(renderer) for t in axis.get_ticklabels() if t.get_visible() and t.get_text()]
+            boxes = [b for b in boxes if ax.get_window_extent(renderer).expanded(1.2, 1.2).overlaps(b)]
+            assert not any(a.overlaps(b) for n, a in enumerate(boxes) for b in boxes[n + 1 :]), (ax.get_xlabel(), [t.get_text() for t in axis.get_ticklabels()])
+    plt.close(fig)

@@ -221,6 +221,8 @@ def plot_corner(
                 elif axis is ax.xaxis or i != j:
                     axis.set_label_text(labels[n])  # (the formatter's prefix goes into the label)
                     prefixed_axis(axis, max_bins=4)  # (five-digit ticks of a narrow panel ran together: at most 4 intervals, fewer where they do not fit)
+                    if not prefixable_unit(labels[n]):  # (α's values on its ticks: the offset "1e−5+8.499e−1" ran over the column's label)
+                        plain_linear_ticks(axis)
             if i == k - 1:
                 ax.set_xlabel(labels[j], fontsize=font_size("label", 8))
             else:
