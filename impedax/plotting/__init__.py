@@ -700,7 +700,8 @@ def plot_spectrum(
     points), which its frame takes in as the model's curve and the data."""
     d, m = _as_arrays(data), _as_arrays(model)
     with_residuals = d is not None and m is not None
-    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(d, m), with_residuals, figsize=figsize)
+    shape = nyquist_shape(d, m)
+    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(shape, with_residuals, figsize=figsize)
     plot_nyquist(ax_nyq, data, model, data_label=data_label, model_label=model_label, curves=nyquist_curves, points=nyquist_points)
     plot_bode(ax_mod, ax_ph, data, model, data_label=data_label, model_label=model_label, nyquist=ax_nyq)
     freq_axes = [ax_mod, ax_ph]
@@ -708,7 +709,10 @@ def plot_spectrum(
         z_model = _model_at(d[0], m) if model_at_data is None else np.asarray(model_at_data, complex)
         r = (z_model - d[1]) / np.abs(d[1])
         plot_residuals(ax_res, d[0], r.real, r.imag, labels=residual_labels, ylabel="residual (Z_model − Z)/|Z| [%]")
-        ax_ph.set_xlabel("")
+        # (stacked above the residual panel, the phase shares its named axis; side by side, |Z| and
+        # phase name their own: they read no unit, their ticks apart from the wide panel's below)
+        ax_ph.set_xlabel("" if shape > FLAT_NYQUIST else "frequency [Hz]")
+        ax_mod.set_xlabel("" if shape > FLAT_NYQUIST else "frequency [Hz]")
         freq_axes.append(ax_res)
     if bands:
         shade_bands(freq_axes, bands, label=band_label, color=band_color)
