@@ -47,3 +47,14 @@ def test_stacked_bode_panels_leave_the_axis_name_to_the_residual_panel():
     assert np.isclose(ax_mod.get_position().x0, ax_res.get_position().x0)  # (one column)
     assert ax_res.get_xlabel() == "frequency [Hz]" and ax_ph.get_xlabel() == "" and ax_mod.get_xlabel() == ""
     plt.close(fig)
+
+
+def test_the_kk_figure_names_its_side_by_side_frequency_axes():
+    """`impedax kk --plot` on REAL ZPlot: the |Z| and phase panels side by side read
+    "frequency [Hz]", as the fit's do."""
+    from impedax.fitting.kk import kk_test
+
+    fig = kk_test(ix.load(REAL / "exampleDataZPlot.z")).plot()
+    _, ax_mod, ax_ph, ax_res = fig.axes[:4]
+    assert [ax.get_xlabel() for ax in (ax_mod, ax_ph, ax_res)] == ["frequency [Hz]"] * 3
+    plt.close(fig)

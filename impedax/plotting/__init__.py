@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -709,10 +709,7 @@ def plot_spectrum(
         z_model = _model_at(d[0], m) if model_at_data is None else np.asarray(model_at_data, complex)
         r = (z_model - d[1]) / np.abs(d[1])
         plot_residuals(ax_res, d[0], r.real, r.imag, labels=residual_labels, ylabel="residual (Z_model − Z)/|Z| [%]")
-        # (stacked above the residual panel, the phase shares its named axis; side by side, |Z| and
-        # phase name their own: they read no unit, their ticks apart from the wide panel's below)
-        ax_ph.set_xlabel("" if shape > FLAT_NYQUIST else "frequency [Hz]")
-        ax_mod.set_xlabel("" if shape > FLAT_NYQUIST else "frequency [Hz]")
+        label_bode_above_residuals(shape, ax_mod, ax_ph)
         freq_axes.append(ax_res)
     if bands:
         shade_bands(freq_axes, bands, label=band_label, color=band_color)
@@ -809,6 +806,16 @@ def spectrum_layout(shape: float, with_residuals: bool, *, width: float = 11.0, 
         ax_ph = fig.add_subplot(grid[1, 1], sharex=ax_mod)
         ax_res = fig.add_subplot(grid[2, 1], sharex=ax_mod) if with_residuals else None
     return fig, (ax_nyq, ax_mod, ax_ph, ax_res)
+
+
+def label_bode_above_residuals(shape: float, ax_mod, ax_ph) -> None:
+    """The frequency labels of the |Z| and phase panels of `spectrum_layout` (with residuals)
+    for a Nyquist ``shape``: none where they are stacked above the residual panel (its label
+    names the column's shared axis), ``frequency [Hz]`` on each where they stand side by side
+    above it (a flat spectrum), their ticks apart from the wide panel's, which they read
+    without a unit."""
+    for ax in (ax_mod, ax_ph):
+        ax.set_xlabel("" if shape > FLAT_NYQUIST else "frequency [Hz]")
 
 
 def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residual [%]", limit=None):

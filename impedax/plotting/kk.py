@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
 from ..data import format_percent
-from . import dense_model, drawn_label, drawn_points, font_size, legends_off_data, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
+from . import dense_model, drawn_label, drawn_points, font_size, label_bode_above_residuals, legends_off_data, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
 
 
 def plot_kk(result, *, title: str | None = None):
@@ -15,14 +15,15 @@ def plot_kk(result, *, title: str | None = None):
     with the levels of the point and run rules (both test |Δ|) and the bad bands shaded, each
     named by the rules that flagged it, for a `KKResult`. Returns a matplotlib Figure."""
     data, model = (result.frequency, result.impedance), dense_model(result.frequency, result.kk_impedance, getattr(result, "predict", None))
-    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(nyquist_shape(data, model), True)
+    shape = nyquist_shape(data, model)
+    fig, (ax_nyq, ax_mod, ax_ph, ax_res) = spectrum_layout(shape, True)
     plot_nyquist(ax_nyq, data, model, model_label=f"KK fit (M={result.n_rc})")
     plot_bode(ax_mod, ax_ph, data, model, model_label=f"KK fit (M={result.n_rc})", nyquist=ax_nyq)
     plot_residuals(ax_res, result.frequency, result.residuals_real, result.residuals_imag, labels=("Δ re", "Δ im"), ylabel="KK residual (Z − Z_kk)/|Z| [%]")
     order = np.argsort(result.frequency)
     magnitude = np.hypot(result.residuals_real, result.residuals_imag)[order]
     ax_res.semilogx(result.frequency[order], magnitude * 100, "-", color="0.25", lw=1.0, label="|Δ| (the rules test it)")
-    ax_ph.set_xlabel("")
+    label_bode_above_residuals(shape, ax_mod, ax_ph)
     if result.bad_bands:
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="not KK-consistent")
     levels = result.rule_levels
