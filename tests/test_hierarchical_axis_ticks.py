@@ -65,3 +65,23 @@ def test_a_wide_panel_stays_log_with_prefixed_ticks():
     scale, label, ticks, _ = _axis(post)
     assert scale == "log" and label == "C1 [F]"
     assert ticks and all("10^" not in t and "times" not in t for t in ticks) and any(t.endswith("µ") for t in ticks), ticks
+
+
+def test_a_narrow_dimensionless_panel_carries_its_values_without_an_offset():
+    """`plot_population`'s panel of a dimensionless quantity (a CPE's α) whose trials and bands
+    span 1e-5 about 0.85 (SYNTHETIC draws made here): its ticks read the values (0.84999, ...), no
+    offset text "1e−5+8.499e−1" above the panel, where it ran into the legend. Oracle: the
+    offset text and the tick labels read back as numbers near 0.85."""
+    from impedax.plotting.hierarchical import plot_population
+
+    rng = np.random.default_rng(6)
+    draws = 0.85 * (1 + 1e-5 * rng.standard_normal((400, 4, 1)))
+    band = {"value": 0.85, "q05": 0.85 * (1 - 2e-5), "q95": 0.85 * (1 + 2e-5)}
+    fig = plot_population(["CPE1.alpha"], [""], draws, {"CPE1.alpha": band}, {"CPE1.alpha": band}, ["1", "2", "3", "4"], title="t")
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    assert ax.yaxis.get_offset_text().get_text() == ""
+    lo, hi = ax.get_ylim()
+    values = [float(t.get_text().replace("\N{MINUS SIGN}", "-")) for t in ax.get_yticklabels() if t.get_text() and lo <= t.get_position()[1] <= hi]
+    assert values and all(abs(v - 0.85) < 1e-3 for v in values), values
+    plt.close(fig)

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import unit_text
-from . import plain_log_ticks, prefixed_axis
+from . import plain_linear_ticks, plain_log_ticks, prefixed_axis
 from .bayes import DIMENSIONLESS, LOG_AXIS_SPAN
 
 __all__ = ["plot_population"]
@@ -46,6 +46,8 @@ def plot_population(names: Sequence[str], units: Sequence[str], trial_draws: np.
             plain_log_ticks(ax.yaxis, prefixes=unit not in DIMENSIONLESS)
         elif shown:  # (matplotlib's log ticks of a narrow range read "1.8 × 10⁰", of µm "2.7 × 10⁻⁶")
             prefixed_axis(ax.yaxis)
+        else:  # (α's values on its ticks: a narrow band read "1e−5+8.5e−1" above the panel)
+            plain_linear_ticks(ax.yaxis)
     axes[0, 0].legend(loc="best", fontsize="small")
     axes[-1, 0].set_xticks(x, list(trial_labels), rotation=90 if crowded else 0)
     axes[-1, 0].set_xlabel(xlabel)
