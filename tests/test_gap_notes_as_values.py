@@ -19,6 +19,7 @@ import pytest
 
 import impedax as ix
 from impedax.fitting.least_squares import result as result_module
+from impedax.fitting.least_squares.notes import DATA_LIMIT, MISFIT, MODEL_MISFIT
 from impedax.fitting.least_squares.result import DATA_LIMIT_NOTE, MODEL_MISSES_STRUCTURE, FitResult, fit_blaming_note
 from impedax.io import read_netcdf
 from impedax.models.gap import _edl_fit_warnings
@@ -43,8 +44,8 @@ class _KK:
 
 
 def _edl(rms_rel, warnings, **values):
-    """An EDL fit rms_rel from the remainder at every point, with ``warnings`` and the values a fit
-    sets where it makes its notes (none given: a fit built by hand, read by the words)."""
+    """An EDL fit rms_rel from the remainder at every point, with ``warnings`` and the tags a fit
+    sets where it makes its notes (``warning_tags``; none given: a fit built by hand, read by the words)."""
     params = {"R_EP": 5e3, "CPE_EP.Q": 1e-4, "CPE_EP.alpha": 0.5, "C_gap": 4e-10}
     return SimpleNamespace(rms_rel=rms_rel, z_model=GAP_Z + rms_rel * np.abs(GAP_Z), weighting="modulus", free_names=list(params), model="R_EP || CPE_EP || C_gap",
                            values=params, stderr={k: 0.01 * v for k, v in params.items()}, at_bound=(), warnings=tuple(warnings), **values)
@@ -75,7 +76,7 @@ def test_the_fit_sets_its_blaming_note_where_it_makes_it(reworded, tmp_path):
     ix.write_result(reworded, path)
     assert fit_blaming_note(FitResult.from_xarray(read_netcdf(path))) == note
     ds = reworded.to_xarray()
-    ds.attrs = {k: v for k, v in ds.attrs.items() if k not in ("misfit_note", "model_misfit")}  # (a file without them: the words)
+    ds.attrs = {k: v for k, v in ds.attrs.items() if k not in ("warning_tags", "model_misfit", "data_limit_note", "data_limit_hint", "misfit_note", "uneven_noise", "sigma_residual_notes", "model_misfits")}  # (a file without them: the words)
     ix.io.write_netcdf(ds, path)
     old = FitResult.from_xarray(read_netcdf(path))
     assert old.misfit_note is None and fit_blaming_note(old) == ""
@@ -85,10 +86,10 @@ def test_a_reworded_misfit_note_gives_way_to_the_alarm(reworded):
     note = reworded.misfit_note
     by_words = _edl(0.25, (note, BOUND))  # (no values: the words, which miss the reworded note)
     assert _edl_fit_warnings(by_words, REMAINDER, _KK(0.048)) == [f"EDL fit: {note}", f"EDL fit: {BOUND}"]
-    fitted = _edl(0.25, (note, BOUND), model_misfit=True, misfit_note=note)
+    fitted = _edl(0.25, (note, BOUND), warning_tags=((MISFIT, MODEL_MISFIT), ()))
     assert _edl_fit_warnings(fitted, REMAINDER, _KK(0.048)) == [f"EDL fit: {BOUND}"]
     # without the alarm (2.3×) the notes stay
-    assert _edl_fit_warnings(_edl(0.11, (note, BOUND), model_misfit=True, misfit_note=note), REMAINDER, _KK(0.048)) == [f"EDL fit: {note}", f"EDL fit: {BOUND}"]
+    assert _edl_fit_warnings(_edl(0.11, (note, BOUND), warning_tags=((MISFIT, MODEL_MISFIT), ())), REMAINDER, _KK(0.048)) == [f"EDL fit: {note}", f"EDL fit: {BOUND}"]
 
 
 def test_a_reworded_data_limit_note_gives_way_to_the_near_misfit_note():
@@ -97,6 +98,6 @@ def test_a_reworded_data_limit_note_gives_way_to_the_near_misfit_note():
     by_words = _edl_fit_warnings(_edl(0.238, (BOUND, reworded)), REMAINDER, _KK(0.048))
     assert f"EDL fit: {reworded}" in by_words  # (the old rule keeps it beside the near-misfit note)
     for note in (reworded, plain):
-        out = _edl_fit_warnings(_edl(0.238, (BOUND, note), data_limit_note=note, data_limit_hint=""), REMAINDER, _KK(0.048))
+        out = _edl_fit_warnings(_edl(0.238, (BOUND, note), warning_tags=((), (MISFIT, DATA_LIMIT))), REMAINDER, _KK(0.048))
         assert out[0] == f"EDL fit: {BOUND}" and len(out) == 2 and out[1].startswith("R_EP || CPE_EP || C_gap misses the spectrum by 23.8 %")
     assert _edl_fit_warnings(_edl(0.238, (BOUND, plain)), REMAINDER, _KK(0.048)) == out  # (the normal path: the words decide the same)

@@ -17,6 +17,7 @@ import pytest
 
 import impedax as ix
 from impedax.fitting.bayes import Posterior
+from impedax.fitting.least_squares import notes
 from impedax.fitting.least_squares.result import DATA_LIMIT_NOTE, MODEL_MISSES_STRUCTURE, SIGN_HINT_LEAD, UNEVEN_NOISE_NOTE, fit_blaming_note, fit_data_limit, fit_uneven_noise
 from impedax.io import read_netcdf, write_netcdf
 
@@ -35,20 +36,21 @@ def post():
     return ix.sample("R0 + R1 || C1", ix.make_spectrum(F, z), steps=30, walkers=8, seed=2, progress=False)
 
 
-def _with_start(post, warnings, **values):
-    return dataclasses.replace(post, fit=dataclasses.replace(post.fit, warnings=tuple(warnings), **values))
+def _with_start(post, warnings, tags=None):
+    return dataclasses.replace(post, fit=dataclasses.replace(post.fit, warnings=tuple(warnings), warning_tags=tags))
 
 
 def test_the_start_fit_s_note_values_survive_the_posterior_s_nc(post, tmp_path):
-    mine = _with_start(post, (MISFIT, LIMIT, UNEVEN, SIGMA), model_misfit=True, misfit_note=MISFIT, data_limit_note=LIMIT, data_limit_hint=HINT, uneven_noise=True, sigma_residual_notes=(SIGMA,))
-    assert (fit_data_limit(dataclasses.replace(mine.fit, data_limit_note=None)), fit_uneven_noise(dataclasses.replace(mine.fit, uneven_noise=None))) == (("", ""), False)  # (the words say otherwise)
+    mine = _with_start(post, (MISFIT, LIMIT, UNEVEN, SIGMA), ((notes.MISFIT, notes.MODEL_MISFIT), (notes.DATA_LIMIT, notes.sign_hint_tag(HINT)), (notes.UNEVEN_NOISE,), (notes.SIGMA_RESIDUAL,)))
+    untagged = dataclasses.replace(mine.fit, warning_tags=None)
+    assert (fit_data_limit(untagged), fit_uneven_noise(untagged)) == (("", ""), False)  # (the words say otherwise)
     path = tmp_path / "post.nc"
     ix.write_result(mine, path)
     back = Posterior.from_xarray(read_netcdf(path)).fit
     assert (back.model_misfit, back.misfit_note, back.data_limit_note, back.data_limit_hint, back.uneven_noise) == (True, MISFIT, LIMIT, HINT, True)
     assert back.sigma_residual_notes == (SIGMA,)
     assert (fit_data_limit(back), fit_uneven_noise(back), fit_blaming_note(back)) == ((LIMIT, HINT), True, MISFIT)
-    clean = _with_start(post, (), model_misfit=False, misfit_note="", data_limit_note="", data_limit_hint="", uneven_noise=False)
+    clean = _with_start(post, (), ())
     ix.write_result(clean, path)
     back = Posterior.from_xarray(read_netcdf(path)).fit
     assert (back.model_misfit, back.misfit_note, back.data_limit_note, back.data_limit_hint, back.uneven_noise) == (False, "", "", "", False)
@@ -58,7 +60,7 @@ def test_a_posterior_file_without_them_is_read_by_the_words(post, tmp_path):
     limit = f"{MODEL_MISSES_STRUCTURE} (test){DATA_LIMIT_NOTE}{HINT}"  # (a note as a fit words one: the phrases)
     uneven = f"{UNEVEN_NOISE_NOTE} (test)"
     ds = _with_start(post, (limit, uneven)).to_xarray()
-    ds.attrs["fit"] = {k: v for k, v in ds.attrs["fit"].items() if k not in ("model_misfit", "data_limit_note", "data_limit_hint", "uneven_noise", "misfit_note", "sigma_residual_notes")}
+    ds.attrs["fit"] = {k: v for k, v in ds.attrs["fit"].items() if k not in ("warning_tags", "model_misfit", "data_limit_note", "data_limit_hint", "uneven_noise", "misfit_note", "sigma_residual_notes")}
     path = tmp_path / "old.nc"
     write_netcdf(ds, path)
     back = Posterior.from_xarray(read_netcdf(path)).fit

@@ -1733,6 +1733,7 @@ PROSE_KEYS = frozenset({
     "words",  # (kk's passing_edge.words)
     "model_comparison_notes",  # (a posterior's .nc: those of its notes, in the notes' words)
     "data_limit_note", "data_limit_hint", "misfit_note", "sigma_residual_notes",  # (a fit's .nc: a warning as a value, found among the warnings only in their words)
+    "warning_tags",  # (a fit's .nc: a sign hint's tag holds the end of its warning, "sign_hint=; hint: …"; the tags' names are no Python words)
 })
 _NOT_PROSE_KEYS = frozenset({"spectra", "labels", "worst", "model", "models", "source", "provenance", "label", "spectra_with_warnings"})
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
@@ -20,7 +20,8 @@ from ..errors import FitError
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EvidenceDoubt, WaicDoubt
-from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, SIGN_HINT_LEAD, fit_data_limit, misfit_hint, user_bounds_text
+from .least_squares.notes import MISFIT, MODEL_MISFIT, Note, sign_hint_tag
+from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, SIGN_HINT_LEAD, fit_data_limit, misfit_hint, user_bounds_text, with_warnings
 from .frozen import FrozenResult, freeze_fields
 from .problem import WEIGHTING_SCALES
 from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
@@ -757,7 +758,7 @@ def _with_posterior_warnings(item) -> FitResult:
     own = _own_warnings(item)
     if not own or isinstance(fit.warnings, Mapping):
         return fit
-    return replace(fit, warnings=tuple(fit.warnings) + tuple(w for w in own if w not in fit.warnings))
+    return with_warnings(fit, fit.tagged_warnings + tuple(w for w in own if w not in fit.warnings))
 
 
 NOISE_F = 1.0
@@ -969,9 +970,10 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
     rms_rel `CLEARLY_LOWER_RMS` × lower with a lower AIC, or an AIC lower by `DECISIVE_DELTA_AIC`):
     the comparison's own numbers then
     say the misfit is this model's, and the note sent the user to the data (its sign hint, if
-    any, is kept). The note and its hint are values the fit carries (`FitResult.data_limit_note`,
-    ``data_limit_hint``), not found by their words; a fit without them (a file written without
-    them) is read by the words (`result.fit_data_limit`). Unchanged otherwise,
+    any, is kept). The note and its hint are found by the tags the fit carries
+    (`FitResult.warning_tags`: `notes.DATA_LIMIT`, `notes.SIGN_HINT`), not by their words; a fit
+    without them (a file written without them) is read by the words (`result.fit_data_limit`).
+    The new note is tagged `notes.MISFIT` and `notes.MODEL_MISFIT`. Unchanged otherwise,
     and for fits whose warnings are per spectrum (a mapping)."""
     warnings = fit.warnings
     if isinstance(warnings, Mapping):
@@ -996,8 +998,8 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
         f"{labels[j]} fits these data significantly better (rms_rel {results[j].rms_rel * 100:.3g}% against {fit.rms_rel * 100:.3g}%, {evidence}): "
         "the misfit is this model's, not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
     )
-    return replace(fit, warnings=tuple(note + hint if w == limit else w for w in warnings), model_misfit=True,  # (the note blames the model: `FitResult.misses_structure`)
-                   data_limit_note="", data_limit_hint="", misfit_note=note + hint)
+    blaming = Note(note + hint, (MISFIT, MODEL_MISFIT, *([sign_hint_tag(hint)] if hint else [])))  # (the misfit note, which blames the model: `FitResult.misses_structure`)
+    return with_warnings(fit, tuple(blaming if w == limit else w for w in fit.tagged_warnings))
 
 
 def _sign_hint_of(note: str) -> str:

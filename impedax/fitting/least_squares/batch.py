@@ -12,7 +12,7 @@ import math
 import time
 import warnings as python_warnings
 from dataclasses import dataclass, field, replace
-from typing import Callable
+from typing import Callable, Mapping
 
 import jax
 import numpy as np
@@ -34,6 +34,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, fit_
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
+from .notes import MISFIT, MODEL_MISFIT, has_tag, notes_tags, stored_tags, tagged, tags_attr, tags_of, with_tag
 from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, draw_size, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
@@ -128,9 +129,24 @@ class BatchFitResult(FrozenResult):
     registry: Registry = field(default=DEFAULT_REGISTRY, repr=False)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice for every spectrum that is not a warning, as `FitResult.notes`
-    model_misfits: tuple[str, ...] | None = field(default=None, repr=False)  # the spectra (keys of ``warnings``) whose warnings blame the model, as `FitResult.model_misfit`; None: not known, read from the words
+    warning_tags: dict[str, tuple[tuple[str, ...], ...]] | None = field(default=None, repr=False)  # each spectrum's (key of ``warnings``) tags of its warnings, in their order, as `FitResult.warning_tags`; None: not known, read from the words
+
+    @property
+    def model_misfits(self) -> tuple[str, ...] | None:
+        """The spectra (keys of ``warnings``) whose warnings blame the model (`notes.MODEL_MISFIT`,
+        as `FitResult.model_misfit`); None: not known (`misses_structure` then reads the words)."""
+        if self.warning_tags is None:
+            return None
+        return tuple(k for k, tags in self.warning_tags.items() if any(has_tag(t, MODEL_MISFIT) for t in tags))
+
+    def tagged_warnings(self, key: str) -> tuple[str, ...]:
+        """Spectrum ``key``'s warnings as `notes.Note`s carrying their tags (plain texts where not
+        known), as `FitResult.tagged_warnings`."""
+        return tagged(self.warnings.get(key, ()), None if self.warning_tags is None else self.warning_tags.get(key, ((),) * len(self.warnings.get(key, ()))))
 
     def __post_init__(self):
+        if self.warning_tags is not None and (set(self.warning_tags) != set(self.warnings) or any(len(self.warning_tags[k]) != len(w) for k, w in self.warnings.items())):  # (``warnings`` replaced alone, not by `batch_with_warnings`)
+            object.__setattr__(self, "warning_tags", None)
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`); to_xarray hands out a copy
 
     @property
@@ -163,7 +179,8 @@ class BatchFitResult(FrozenResult):
         specs = self.circuit.parameter_specs(self.registry)
         units = [specs[str(p)].unit if str(p) in specs else "" for p in self.dataset["param"].values]
         return self.dataset.copy(deep=True).assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s), notes=list(self.notes),
-                                                                                                                           model_misfits=[k for k, _ in self.spectrum_keys() if self._blames_model(k)])
+                                                                                                                           model_misfits=[k for k, _ in self.spectrum_keys() if self._blames_model(k)],
+                                                                                                                           warning_tags=None if self.warning_tags is None else {k: tags_attr(v) for k, v in self.warning_tags.items()})
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":
@@ -189,10 +206,9 @@ class BatchFitResult(FrozenResult):
             warnings = {str(k): (v,) if isinstance(v, str) else tuple(str(w) for w in v) for k, v in dict(ds.attrs.get("warnings", {})).items()}
             elapsed = float(ds.attrs.get("elapsed_s", 0.0))
             dataset = ds.drop_vars("unit", errors="ignore")  # (to_xarray's, from the specs; a file of older versions has none)
-            dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format", "notes", "model_misfits")}
-            misfits = ds.attrs.get("model_misfits")  # (a file of older versions has none: its warnings' words, `warnings_blame_model`)
+            dataset.attrs = {k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", "warnings", "elapsed_s", "format", "notes", "model_misfits", "warning_tags")}
             return cls(circuit=parse(ds.attrs["model"], registry), dataset=dataset, weighting=str(ds.attrs["weighting"]), warnings=warnings, elapsed_s=elapsed, registry=registry, source=saved_source(ds),
-                       notes=stored_notes(ds.attrs.get("notes", ())), model_misfits=None if misfits is None else stored_notes(misfits), **{k: f(ds) for k, f in fields.items()})  # (notes: none in a file of older versions)
+                       notes=stored_notes(ds.attrs.get("notes", ())), warning_tags=stored_batch_tags(ds.attrs, warnings), **{k: f(ds) for k, f in fields.items()})  # (notes: none in a file of older versions)
 
     def values(self, name: str) -> xr.DataArray:
         """Fitted values of parameter ``name`` over the batch dimensions."""
@@ -556,9 +572,9 @@ class BatchFitResult(FrozenResult):
         `FitResult.misses_structure`'s rule: a warning says so (`result.MODEL_MISFIT_MARKS`; its
         misfit checked from 2 % rms_rel), or `misfit_hints` names it (below 2 %, over 5× what the
         Kramers–Kronig chain reaches). Not the warnings alone: on the REAL 130 battery
-        cycles they name none while the hints name 49. The warning's blame is
-        `model_misfits`, set where the notes are made, not read from their words (a batch
-        without it: their words)."""
+        cycles they name none while the hints name 49. The warning's blame is its
+        `notes.MODEL_MISFIT` tag (`warning_tags`), set where the notes are made, not read from
+        their words (a batch without tags: their words)."""
         ds = self.dataset
         hinted = set(self._hinted[0].tolist())
         flags = [self._blames_model(key) or i in hinted for i, (key, _) in enumerate(self.spectrum_keys())]
@@ -566,11 +582,11 @@ class BatchFitResult(FrozenResult):
         return xr.DataArray(np.array(flags, bool).reshape(shape), dims=self.dims, coords={d: ds[d] for d in self.dims if d in ds.coords})
 
     def _blames_model(self, key: str) -> bool:
-        """Whether spectrum ``key``'s warnings blame the model: `model_misfits` (set where the
-        notes are made), or where that is not known, their words (`warnings_blame_model`)."""
-        if self.model_misfits is None:
+        """Whether spectrum ``key``'s warnings blame the model: their `notes.MODEL_MISFIT` tags (set
+        where the notes are made), or where they are not known, their words (`warnings_blame_model`)."""
+        if self.warning_tags is None:
             return warnings_blame_model(self.warnings.get(key, ()))
-        return key in self.model_misfits
+        return any(has_tag(t, MODEL_MISFIT) for t in self.warning_tags.get(key, ()))
 
     def spectrum_keys(self):
         """(key, labels) of each spectrum in C order: the text `fit_batch` files its warnings
@@ -606,8 +622,7 @@ class BatchFitResult(FrozenResult):
         stored = self._stored_groups()
         if stored is not None:
             ds.attrs["unidentified_groups"] = {keys.get(k, k): v for k, v in stored.items()}
-        misfits = None if self.model_misfits is None else tuple(keys.get(k, k) for k in self.model_misfits)
-        return replace(self, dataset=ds, warnings={keys.get(k, k): v for k, v in self.warnings.items()}, model_misfits=misfits)
+        return batch_with_warnings(replace(self, dataset=ds), {keys.get(k, k): self.tagged_warnings(k) for k in self.warnings})
 
     def _spectrum_rows(self) -> list[dict]:
         """Each spectrum's fit (the JSON's ``spectra``): its label along every batch dimension
@@ -1313,10 +1328,11 @@ class _LaneRunner:
         return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
 
-def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False, attrs=None) -> tuple[np.ndarray, list[tuple[str, ...]], list[list[list[str]]], list[bool]]:
+def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, n_starts, max_steps, seed, registry, source, starts=None, remainder: bool = False, attrs=None) -> tuple[np.ndarray, list[tuple[str, ...]], list[list[list[str]]]]:
     """One row per spectrum (values, stderr, linearised stderr, at-bound flags, chi2, converged,
-    evaluations, Re/Im of Z_model, the covariance of the free parameters as a `FitResult`'s), its warnings, its unidentified groups (`null_sets`, as
-    `FitResult.unidentified_groups`) and whether its warnings blame the model (`FitResult.model_misfit`), without a FitResult per spectrum: the uncertainties of all
+    evaluations, Re/Im of Z_model, the covariance of the free parameters as a `FitResult`'s), its warnings (`notes.Note`s with their tags,
+    as a `FitResult`'s `tagged_warnings`) and its unidentified groups (`null_sets`, as
+    `FitResult.unidentified_groups`), without a FitResult per spectrum: the uncertainties of all
     spectra in one stacked computation (`covariances`), their warnings too (`stack_notes`); only
     spectra that overflowed or did not converge go through `fit_result`."""
     out, used, solver, inward = _solve_stack(circuit, table, freq, z, sigma, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=starts)
@@ -1384,15 +1400,14 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     linearised = stderr.copy()
     stderr[np.ix_(regular, table.free_index)] = without_error(sides[regular], vanished, free_stderr)[0]
     z_model = np.array(out.z_model)
-    misfit: list[tuple[str, ...]] = []
-    blamed: list[bool] = []
-    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_chains, remainder=remainder, attrs=attrs, misfit_out=misfit, n_free=int(table.free_index.size), blamed_out=blamed)
+    weighting_extra = data_notes(freq, z, z_model, sigma, weighting, source, solver.kk_chains, remainder=remainder, attrs=attrs, n_free=int(table.free_index.size))
+    misfit = [with_tag(notes_i, MISFIT) for notes_i in weighting_extra]  # (each spectrum's misfit notes alone, the last of its notes)
     for i in np.flatnonzero(odd):
         r = fit_result(circuit, table, freq, z[i], out.row(i), weighting, int(used[i]), 0.0, registry, chi2_at_x=lambda p, s, i=i: solver.chi2_at_x(p, s + i), extra_notes=weighting_extra[i], weights=(inv_re[i], inv_im[i]))
         values[i] = [r.values[n] for n in names]
         stderr[i] = [r.stderr[n] for n in names]
         linearised[i] = [r.linearised_stderr[n] for n in names]
-        chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.warnings
+        chi2[i], converged[i], z_model[i], notes[i] = r.chi2, r.converged, r.z_model, r.tagged_warnings
         groups[i] = [list(g) for g in r.unidentified_groups]
         sides[i] = [n in r.at_bound for n in table.free_names]
         cov[i] = r.covariance
@@ -1402,14 +1417,12 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     for i in [i for i in range(b) if misfit[i]]:
         at = tuple(n for n, side in zip(table.free_names, sides[i].tolist()) if side)
         checked = constraint_misfit_notes(circuit, table, registry, freq, z[i], z_model[i], None if sigma is None else sigma[i], dict(zip(names, values[i].tolist())), at, misfit[i], solver.kk_chains.misfit(i), weighting=weighting, fit=_spectrum_fit, attrs=attrs)
-        warned = with_constraint_notes(notes[i], misfit[i], checked)
-        blamed[i] = blamed[i] and tuple(warned) == tuple(notes[i])  # (the constraint's note blames no model)
-        notes[i] = warned
-    notes = [sign_notes_first(n) for n in notes]
+        notes[i] = with_constraint_notes(notes[i], misfit[i], checked)  # (the constraint's note, untagged, blames no model)
+    notes = [sign_notes_first(n) for n in notes]  # (`notes.Note`s: their tags go with them)
     at_bound = np.zeros(values.shape)
     at_bound[:, table.free_index] = sides != 0
     stats = np.stack([chi2, converged.astype(float), np.asarray(out.steps_total, float)], axis=-1)
-    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag, cov.reshape(b, k * k)], axis=-1), notes, groups, blamed
+    return np.concatenate([values, stderr, linearised, at_bound, stats, z_model.real, z_model.imag, cov.reshape(b, k * k)], axis=-1), notes, groups
 
 
 # lane solver shapes: many lanes for large batches, few for the rest and stragglers (each pair
@@ -1422,8 +1435,7 @@ _FEW_LANES, _FEW_CAPACITY = 8, 64
 _MANY_LANES_FROM = 4 * _LANES
 
 
-def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: KKChains | None = None, *, remainder: bool = False, attrs=None, misfit_out: list | None = None, n_free: int | None = None,
-               blamed_out: list | None = None, limits_out: list | None = None, uneven_out: list | None = None, sigma_out: list | None = None) -> list[tuple[str, ...]]:
+def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: KKChains | None = None, *, remainder: bool = False, attrs=None, n_free: int | None = None) -> list[tuple[str, ...]]:
     """The warnings of fits to spectra z (B, N) with models z_model (B, N) that concern the data
     rather than the parameters, one tuple per spectrum, as a single fit gives them: a weighting
     dominated by a few points (`weighting_notes`), points with Re Z < 0 (`non_passive_notes`)
@@ -1431,34 +1443,20 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     stated σ (`sigma_scale_notes`)
     and a gross misfit (`misfit_notes`; ``kk_chains``: the fit call's Kramers–Kronig chains, `kk.KKChains`);
     ``remainder``: the spectra are a subtraction's remainder (`is_remainder`), Re Z < 0 its cause;
-    ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`). ``misfit_out``: a list
-    extended with each spectrum's misfit notes alone (the last of its notes); ``n_free``: each
-    fit's number of free parameters (`misfit_notes`; None for a shared fit's spectra);
-    ``blamed_out``: a list extended with whether each spectrum's misfit note blames the model
-    (`misfit_notes`' ``blamed_out``, `FitResult.model_misfit`); ``limits_out``: one extended with
-    each spectrum's note that the data limit its fit and that note's sign hint end (`misfit_notes`'
-    ``limits_out``, `FitResult.data_limit_note`); ``uneven_out``: one extended with whether each
-    spectrum got `uneven_residual_notes`' note (`FitResult.uneven_noise`); ``sigma_out``: one
-    extended with each spectrum's notes of residuals below σ or uneven against it
-    (`FitResult.sigma_residual_notes`)."""
+    ``attrs``: the data's, for how to fix a flipped sign (`misfit_notes`); ``n_free``: each
+    fit's number of free parameters (`misfit_notes`; None for a shared fit's spectra). The notes
+    of `misfit_notes`, `uneven_residual_notes` and `sigma_scale_notes` are `notes.Note`s that carry
+    their tags (`notes.WARNING_TAGS`; the misfit notes, the last of a spectrum's, tagged
+    `notes.MISFIT`: `notes.with_tag`), the others plain texts."""
     b = len(z)
     inverse_weights = weights(z, sigma, weighting, source, freq)
     weighted = dominated_notes(weighting, freq, z, *inverse_weights)
     # (σ-weighted fits beyond σ: whether a KK-consistent chain under the same σ is too, σ then misstating the noise)
     misstated, chain_chi2_red = sigma_misstated(freq, z, z_model, sigma, weighting, n_free)
-    blamed: list[bool] = []
-    misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated, blamed_out=blamed, limits_out=limits_out)
+    misfit = misfit_notes(freq, z, z_model, kk_chains, sigma, attrs, weighting=weighting, n_free=n_free, misstated=misstated)
     trial_means = trial_means_of_sigma(attrs)  # (σ the standard error of trial means: what the notes of residuals below or uneven against it say)
-    uneven_sigma: list[tuple[str, ...]] = []
-    scale_sigma: list[tuple[str, ...]] = []  # (the notes of residuals below σ or uneven against it: `sigma_out`)
-    uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None, trial_means=trial_means, uneven_out=uneven_out, sigma_out=uneven_sigma)
-    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means, blamed=blamed, sigma_out=scale_sigma)
-    if sigma_out is not None:
-        sigma_out.extend(u + s for u, s in zip(uneven_sigma, scale_sigma))
-    if misfit_out is not None:
-        misfit_out.extend(misfit)
-    if blamed_out is not None:
-        blamed_out.extend(blamed)
+    uneven = uneven_residual_notes(freq, z, z_model, *inverse_weights, weighting, misfit, has_sigma=sigma is not None, trial_means=trial_means)
+    scale = sigma_scale_notes(z, z_model, *inverse_weights, weighting, n_free, misfit, chain_chi2_red, trial_means)  # (the blame: the misfit notes' tags)
     noise = None if sigma is not None else fit_noise(freq, z, z_model, n_free or 0)  # (Re Z < 0 is judged against the noise the residuals show)
     passive = ~np.any(non_passive(z, sigma, noise), axis=-1)  # (the spectra `non_passive_notes` has nothing to say of)
     return [tuple(weighted[i]) + (() if passive[i] else non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder, noise=None if noise is None else noise[i]))
@@ -1497,10 +1495,10 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         z2 = np.asarray(z_block).reshape(-1, n_freq)
         s2 = None if sigma_block is None else np.asarray(sigma_block).reshape(-1, n_freq)
         x0 = None if starts_block is None else np.asarray(starts_block).reshape(-1, n_par)
-        packed, notes, groups, blamed = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0, remainder=is_remainder(data.attrs), attrs=data.attrs)
+        packed, notes, groups = _packed_stack(circuit, table, freq, z2, s2, weighting=weighting, n_starts=n_starts, max_steps=max_steps, seed=seed, registry=registry, source=source, starts=x0, remainder=is_remainder(data.attrs), attrs=data.attrs)
         note_array, group_array = np.empty(len(notes), object), np.empty(len(groups), object)  # (tuples and lists as elements, not as a further axis)
         note_array[:], group_array[:] = notes, groups
-        return packed.reshape(*shape, -1), note_array.reshape(shape), group_array.reshape(shape), np.asarray(blamed, bool).reshape(shape)
+        return packed.reshape(*shape, -1), note_array.reshape(shape), group_array.reshape(shape)
 
     free_names = list(table.free_names)
     n_free = len(free_names)
@@ -1514,32 +1512,29 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
         with python_warnings.catch_warnings():
             # dask builds its empty "meta" output by casting the complex input's meta to float
             python_warnings.simplefilter("ignore", np.exceptions.ComplexWarning)
-            packed_da, notes_da, groups_da, blamed_da = xr.apply_ufunc(
+            packed_da, notes_da, groups_da = xr.apply_ufunc(
                 fit_block,
                 *inputs,
                 input_core_dims=core,
-                output_core_dims=[["fit_output"], [], [], []],
+                output_core_dims=[["fit_output"], [], []],
                 dask="parallelized",
-                output_dtypes=[np.float64, object, object, bool],
+                output_dtypes=[np.float64, object, object],
                 dask_gufunc_kwargs={"output_sizes": {"fit_output": width}, "allow_rechunk": True},
             )
-            computed = xr.Dataset({"packed": packed_da, "notes": notes_da, "groups": groups_da, "blamed": blamed_da}).compute()  # one pass over the graph
+            computed = xr.Dataset({"packed": packed_da, "notes": notes_da, "groups": groups_da}).compute()  # one pass over the graph
         packed = computed["packed"].transpose(*extra, "fit_output").values
         notes = computed["notes"].transpose(*extra).values.ravel().tolist()
         groups = computed["groups"].transpose(*extra).values.ravel().tolist()
-        blamed = computed["blamed"].transpose(*extra).values.ravel().tolist()
     else:
-        packed, notes, groups, blamed = fit_block(z_da.values, *([] if sigma_da is None else [sigma_da.values]), *([] if starts is None else [starts]))
-        notes, groups, blamed = notes.ravel().tolist(), groups.ravel().tolist(), blamed.ravel().tolist()
+        packed, notes, groups = fit_block(z_da.values, *([] if sigma_da is None else [sigma_da.values]), *([] if starts is None else [starts]))
+        notes, groups = notes.ravel().tolist(), groups.ravel().tolist()
     labels = [[f"{d}={c}" for c in (data[d].values if d in data.coords else range(n))] for d, n in zip(extra, z_da.shape)]
     unidentified: dict[str, list[list[str]]] = {}  # (as the warnings: only the spectra that have any)
-    misfits: list[str] = []  # (the spectra whose warnings blame the model: `BatchFitResult.model_misfits`)
-    for idx, note, group, blames in zip(np.ndindex(*z_da.shape[:-1]), notes, groups, blamed):
+    tags: dict[str, tuple[tuple[str, ...], ...]] = {}  # (each spectrum's warnings' tags: `BatchFitResult.warning_tags`)
+    for idx, note, group in zip(np.ndindex(*z_da.shape[:-1]), notes, groups):
         key = ", ".join(label[i] for label, i in zip(labels, idx))
-        if blames:
-            misfits.append(key)
         if note:
-            warnings[key] = tuple(note)
+            warnings[key], tags[key] = tuple(str(n) for n in note), notes_tags(note)
         if group:
             unidentified[key] = [list(g) for g in group]
     coords = {d: data[d].values for d in extra if d in data.coords}
@@ -1584,4 +1579,38 @@ def fit_batch(circuit: Circuit, data: xr.Dataset, table: ParameterTable, *, weig
     )
     if sigma_da is not None:  # (the data's own σ, which weighted the fits: `fit_of` refits with it)
         ds["sigma"] = ((*extra, "frequency"), sigma_da.values if sigma_da.chunks is None else sigma_da.compute().values, {"units": "ohm"})
-    return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0, registry, model_misfits=tuple(misfits))
+    return BatchFitResult(circuit, ds, weighting, warnings, time.perf_counter() - t0, registry, warning_tags=tags)
+
+
+def batch_with_warnings(batch: BatchFitResult, warnings) -> BatchFitResult:
+    """``batch`` with ``warnings`` (spectrum key → its warnings) in place of its own: `notes.Note`s
+    (its `BatchFitResult.tagged_warnings`, renamed, merged or filtered) keep their tags; a batch
+    whose tags are not known and that gets no tagged note keeps none (as `result.with_warnings`)."""
+    warnings = {k: tuple(v) for k, v in warnings.items()}
+    known = batch.warning_tags is not None or any(tags_of(n) for v in warnings.values() for n in v)
+    return replace(batch, warnings={k: tuple(str(n) for n in v) for k, v in warnings.items()}, warning_tags={k: notes_tags(v) for k, v in warnings.items()} if known else None)
+
+
+def stored_batch_tags(attrs, warnings) -> dict[str, tuple[tuple[str, ...], ...]] | None:
+    """`BatchFitResult.warning_tags` from a saved batch's attributes, for its ``warnings``: as
+    stored (``warning_tags``); in a file written before they were, built from its
+    ``model_misfits`` (the spectra whose warnings blame the model: the warning that says so, by
+    `MODEL_MISFIT_MARKS`, or else the spectrum's last, its misfit note, tagged `notes.MISFIT` and
+    `notes.MODEL_MISFIT`); None in a file without either (its words then decide)."""
+    stored = attrs.get("warning_tags")
+    if isinstance(stored, Mapping):
+        tags = {str(k): stored_tags(v, len(warnings.get(str(k), ()))) for k, v in stored.items()}
+        if set(tags) == set(warnings) and all(t is not None for t in tags.values()):
+            return tags
+    misfits = attrs.get("model_misfits")
+    if misfits is None:
+        return None
+    misfits = set(stored_notes(misfits))
+    out = {}
+    for key, ws in warnings.items():
+        rows = [() for _ in ws]
+        if key in misfits and ws:
+            at = next((i for i, w in enumerate(ws) if warnings_blame_model((w,))), len(ws) - 1)
+            rows[at] = (MISFIT, MODEL_MISFIT)
+        out[key] = tuple(rows)
+    return out

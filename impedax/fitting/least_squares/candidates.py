@@ -279,7 +279,7 @@ def fit_candidates(
         # exchangeable blocks in the order every fit reports (docs/fitting.md), so a
         # candidate's R1 is the arc `impedax.fit` of its model from these values calls R1
         one = canonical_order(problem.circuit, problem.table, freq, one, registry)
-        results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts + data_start, elapsed, registry, extra_notes=dominated, model_misfit=False, data_limit=("", ""), uneven_noise=False, misfit_note="", sigma_residual_notes=()))  # (no misfit note: the data's and the weighting's alone)
+        results.append(fit_result(problem.circuit, problem.table, freq, z, one, weighting, n_starts + data_start, elapsed, registry, extra_notes=dominated))  # (no misfit note: the data's and the weighting's alone, untagged; `FitResult.warning_tags` known)
     return results
 
 

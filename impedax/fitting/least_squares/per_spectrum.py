@@ -15,7 +15,7 @@ import numpy as np
 import xarray as xr
 
 from ..grid import aligned_values
-from .batch import BatchFitResult
+from .batch import BatchFitResult, batch_with_warnings
 
 __all__ = ["has_per_spectrum_values", "split_fits"]
 
@@ -65,6 +65,6 @@ def joined(parts: list[BatchFitResult], dims: tuple[str, ...], sizes: list[int])
     if "unidentified_groups" in first.dataset.attrs:
         dataset.attrs["unidentified_groups"] = groups
     warnings: dict = {}
-    for r in rows:
-        warnings.update(r.warnings)
-    return dataclasses.replace(first, dataset=dataset, warnings=warnings, elapsed_s=sum(r.elapsed_s for r in rows))
+    for r in rows:  # (`notes.Note`s: each spectrum's tags with its warnings)
+        warnings.update({k: r.tagged_warnings(k) for k in r.warnings})
+    return batch_with_warnings(dataclasses.replace(first, dataset=dataset, elapsed_s=sum(r.elapsed_s for r in rows)), warnings)

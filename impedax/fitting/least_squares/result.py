@@ -26,11 +26,12 @@ from ..reductions import RESISTOR_LIKE_ALPHA, WARBURG_LIKE_DEVIATION, warburg_de
 from ..statistics import FIT_RESIDUAL_NOISE, KNOWN_SIGMA, NOISE_OF_SIGMA, UNKNOWN_VARIANCE, covariances, dominant_points, information_criteria, known_noise_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .solvers import SolverOutput, SolverStatus
+from .notes import DATA_LIMIT, MISFIT, MODEL_MISFIT, SIGMA_RESIDUAL, SIGN_HINT, UNEVEN_NOISE, Note, has_tag, notes_tags, sign_hint_tag, stored_tags, tag_detail, tagged, tags_attr, tags_of
 from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "fit_sigma_residual_notes", "note_value_attrs", "stored_note_values", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "fit_sigma_residual_notes", "note_value_attrs", "stored_note_values", "tags_from_values", "with_warnings", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -155,15 +156,55 @@ class FitResult(FrozenResult):
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's (`constraints.user_bounds`)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``, `impedax.load`'s path), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice that is not a warning (`unused_sigma_notes`)
-    model_misfit: bool | None = field(default=None, repr=False)  # whether a warning blames the model (`misfit_notes`' ``blamed_out``), set where the note is made; None: not known, read from the words (`fit_blames_model`)
-    data_limit_note: str | None = field(default=None, repr=False)  # the warning that the data limit the fit (`misfit_notes`' ``limits_out``), as worded, "" where it has none; None: not known, read from the words (`fit_data_limit`)
-    data_limit_hint: str = field(default="", repr=False)  # that note's end holding the KK test's sign hint ("; hint: …", `SIGN_HINT_LEAD`), "" without one
-    misfit_note: str | None = field(default=None, repr=False)  # the fit's misfit warning (`misfit_notes`; compare's in its place), as worded, "" where it has none; None: not known (`fit_blaming_note`)
-    uneven_noise: bool | None = field(default=None, repr=False)  # whether a warning says the weighted residuals are uneven across the band (`uneven_residual_notes`' ``uneven_out``), set where the note is made; None: not known, read from the words (`fit_uneven_noise`)
-    sigma_residual_notes: tuple[str, ...] | None = field(default=None, repr=False)  # the warnings that read residuals below the data's σ, or uneven against it, as what σ is or a σ misstating the noise (`sigma_scale_notes`' and `uneven_residual_notes`' ``sigma_out``), as worded; None: not known, read from the words (`fit_sigma_residual_notes`)
+    warning_tags: tuple[tuple[str, ...], ...] | None = field(default=None, repr=False)  # each warning's tags (`notes.WARNING_TAGS`: what it says as values, set where it is made), in the order of ``warnings``; None: not known (a fit built by hand, a file written without them, ``warnings`` replaced alone with another number of them: `with_warnings` keeps them), read from the words
 
     def __post_init__(self):
+        if self.warning_tags is not None and len(self.warning_tags) != len(self.warnings):  # (``warnings`` replaced alone, not by `with_warnings`: the tags are not theirs)
+            object.__setattr__(self, "warning_tags", None)
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
+
+    @property
+    def tagged_warnings(self) -> tuple[str, ...]:
+        """``warnings`` as `notes.Note`s carrying their tags (plain texts where not known):
+        filtered, reordered or extended, they keep them (`with_warnings`)."""
+        return tagged(self.warnings, self.warning_tags)
+
+    @property
+    def model_misfit(self) -> bool | None:
+        """Whether a warning blames the model (`notes.MODEL_MISFIT`); None: not known
+        (`fit_blames_model` then reads the words)."""
+        return None if self.warning_tags is None else fit_blames_model(self)
+
+    @property
+    def data_limit_note(self) -> str | None:
+        """The warning that the data limit the fit (`notes.DATA_LIMIT`), "" where it has none;
+        None: not known (`fit_data_limit` then reads the words)."""
+        return None if self.warning_tags is None else fit_data_limit(self)[0]
+
+    @property
+    def data_limit_hint(self) -> str:
+        """That warning's end holding the KK test's sign hint ("; hint: …", `notes.SIGN_HINT`), ""
+        without one or where not known."""
+        return "" if self.warning_tags is None else fit_data_limit(self)[1]
+
+    @property
+    def misfit_note(self) -> str | None:
+        """The fit's misfit warning (`misfit_notes`; compare's in its place, `notes.MISFIT`), ""
+        where it has none; None: not known (`fit_blaming_note`)."""
+        return None if self.warning_tags is None else _first_tagged(self.warnings, self.warning_tags, MISFIT)
+
+    @property
+    def uneven_noise(self) -> bool | None:
+        """Whether a warning says the weighted residuals are uneven across the band
+        (`notes.UNEVEN_NOISE`); None: not known (`fit_uneven_noise` then reads the words)."""
+        return None if self.warning_tags is None else fit_uneven_noise(self)
+
+    @property
+    def sigma_residual_notes(self) -> tuple[str, ...] | None:
+        """The warnings that read residuals below the data's σ, or uneven against it, as what σ is
+        or a σ misstating the noise (`notes.SIGMA_RESIDUAL`); None: not known
+        (`fit_sigma_residual_notes` then reads the words)."""
+        return None if self.warning_tags is None else fit_sigma_residual_notes(self)
 
     @property
     def linearised_stderr(self) -> dict[str, float]:
@@ -246,8 +287,8 @@ class FitResult(FrozenResult):
         (`MODEL_MISFIT_MARKS`), or `misfit_hint` gives its hint (rms_rel below 2 % and over 5×
         what the Kramers–Kronig chain reaches; as `BatchFitResult.misses_structure`):
         its values and standard errors are then this model's best, not the system's. The warning's
-        blame is `model_misfit`, set where the note is made, not read from its words
-        (`fit_blames_model`; a fit without it: its words)."""
+        blame is its `notes.MODEL_MISFIT` tag, set where the note is made, not read from its words
+        (`fit_blames_model`; a fit without tags: its words)."""
         return fit_blames_model(self) or misfit_hint(self) is not None
 
     @property
@@ -506,7 +547,7 @@ class FitResult(FrozenResult):
                 bounds=stored_bounds(ds.attrs.get("bounds")),
                 source=saved_source(ds),
                 notes=stored_notes(ds.attrs.get("notes", ())),  # (none in a file of older versions)
-                **stored_note_values(ds.attrs),
+                **stored_note_values(ds.attrs, warnings),
             )
 
 
@@ -1076,8 +1117,7 @@ def residual_band_rms(freq, z, z_model, inv_re, inv_im) -> tuple[np.ndarray, np.
     return rms, f[edges[:-1]], f[edges[1:] - 1]
 
 
-def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None, *, has_sigma: bool = False, trial_means: str | None = None,
-                          uneven_out: list | None = None, sigma_out: list | None = None) -> list[tuple[str, ...]]:
+def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misfit=None, *, has_sigma: bool = False, trial_means: str | None = None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) of spectra z (B, N) whose weighted residuals
     (inverse weights inv_re, inv_im as `problem.weights`) are over `UNEVEN_RESIDUAL_RATIO`× larger
     in rms in one band of frequencies than in another (`residual_band_rms`): the standard errors
@@ -1100,19 +1140,11 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     or, where σ is the standard error of trial means (``trial_means``, `trial_means_of_sigma`),
     that the fit of the mean can take the trials' variation it holds up in one band and not in
     another (SYNTHETIC Sirin example of seed 4: its σ is not to be "checked" as a sigma
-    column). ``uneven_out``: a list extended with whether each fit got the note (a value set
-    where the note is made, `FitResult.uneven_noise`; `UNEVEN_NOISE_NOTE` is its words).
-    ``sigma_out``: a list extended with, per fit, its note where weighted by σ (what σ is, or that
-    it misstates the noise in a band), as worded, () otherwise (`FitResult.sigma_residual_notes`;
-    `SIGMA_BAND_WORDS`, `SIGMA_OF_TRIAL_MEANS_WORDS` are its words)."""
+    column). The note is a `notes.Note` tagged `notes.UNEVEN_NOISE` (`UNEVEN_NOISE_NOTE` is its
+    words), and `notes.SIGMA_RESIDUAL` where weighted by σ (what σ is, or that it misstates the
+    noise in a band; `SIGMA_BAND_WORDS`, `SIGMA_OF_TRIAL_MEANS_WORDS` are its words)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
-    if uneven_out is not None:
-        uneven_out.extend([False] * len(z))
-        first = len(uneven_out) - len(z)  # (this call's fits: flagged below as their notes are made)
-    if sigma_out is not None:
-        sigma_out.extend([()] * len(z))
-        first_sigma = len(sigma_out) - len(z)
     if weighting not in UNEVEN_CHECKED_WEIGHTINGS or np.asarray(freq).size < 2 * UNEVEN_BAND_POINTS:
         return out
     rms, lo, hi = residual_band_rms(freq, z, z_model, inv_re, inv_im)
@@ -1121,7 +1153,7 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
     every = np.arange(len(rms))
     uneven = np.all(np.isfinite(rms), axis=-1) & ~at_rounding(z, z_model) & (rms[every, louds] > UNEVEN_RESIDUAL_RATIO * rms[every, quiets])
     for i in np.flatnonzero(uneven).tolist():
-        if misfit is not None and misfit[i] and DATA_LIMIT_NOTE not in misfit[i][0]:
+        if misfit is not None and misfit[i] and not _data_limit_note(misfit[i][0]):
             continue
         loud, quiet = int(louds[i]), int(quiets[i])
         loud_band, quiet_band = f"{format_frequency(lo[loud])} – {format_frequency(hi[loud])}", f"{format_frequency(lo[quiet])} – {format_frequency(hi[quiet])}"
@@ -1138,16 +1170,19 @@ def uneven_residual_notes(freq, z, z_model, inv_re, inv_im, weighting: str, misf
                       if has_sigma else
                       "if the noise is larger there, give sigma (a sigma column of the file or a 'sigma' variable of a netCDF file; in Python, make_spectrum(sigma=...)) "
                       "and weigh by it (impedax fit --weighting sigma; impedax sample --noise sigma)")
-        out[i] = (
+        out[i] = (Note(
             f"the weighted residuals are over {UNEVEN_RESIDUAL_RATIO:g}× larger (rms) at {loud_band} than at the {'lower' if lo[quiet] < lo[loud] else 'higher'} frequencies {quiet_band}: "
             f"{UNEVEN_NOISE_NOTE} ({weighting} weighting), so they are not to be trusted; {remedy}; "
             "if the model misses something there, a diagnosis (impedax diagnose) shows what",
-        )
-        if uneven_out is not None:
-            uneven_out[first + i] = True
-        if sigma_out is not None and weighting == "sigma":  # (its remedy says what σ is, or that σ misstates the noise there)
-            sigma_out[first_sigma + i] = out[i]
+            (UNEVEN_NOISE, *([SIGMA_RESIDUAL] if weighting == "sigma" else [])),  # (under σ its remedy says what σ is, or that σ misstates the noise there)
+        ),)
     return out
+
+
+def _data_limit_note(note) -> bool:
+    """Whether a misfit note (`misfit_notes`) says the data limit the fit: its `notes.DATA_LIMIT`
+    tag, or, a plain text, `DATA_LIMIT_NOTE` in its words."""
+    return has_tag(tags_of(note), DATA_LIMIT) if isinstance(note, Note) else DATA_LIMIT_NOTE in note
 
 
 # a fit weighted by the data's σ is told that σ misstates the noise (`sigma_scale_notes`) where its
@@ -1169,7 +1204,7 @@ def chi2_red_range(dof: int) -> tuple[float, float]:
     return float(chdtri(dof, 1.0 - SIGMA_SCALE_TAIL)) / dof, float(chdtri(dof, SIGMA_SCALE_TAIL)) / dof
 
 
-def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None, trial_means: str | None = None, *, blamed=None, sigma_out: list | None = None) -> list[tuple[str, ...]]:
+def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | None, misfit=None, chain_chi2_red=None, trial_means: str | None = None, *, blamed=None) -> list[tuple[str, ...]]:
     """The warning of each fit z_model (B, N) weighted by the data's σ (``inv_re`` = ``inv_im``
     = 1/σ) whose χ²_red lies outside `chi2_red_range` and whose residuals are at least
     `SIGMA_SCALE_FACTOR`× σ, or that many times below it, in rms (√χ²_red): the standard errors
@@ -1187,16 +1222,13 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
     says what σ is instead of calling it overstated with standard errors "too large" (SYNTHETIC
     Sirin example: residuals 0.3× its SEM, "3.4× too large" said, where the trials' own spread
     of C_gap, fitted per trial, 5.2 pF as standard error of their mean, is 7× the fit's 0.74 pF).
-    ``blamed`` (one bool per fit, `misfit_notes`' ``blamed_out``): which of ``misfit``'s notes blame
-    the model; None: read from their words (`warnings_blame_model`). ``sigma_out``: a list
-    extended with, per fit, its note of residuals below σ (what σ is, or that σ overstates the
-    noise), as worded, () otherwise (`FitResult.sigma_residual_notes`; `SIGMA_OF_TRIAL_MEANS_WORDS`,
+    ``blamed`` (one bool per fit): which of ``misfit``'s notes blame the model; None: their
+    `notes.MODEL_MISFIT` tags (`misfit_notes`), or, plain texts, their words
+    (`warnings_blame_model`). A note of residuals below σ (what σ is, or that σ overstates the
+    noise) is a `notes.Note` tagged `notes.SIGMA_RESIDUAL` (`SIGMA_OF_TRIAL_MEANS_WORDS`,
     `SIGMA_OVERSTATES_WORDS` are its words)."""
     z = np.atleast_2d(z)
     out: list[tuple[str, ...]] = [()] * len(z)
-    if sigma_out is not None:
-        sigma_out.extend([()] * len(z))
-        first_sigma = len(sigma_out) - len(z)  # (this call's fits: their notes of residuals below σ set below as made)
     dof = 2 * z.shape[-1] - (n_free or 0)
     if weighting != "sigma" or n_free is None or dof < 1:
         return out
@@ -1209,7 +1241,7 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
             continue
         factor = math.sqrt(c)
         chain = np.nan if chain_chi2_red is None else float(np.broadcast_to(chain_chi2_red, (len(z),))[i])
-        model_blamed = bool(blamed[i]) if blamed is not None else misfit is not None and warnings_blame_model(misfit[i][:1])
+        model_blamed = bool(blamed[i]) if blamed is not None else misfit is not None and _blames_model(misfit[i][:1])
         slip = sigma_unit_slip(z[i], 1.0 / np.broadcast_to(np.atleast_2d(inv_re), z.shape)[i], factor)
         if slip:  # (before the model is blamed: a σ in the wrong unit weighs the points wrongly, and the misfit may be that)
             out[i] = (
@@ -1232,24 +1264,29 @@ def sigma_scale_notes(z, z_model, inv_re, inv_im, weighting: str, n_free: int | 
                 "or the model misses something (a diagnosis, impedax diagnose, shows what)",
             )
         elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR and trial_means:
-            out[i] = (
+            out[i] = (Note(
                 f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"{SIGMA_OF_TRIAL_MEANS_WORDS} ({trial_means}; the data's sigma_method), which holds how the trials differ as well as the noise; "
                 "a fit of the mean takes a difference smooth in frequency (a contact that changes from touch to touch, a cell from cycle to cycle) up into its parameters, so residuals "
                 "below σ are expected here (unless the model follows the noise with too many parameters). The standard errors take σ as independent from "
                 "point to point, which such a difference is not, so they do not give the parameters' spread between trials: fit each trial for that "
-                "(impedax remaining --trials, then impedax fit; impedax gap's hierarchical model for a contact's gap)",
+                "(impedax remaining --trials, then impedax fit; impedax gap's hierarchical model for a contact's gap)", (SIGMA_RESIDUAL,)),
             )
-            if sigma_out is not None:
-                sigma_out[first_sigma + i] = out[i]
         elif c < low and factor <= 1.0 / SIGMA_SCALE_FACTOR:
-            out[i] = (
+            out[i] = (Note(
                 f"the residuals are {format_factor(factor)}× the data's sigma in rms (χ²_red {c:.3g}, where residuals of the stated σ give {low:.2f}–{high:.2f}): "
                 f"{SIGMA_OVERSTATES_WORDS} (or the model follows the noise with too many parameters), and the standard errors, which take σ as stated, are then {format_factor(1 / factor)}× too large",
+                (SIGMA_RESIDUAL,)),
             )
-            if sigma_out is not None:
-                sigma_out[first_sigma + i] = out[i]
     return out
+
+
+def _blames_model(notes) -> bool:
+    """Whether ``notes`` blame the model: their `notes.MODEL_MISFIT` tags (`misfit_notes`'
+    `notes.Note`s), or, plain texts, their words (`warnings_blame_model`)."""
+    if any(isinstance(n, Note) for n in notes):
+        return any(has_tag(tags_of(n), MODEL_MISFIT) for n in notes)
+    return warnings_blame_model(notes)
 
 
 # ... and told that σ looks given in the wrong unit (`sigma_unit_slip`) where its residuals are this
@@ -1323,94 +1360,158 @@ DIAGNOSIS_ADVICE = "a diagnosis (impedax diagnose) shows where it fails and whic
 small)."""
 MODEL_MISFIT_MARKS = (MODEL_MISSES_STRUCTURE, MISFIT_IS_MODELS)
 """Phrases of the `misfit_notes` that blame the model, not the data (their text is built from
-them). Whether a fit's notes blame the model is a value set where they are made
-(`FitResult.model_misfit`, `BatchFitResult.model_misfits`); these phrases tell it only of
-warnings without one (`warnings_blame_model`: a result file written without it)."""
+them). Whether a fit's notes blame the model is a tag set where they are made
+(`notes.MODEL_MISFIT`, `FitResult.warning_tags`, `BatchFitResult.warning_tags`); these phrases
+tell it only of warnings without tags (`warnings_blame_model`: a result file written without them)."""
 
 
 def warnings_blame_model(warnings) -> bool:
     """Whether one of a fit's warnings says its model misses structure the data hold
-    (`MODEL_MISFIT_MARKS`), by their words: for warnings without the value their fit carries
-    (`FitResult.model_misfit`, `fit_blames_model`), such as those of a file written without it."""
+    (`MODEL_MISFIT_MARKS`), by their words: for warnings without the tags their fit carries
+    (`FitResult.warning_tags`, `fit_blames_model`), such as those of a file written without them."""
     return any(mark in w for w in warnings for mark in MODEL_MISFIT_MARKS)
 
 
 def note_value_attrs(fit, flag=bool) -> dict:
-    """The values ``fit`` sets where it makes its notes, as a saved result's attributes (a fit's
-    `.nc`, a posterior's stored start fit): ``model_misfit`` and ``uneven_noise`` as ``flag``
-    (int in netCDF attributes), ``data_limit_note``, ``data_limit_hint``, ``misfit_note`` and
-    ``sigma_residual_notes`` (where not known, None: the words' answer, `fit_blames_model`,
-    `fit_data_limit`, `fit_uneven_noise`, `fit_blaming_note`, `fit_sigma_residual_notes`). `stored_note_values` reads them back."""
+    """What ``fit``'s warnings say, as a saved result's attributes (a fit's `.nc`, a posterior's
+    stored start fit): ``warning_tags`` (`FitResult.warning_tags`, None where not known), and the
+    values read from them by the files of earlier versions: ``model_misfit`` and ``uneven_noise``
+    as ``flag`` (int in netCDF attributes), ``data_limit_note``, ``data_limit_hint``,
+    ``misfit_note`` and ``sigma_residual_notes`` (where the tags are not known: the words'
+    answer, `fit_blames_model`, `fit_data_limit`, `fit_uneven_noise`, `fit_blaming_note`,
+    `fit_sigma_residual_notes`). `stored_note_values` reads them back."""
     limit, hint = fit_data_limit(fit)
-    return {"model_misfit": flag(fit_blames_model(fit)), "data_limit_note": limit, "data_limit_hint": hint, "uneven_noise": flag(fit_uneven_noise(fit)),
-            "misfit_note": fit_blaming_note(fit) if fit.misfit_note is None else fit.misfit_note, "sigma_residual_notes": list(fit_sigma_residual_notes(fit))}
+    tags = getattr(fit, "warning_tags", None)
+    return {"warning_tags": tags_attr(tags), "model_misfit": flag(fit_blames_model(fit)), "data_limit_note": limit, "data_limit_hint": hint, "uneven_noise": flag(fit_uneven_noise(fit)),
+            "misfit_note": fit_blaming_note(fit) if tags is None else _first_tagged(fit.warnings, tags, MISFIT), "sigma_residual_notes": list(fit_sigma_residual_notes(fit))}
 
 
-def stored_note_values(attrs) -> dict:
-    """`FitResult`'s note values from saved attributes (`note_value_attrs`); one a file lacks
-    (written by an older version) is None, so that the fit read back is judged by its warnings'
-    words."""
-    def known(key, kind):
-        return kind(attrs[key]) if key in attrs else None
+def stored_note_values(attrs, warnings=None) -> dict:
+    """`FitResult`'s ``warning_tags`` from saved attributes (`note_value_attrs`) of a fit with
+    ``warnings`` (None: ``attrs["warnings"]``): as stored, or, in a file written before they
+    were (which stored ``model_misfit``, ``data_limit_note``, ... instead), built from those
+    values (`tags_from_values`); None in a file that holds neither (an older version's), so that
+    the fit read back is judged by its warnings' words."""
+    warnings = attrs.get("warnings", ()) if warnings is None else warnings
+    warnings = (warnings,) if isinstance(warnings, str) else tuple(str(w) for w in warnings)
+    tags = stored_tags(attrs.get("warning_tags"), len(warnings))
+    if tags is None:
+        tags = tags_from_values(warnings, **{key: attrs.get(key) for key in _NOTE_VALUE_KEYS})
+    return {"warning_tags": tags}
 
-    return {"model_misfit": known("model_misfit", bool), "data_limit_note": known("data_limit_note", str), "data_limit_hint": str(attrs.get("data_limit_hint", "")),
-            "misfit_note": known("misfit_note", str), "uneven_noise": known("uneven_noise", bool), "sigma_residual_notes": known("sigma_residual_notes", stored_notes)}
+
+_NOTE_VALUE_KEYS = ("model_misfit", "data_limit_note", "data_limit_hint", "misfit_note", "uneven_noise", "sigma_residual_notes")
+"""The attributes in which files written before `FitResult.warning_tags` hold what the warnings say."""
+
+
+def tags_from_values(warnings, *, model_misfit=None, data_limit_note=None, data_limit_hint=None, misfit_note=None, uneven_noise=None, sigma_residual_notes=None) -> tuple[tuple[str, ...], ...] | None:
+    """The tags of ``warnings`` from the values a file written before `FitResult.warning_tags`
+    holds (`note_value_attrs`' other keys; None: the file lacks it), None where it holds none:
+    the notes they name are found among the warnings by their text (the misfit note, the note
+    that the data limit the fit, the σ notes) and, for the two flags, by their words (the note
+    that blames the model where ``misfit_note`` is "", `MODEL_MISFIT_MARKS`; the uneven-noise
+    note, `UNEVEN_NOISE_NOTE`)."""
+    if all(v is None for v in (model_misfit, data_limit_note, misfit_note, uneven_noise, sigma_residual_notes)):
+        return None
+    tags = [[] for _ in warnings]
+
+    def mark(index, *new):
+        if index is not None:
+            tags[index] += [t for t in new if t not in tags[index]]
+
+    def at(text):
+        return next((i for i, w in enumerate(warnings) if text and w == text), None)
+
+    def worded(words):
+        return next((i for i, w in enumerate(warnings) if any(x in w for x in words)), None)
+
+    mark(at(misfit_note), MISFIT)
+    if model_misfit is not None and bool(model_misfit):
+        mark(at(misfit_note) if misfit_note else worded(MODEL_MISFIT_MARKS), MISFIT, MODEL_MISFIT)
+    if data_limit_note:
+        mark(at(data_limit_note), DATA_LIMIT, *([sign_hint_tag(str(data_limit_hint))] if data_limit_hint else []))
+    if uneven_noise is not None and bool(uneven_noise):
+        mark(worded((UNEVEN_NOISE_NOTE,)), UNEVEN_NOISE)
+    for note in () if sigma_residual_notes is None else stored_notes(sigma_residual_notes):
+        mark(at(note), SIGMA_RESIDUAL)
+    return tuple(tuple(t) for t in tags)
+
+
+def with_warnings(fit, warnings):
+    """``fit`` with ``warnings`` in place of its own: `notes.Note`s (its `FitResult.tagged_warnings`
+    filtered, reordered or extended, new ones tagged or not) keep their tags; a fit whose tags are
+    not known and that gets no tagged note keeps none (one that gets one: its own warnings tagged
+    as their words say, `tags_from_values`)."""
+    from dataclasses import replace
+
+    warnings = tuple(warnings)
+    known = getattr(fit, "warning_tags", None) is not None or any(tags_of(w) for w in warnings)
+    if known and getattr(fit, "warning_tags", None) is None:  # (its own warnings tagged as their words say: their answers stay those of the words)
+        said = note_value_attrs(fit)
+        own = dict(zip(fit.warnings, tags_from_values(fit.warnings, **{key: said[key] for key in _NOTE_VALUE_KEYS})))
+        warnings = tuple(w if tags_of(w) else Note(w, own.get(w, ())) for w in warnings)
+    return replace(fit, warnings=tuple(str(w) for w in warnings), warning_tags=notes_tags(warnings) if known else None)
+
+
+def _first_tagged(warnings, tags, tag: str) -> str:
+    """The first of ``warnings`` whose ``tags`` hold ``tag``, "" none."""
+    return next((w for w, t in zip(warnings, tags) if has_tag(t, tag)), "")
 
 
 def fit_data_limit(fit) -> tuple[str, str]:
     """(the warning, its sign hint's end) of ``fit``'s note that the data, not only the model,
-    limit it (`misfit_notes`): its ``data_limit_note`` and ``data_limit_hint``, set where the note
-    is made, or, where that is not known (None: a fit built by hand, a file written without it),
-    the warning holding `DATA_LIMIT_NOTE` and its end from "; " `SIGN_HINT_LEAD` on, by their
-    words; ("", "") where it has no such note among its warnings."""
-    note = getattr(fit, "data_limit_note", None)
-    if note is None:
+    limit it (`misfit_notes`): the warning tagged `notes.DATA_LIMIT` and its `notes.SIGN_HINT`
+    tag's end, set where the note is made, or, where the tags are not known (None: a fit built by
+    hand, a file written without them), the warning holding `DATA_LIMIT_NOTE` and its end from
+    "; " `SIGN_HINT_LEAD` on, by their words; ("", "") where it has no such note among its warnings."""
+    tags = getattr(fit, "warning_tags", None)
+    if tags is None:
         note = next((w for w in fit.warnings if DATA_LIMIT_NOTE in w), "")
         at = note.find(f"; {SIGN_HINT_LEAD}")
         return note, note[at:] if at >= 0 else ""
-    return (note, fit.data_limit_hint) if note and note in fit.warnings else ("", "")
+    return next(((w, tag_detail(t, SIGN_HINT)) for w, t in zip(fit.warnings, tags) if has_tag(t, DATA_LIMIT)), ("", ""))
 
 
 def fit_uneven_noise(fit) -> bool:
     """Whether ``fit``'s warnings say its weighted residuals are uneven across the band
-    (`uneven_residual_notes`): its ``uneven_noise``, set where the note is made, or, where that is
-    not known (None: a fit built by hand, a file written without it), `UNEVEN_NOISE_NOTE` in its
-    words."""
-    flag = getattr(fit, "uneven_noise", None)
-    return any(UNEVEN_NOISE_NOTE in w for w in fit.warnings) if flag is None else bool(flag)
+    (`uneven_residual_notes`): a warning tagged `notes.UNEVEN_NOISE`, set where the note is made,
+    or, where the tags are not known (None: a fit built by hand, a file written without them),
+    `UNEVEN_NOISE_NOTE` in its words."""
+    tags = getattr(fit, "warning_tags", None)
+    return any(UNEVEN_NOISE_NOTE in w for w in fit.warnings) if tags is None else any(has_tag(t, UNEVEN_NOISE) for t in tags)
 
 
 def fit_sigma_residual_notes(fit) -> tuple[str, ...]:
     """``fit``'s warnings that read residuals below the data's σ, or uneven against it, as what σ
     is or a σ misstating the noise (`sigma_scale_notes`, `uneven_residual_notes` under σ
-    weighting): its ``sigma_residual_notes``, set where the notes are made, or, where that is not
-    known (None: a fit built by hand, a file written without it), those holding
+    weighting): those tagged `notes.SIGMA_RESIDUAL`, set where the notes are made, or, where the
+    tags are not known (None: a fit built by hand, a file written without them), those holding
     `SIGMA_OVERSTATES_WORDS`, `SIGMA_OF_TRIAL_MEANS_WORDS` or `SIGMA_BAND_WORDS`, by their words."""
-    notes = getattr(fit, "sigma_residual_notes", None)
-    if notes is None:
+    tags = getattr(fit, "warning_tags", None)
+    if tags is None:
         return tuple(w for w in fit.warnings if any(words in w for words in (SIGMA_OVERSTATES_WORDS, SIGMA_OF_TRIAL_MEANS_WORDS, SIGMA_BAND_WORDS)))
-    return tuple(w for w in notes if w in fit.warnings)
+    return tuple(w for w, t in zip(fit.warnings, tags) if has_tag(t, SIGMA_RESIDUAL))
 
 
 def fit_blaming_note(fit) -> str:
     """The warning of ``fit`` that blames its model for missing structure the data hold (its
     misfit note, `misfit_notes`, or the note `compare` puts in its place), "" where none does:
-    its ``misfit_note`` where `fit_blames_model`, both set where the note is made, or, where the
-    note is not known (None: a fit built by hand, a file written without it), the first warning
-    holding one of `MODEL_MISFIT_MARKS`, by their words. A file stores this, so that a fit read
-    back whose note does not blame the model has ""."""
-    note = getattr(fit, "misfit_note", None)
-    if note is None:
+    the warning tagged `notes.MODEL_MISFIT`, set where the note is made, or, where the tags are
+    not known (None: a fit built by hand, a file written without them), the first warning
+    holding one of `MODEL_MISFIT_MARKS`, by their words."""
+    tags = getattr(fit, "warning_tags", None)
+    if tags is None:
         return next((w for w in fit.warnings if any(mark in w for mark in MODEL_MISFIT_MARKS)), "")
-    return note if note and note in fit.warnings and fit_blames_model(fit) else ""
+    return _first_tagged(fit.warnings, tags, MODEL_MISFIT)
 
 
 def fit_blames_model(fit) -> bool:
-    """Whether ``fit``'s warnings blame its model for missing structure the data hold: its
-    ``model_misfit`` (set where the note is made, `misfit_notes`), or, where that is not known
-    (None: a fit built by hand, a file written without it), `warnings_blame_model` of its words."""
-    flag = getattr(fit, "model_misfit", None)
-    return warnings_blame_model(fit.warnings) if flag is None else bool(flag)
+    """Whether ``fit``'s warnings blame its model for missing structure the data hold: a warning
+    tagged `notes.MODEL_MISFIT` (set where the note is made, `misfit_notes`), or, where the tags
+    are not known (None: a fit built by hand, a file written without them),
+    `warnings_blame_model` of its words."""
+    tags = getattr(fit, "warning_tags", None)
+    return warnings_blame_model(fit.warnings) if tags is None else any(has_tag(t, MODEL_MISFIT) for t in tags)
 
 
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
@@ -1637,8 +1738,7 @@ def sign_notes_first(notes: tuple[str, ...]) -> tuple[str, ...]:
     return signed + tuple(n for n in notes if f"; {SIGN_HINT_LEAD}" not in n) if signed else tuple(notes)
 
 
-def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None, *, blamed_out: list | None = None,
-                 limits_out: list | None = None) -> list[tuple[str, ...]]:
+def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, attrs=None, weighting: str | None = None, n_free: int | None = None, misstated=None) -> list[tuple[str, ...]]:
     """The misfit warning of each fit of spectra z (B, N) with models z_model (B, N) whose
     rms_rel is at least `MISFIT_CHECKED_FROM`: set against the rms_rel of the linear
     Kramers–Kronig test's Voigt chain (`starts.attainable_misfit`), either the model misses
@@ -1677,12 +1777,10 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
     noise, so no note blames the model; such a fit gets the note that the data limit it
     (`sigma_scale_notes` and `uneven_residual_notes`, which that note leaves in place, say what is
     wrong with σ). ``known``: the fit call's `kk.KKChains` (its chains are fitted
-    once for the misfits and the full test). ``blamed_out``: a list extended with whether each
-    fit's note blames the model (a value set where the note is made, `FitResult.model_misfit`;
-    `MODEL_MISFIT_MARKS` are its words). ``limits_out``: a list extended with, per fit, its note
-    that the data limit it and that note's sign hint end ("; " `SIGN_HINT_LEAD` and the hint),
-    ("", "") where it has none or none of them (`FitResult.data_limit_note`, `data_limit_hint`;
-    `DATA_LIMIT_NOTE` is its words)."""
+    once for the misfits and the full test). Each note is a `notes.Note` tagged `notes.MISFIT`,
+    and `notes.MODEL_MISFIT` where it blames the model (`MODEL_MISFIT_MARKS` are its words),
+    `notes.DATA_LIMIT` where it says the data limit the fit (`DATA_LIMIT_NOTE`), `notes.SIGN_HINT`
+    with the end holding the sign hint ("; " `SIGN_HINT_LEAD` and the hint) where it has one."""
     known = KKChains() if known is None else known
     rms, checked, kks = _checked_misfits(freq, z, z_model, known)
     at_noise = within_stated_noise(z, z_model, sigma, weighting, n_free)
@@ -1699,9 +1797,9 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
             noise_rms = np.reshape(np.sqrt(np.mean(variance / np.abs(np.asarray(z)) ** 2, axis=-1)), rms.shape)  # (the rms_rel σ implies)
         explained = np.isfinite(ratio) & (ratio <= SIGMA_EXPLAINED)
     out: list[tuple[str, ...]] = [()] * rms.size
-    blamed = [False] * rms.size  # (the notes that blame the model: `blamed_out`)
+    blamed = [False] * rms.size  # (the notes that blame the model: tagged MODEL_MISFIT)
     data_limited: dict[int, float] = {}  # spectrum → its KK chain's rms_rel
-    hints = [""] * rms.size  # (the sign hint's end of a data-limited note: `limits_out`)
+    hints = [""] * rms.size  # (the sign hint's end of a note: tagged SIGN_HINT)
     for i, kk in zip(checked.tolist(), kks.tolist()):
         if not kk > 0 or at_noise[i]:  # (σ-weighted residuals the stated noise explains: nothing to blame)
             continue
@@ -1741,7 +1839,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
         for i, (valid, hint, chain_params) in zip(tested, known.verdicts(freq, rows, tested, attrs)):
             if i not in data_limited:
                 if hint:
-                    out[i], blamed[i] = (f"{SIGN_CAUSE_NOTE}; {SIGN_HINT_LEAD}{hint}",), False
+                    out[i], blamed[i], hints[i] = (f"{SIGN_CAUSE_NOTE}; {SIGN_HINT_LEAD}{hint}",), False, f"; {SIGN_HINT_LEAD}{hint}"
                 continue
             kk = data_limited[i]
             if valid and not sigma_wrong[i] and misfit_beyond_chain(rms[i], kk, n_points, n_free if same_metric else None, chain_params):
@@ -1757,11 +1855,9 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
             elif hint:
                 out[i] = (f"{out[i][0]}; {SIGN_HINT_LEAD}{hint}",)
                 hints[i] = f"; {SIGN_HINT_LEAD}{hint}"
-    if blamed_out is not None:
-        blamed_out.extend(blamed)
-    if limits_out is not None:  # (a data-limited note stays one unless the model was blamed instead)
-        limits_out.extend((out[i][0], hints[i]) if i in data_limited and not blamed[i] else ("", "") for i in range(rms.size))
-    return out
+    # (a data-limited note stays one unless the model was blamed instead)
+    return [tuple(Note(text, (MISFIT, *([MODEL_MISFIT] if blamed[i] else []), *([DATA_LIMIT] if i in data_limited and not blamed[i] else []),
+                              *([sign_hint_tag(hints[i])] if hints[i] else []))) for text in notes) for i, notes in enumerate(out)]
 
 
 REMAINDER_ATTRS = ("total", "skin", "touchscreen")
@@ -2136,8 +2232,6 @@ def user_bounds(table: ParameterTable, circuit: Circuit, registry: Registry) -> 
 def fit_result(
     circuit, table: ParameterTable, freq, z, out: SolverOutput, weighting: str, n_starts: int, elapsed: float, registry: Registry,
     *, chi2_at_x: Callable | None = None, extra_notes: tuple[str, ...] = (), start: str = "the data-driven start", weights=None, starts_words: str | None = None,
-    model_misfit: bool | None = None, data_limit: tuple[str, str] | None = None, uneven_noise: bool | None = None, misfit_note: str | None = None,
-    sigma_residual_notes: tuple[str, ...] | None = None,
 ) -> FitResult:
     """The `FitResult` of one spectrum's `SolverOutput`: uncertainties, status and warnings.
     ``chi2_at_x`` (as `confirm_bounds`, for this spectrum as number 0) lets parameters be
@@ -2147,15 +2241,8 @@ def fit_result(
     parameter at a bound while chi² falls inward (`falling_inward`): such a fit is reported not
     converged, and the parameter not at its bound. ``starts_words``: what a multistart's
     ``n_starts`` starts were (`single.starts_words`), after "best of N starts: " in the message.
-    ``model_misfit``: whether ``extra_notes`` hold a note that blames the model (`misfit_notes`'
-    ``blamed_out``; None: not known), `FitResult.model_misfit`. ``data_limit``: the note of
-    ``extra_notes`` that the data limit the fit and its sign hint's end (`misfit_notes`'
-    ``limits_out``; None: not known), `FitResult.data_limit_note` and ``data_limit_hint``.
-    ``uneven_noise``: whether ``extra_notes`` hold `uneven_residual_notes`' note (None: not
-    known), `FitResult.uneven_noise`. ``misfit_note``: the note of ``extra_notes`` that
-    `misfit_notes` made, "" none (None: not known), `FitResult.misfit_note`.
-    ``sigma_residual_notes``: the notes of ``extra_notes`` of residuals below σ or uneven against
-    it (`data_notes`' ``sigma_out``; None: not known), `FitResult.sigma_residual_notes`."""
+    The tags of ``extra_notes`` (`notes.Note`s: `data_notes`') are the fit's
+    `FitResult.warning_tags`; its own warnings have none."""
     names = table.names
     free_names = table.free_names
     x = out.x
@@ -2240,17 +2327,12 @@ def fit_result(
         converged=converged,
         message=message,
         n_evaluations=int(out.steps_total),
-        warnings=notes,
+        warnings=tuple(str(n) for n in notes),
         n_starts=n_starts,
         elapsed_s=elapsed,
         at_bound=at_bound_names(table, sides),
         unidentified_groups=parameter_groups(null_sets),
         registry=registry,
         bounds=user_bounds(table, circuit, registry),
-        model_misfit=model_misfit,
-        data_limit_note=None if data_limit is None else data_limit[0],
-        data_limit_hint="" if data_limit is None else data_limit[1],
-        uneven_noise=uneven_noise,
-        misfit_note=misfit_note,
-        sigma_residual_notes=sigma_residual_notes,
+        warning_tags=notes_tags(notes),
     )

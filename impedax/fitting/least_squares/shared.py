@@ -45,7 +45,7 @@ from ...warning_groups import scope_key
 from ..parameters import ParameterTable, to_internal
 from ..problem import residual_scale, weights
 from ..statistics import SINGULAR_RATIO_LIMIT, add_null_group, information_criteria
-from .batch import BatchFitResult, data_notes, fit_batch
+from .batch import BatchFitResult, batch_with_warnings, data_notes, fit_batch
 from .order import exchangeable_blocks
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, unidentified_stderr, vanishing_candidates, vanishing_parameters
 from .result import value_shown_at_bound, near_bound_notes, BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
@@ -710,8 +710,8 @@ def fit_shared(
     # against its own Kramers–Kronig misfit, whose KK test runs only for the spectra at rms_rel
     # ≥ MISFIT_CHECKED_FROM), under the spectrum's key as in a batch
     flat_sigma = None if sigma is None else sigma.reshape(-1, n_freq)
-    blamed: list[bool] = []  # (each spectrum's misfit note blames the model: `BatchFitResult.model_misfits`, set where the note is made)
-    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source, remainder=is_remainder(data.attrs), attrs=data.attrs, blamed_out=blamed)):
+    # (`notes.Note`s: their tags are each spectrum's `BatchFitResult.warning_tags`, set where the notes are made)
+    for row, note in enumerate(data_notes(freq, z.reshape(-1, n_freq), z_model.reshape(-1, n_freq), flat_sigma, weighting, source, remainder=is_remainder(data.attrs), attrs=data.attrs)):
         if note:
             spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     group_notes = [
@@ -737,14 +737,14 @@ def fit_shared(
     shared_sides = sides.reshape(n_groups, m, k)[:, 0, sh]
     shared_linearised_stderr = shared_stderr
     shared_stderr, corr_shared = without_error(shared_sides, np.zeros(shared_sides.shape, bool), shared_stderr, corr_shared)
-    dataset, warnings, misfits = _result_dataset(
+    dataset, warnings = _result_dataset(
         circuit, data, table, layout, extra, keep_shape, over_shape, values=values, stderr=stderr, linearised_stderr=linearised_stderr, chi2=chi2, z_model=z_model, sides=sides,
         cov_full=cov_full, corr_full=corr_full, shared_value=shared_value, shared_stderr=shared_stderr, shared_linearised_stderr=shared_linearised_stderr, corr_shared=corr_shared, joint=joint,
         stats={"joint_chi2": joint["chi2"], "joint_chi2_red": noise, "joint_dof": np.full(n_groups, float(dof)), "joint_aic": aic_joint, "joint_bic": bic_joint,
                "independent_chi2": chi2_indep, "independent_aic": aic_ind, "delta_aic": aic_joint - aic_ind, "f_statistic": f_stat, "f_pvalue": f_p},
-        spectrum_notes=spectrum_notes, group_notes=group_notes, weighting=weighting, null_groups=null_groups, blamed=blamed,
+        spectrum_notes=spectrum_notes, group_notes=group_notes, weighting=weighting, null_groups=null_groups,
     )
-    return SharedFitResult(circuit, dataset, weighting, warnings, time.perf_counter() - t0, registry, shared=layout.shared, over=layout.over, model_misfits=misfits)
+    return batch_with_warnings(SharedFitResult(circuit, dataset, weighting, {}, time.perf_counter() - t0, registry, shared=layout.shared, over=layout.over, warning_tags={}), warnings)
 
 
 class _GroupFit(NamedTuple):
@@ -983,12 +983,11 @@ def _sharing_notes(layout: SharedLayout, value, stderr, sides, table: ParameterT
 
 
 def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shape, over_shape, *, values, stderr, linearised_stderr, chi2, z_model, sides, cov_full, corr_full,
-                    shared_value, shared_stderr, shared_linearised_stderr, corr_shared, joint, stats, spectrum_notes, group_notes, weighting, null_groups=None, blamed=None):
+                    shared_value, shared_stderr, shared_linearised_stderr, corr_shared, joint, stats, spectrum_notes, group_notes, weighting, null_groups=None):
     """The result's Dataset (the variables of `BatchFitResult` plus the shared ones, and as its
     attribute ``unidentified_groups`` each spectrum's ``null_groups`` (flat order) that has any,
-    keyed as a batch's), its warnings keyed as a batch fit's, and the keys of the spectra whose
-    misfit note blames the model (``blamed``: one bool per spectrum, flat order, `data_notes`'
-    ``blamed_out``; None: not known), `BatchFitResult.model_misfits`."""
+    keyed as a batch's), and its warnings keyed as a batch fit's (`notes.Note`s, as made, with
+    their tags: `batch.batch_with_warnings`)."""
     names = table.names
     n_freq = data.sizes["frequency"]
     grouped = (*layout.keep, *layout.over)
@@ -1050,12 +1049,9 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
     labels = {d: [f"{d}={c}" for c in (data[d].values if d in data.coords else range(data.sizes[d]))] for d in extra}
     warnings: dict[str, tuple[str, ...]] = {}
     unidentified: dict[str, list[list[str]]] = {}  # (as a batch's: only the spectra that have any)
-    misfits: list[str] = []
     for flat, index in enumerate(np.ndindex(*shape)):
         where = dict(zip(grouped, index))
         key = ", ".join(labels[d][where[d]] for d in extra)
-        if blamed is not None and blamed[flat]:
-            misfits.append(key)
         note = spectrum_notes.get(flat, ())
         if note:
             warnings[key] = tuple(note)
@@ -1067,4 +1063,4 @@ def _result_dataset(circuit, data, table, layout: SharedLayout, extra, keep_shap
         if group_notes[gi]:
             label = ", ".join(labels[d][i] for d, i in zip(layout.keep, index))
             warnings[scope_key(layout.over, label)] = group_notes[gi]
-    return ds, warnings, None if blamed is None else tuple(misfits)
+    return ds, warnings

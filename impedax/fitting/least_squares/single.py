@@ -26,7 +26,8 @@ from .batch import BatchFitResult, data_notes, fit_batch, register_spectrum_fit
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .order import canonical_order
 from .per_spectrum import has_per_spectrum_values, split_fits
-from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, sign_notes_first, unused_sigma_notes
+from .notes import MISFIT, with_tag
+from .result import BOUND_RESTARTS, FitResult, is_remainder, falling_inward, fit_result, sign_notes_first, unused_sigma_notes, with_warnings
 from .shared import SharedFitResult, fit_shared, shared_layout
 from .solvers import IDENTITY_DAMPING_STEPS, SCREEN_STEPS, SharedArgs, SolverStatus, SpectrumRows, better, padded_points, solver_args, tree_solver, trimmed, unscale
 from .starts import KK_MISFIT_FACTOR, SpectrumFeatures, draw_size, draw_words, escalation_rungs, climb_target, guess_start, inward_start, limit_draw_count, limit_starts, rms_rel_of, rung_draws, rung_seed, to_solver_space
@@ -214,26 +215,18 @@ def fit(
     out = restarted_inward(out, lambda u: solve(u[None])[0], table, z, inv_re, inv_im, weighting, lambda o: one_spectrum_chi2(solvers.chi2_x, args, o))
     out = canonical_order(circuit, table, freq, out, registry)
     chi2_at_x = one_spectrum_chi2(solvers.chi2_x, args, out)
-    # the data's notes as a batch gives them (`batch.data_notes`: one assembly for both paths)
-    misfits: list[tuple[str, ...]] = []
-    blamed: list[bool] = []  # (whether the misfit note blames the model: `FitResult.model_misfit`)
-    limits: list[tuple[str, str]] = []  # (its note that the data limit it and its sign hint: `FitResult.data_limit_note`)
-    uneven: list[bool] = []  # (whether its residuals are uneven across the band: `FitResult.uneven_noise`)
-    sigma_residual: list[tuple[str, ...]] = []  # (its notes of residuals below σ or uneven against it: `FitResult.sigma_residual_notes`)
+    # the data's notes as a batch gives them (`batch.data_notes`: one assembly for both paths),
+    # `notes.Note`s whose tags are the fit's `FitResult.warning_tags`
     (notes,) = data_notes(freq, z[None], np.asarray(out.z_model)[None], None if sigma is None else sigma[None], weighting, source, kk_chains,
-                          remainder=is_remainder(data.attrs), attrs=data.attrs, misfit_out=misfits, n_free=int(table.free_index.size), blamed_out=blamed, limits_out=limits, uneven_out=uneven, sigma_out=sigma_residual)
-    misfit = misfits[0]
+                          remainder=is_remainder(data.attrs), attrs=data.attrs, n_free=int(table.free_index.size))
+    misfit = with_tag(notes, MISFIT)
     result = fit_result(circuit, table, freq, z, out, weighting, used, time.perf_counter() - t0, registry, chi2_at_x=chi2_at_x, extra_notes=notes, start=start, weights=(inv_re, inv_im),
-                        starts_words=starts_words(table, n_starts, used, guess_words, at_limits, limit_draw_count(circuit, table, registry, n_starts)), model_misfit=blamed[0], data_limit=limits[0], uneven_noise=uneven[0],
-                        misfit_note=misfit[0] if misfit else "", sigma_residual_notes=sigma_residual[0])
+                        starts_words=starts_words(table, n_starts, used, guess_words, at_limits, limit_draw_count(circuit, table, registry, n_starts)))
     # a misfit the user's fixed value or bound explains is told so, not blamed on the model (as a batch's)
     checked = constraint_misfit_notes(circuit, table, registry, freq, z, result.z_model, sigma, result.values, result.at_bound, misfit, kk_chains.misfit(0), weighting=weighting, fit=fit, attrs=data.attrs)
-    if checked != misfit:
-        warned = with_constraint_notes(result.warnings, misfit, checked)
-        result = dataclasses.replace(result, warnings=warned, elapsed_s=time.perf_counter() - t0, model_misfit=result.model_misfit and warned == tuple(result.warnings),  # (the constraint's note blames no model)
-                                     data_limit_note=result.data_limit_note if result.data_limit_note in warned else "", data_limit_hint=result.data_limit_hint if result.data_limit_note in warned else "",
-                                     misfit_note=result.misfit_note if result.misfit_note in warned else "")  # (the constraint's note in its place: not the misfit note)
-    return dataclasses.replace(result, source=known_source, notes=sigma_notes, warnings=sign_notes_first(result.warnings))
+    if checked != misfit:  # (the constraint's note in its place, untagged: no misfit note, none that blames the model)
+        result = with_warnings(dataclasses.replace(result, elapsed_s=time.perf_counter() - t0), with_constraint_notes(result.tagged_warnings, misfit, checked))
+    return with_warnings(dataclasses.replace(result, source=known_source, notes=sigma_notes), sign_notes_first(result.tagged_warnings))
 
 
 def data_source(data: xr.Dataset) -> str | None:
