@@ -63,6 +63,7 @@ def assert_same(back, post):
     xr.testing.assert_equal(back.fit.dataset, post.fit.dataset)
     assert (back.fit.shared, back.fit.over, back.fit.weighting, back.fit.warnings, back.fit.elapsed_s) == (post.fit.shared, post.fit.over, post.fit.weighting, post.fit.warnings, post.fit.elapsed_s)
     assert back.fit.report() == post.fit.report() and back.fit.to_table() == post.fit.to_table()
+    assert post.fit.warning_tags is not None and dict(back.fit.warning_tags) == dict(post.fit.warning_tags)  # (what each warning says: docs/fitting.md "What a warning says")
     assert back.report() == post.report()
     assert json.dumps(back.summary(), sort_keys=True) == json.dumps(post.summary(), sort_keys=True)  # (NaN τ: compared as text)
     assert back.to_table() == post.to_table()

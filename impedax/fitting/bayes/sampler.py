@@ -329,8 +329,8 @@ noise: χ²_red of a model that fits has mean 1 and sd √(2/(2N − k)), 0.14 f
 
 def _start_misfit(init: FitResult, noise: NoiseModel) -> bool | str:
     """Whether the least-squares start misses the data: True where its misfit note blames the
-    model (`FitResult.model_misfit`, `fit_blames_model`: a value, not the note's words); `evidence.START_UNEVEN_NOISE` where, under one relative noise
-    level, its residuals are uneven (`FitResult.uneven_noise`, `fit_uneven_noise`: a value, not its
+    model (its tag `model_misfit`, `fit_blames_model`: set where the note is made, not the note's words); `evidence.START_UNEVEN_NOISE` where, under one relative noise
+    level, its residuals are uneven (its tag `uneven_noise`, `fit_uneven_noise`: not its
     `UNEVEN_NOISE_NOTE`'s words); `evidence.START_BEYOND_SIGMA` where only its χ²_red, with the
     data's σ, exceeds `CHI2_RED_MISFIT` (an understated σ or a missing effect); else False."""
     if fit_blames_model(init):

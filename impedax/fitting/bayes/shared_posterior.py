@@ -36,7 +36,9 @@ from ...data import checked_frequencies, column_width, counted, exact_number, re
 from ...warning_groups import grouped_warnings
 from ..derived import draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
+from ..least_squares.batch import stored_batch_tags
 from ..least_squares.branches import left_to_priors
+from ..least_squares.notes import tags_attr
 from ..least_squares.result import parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
@@ -510,7 +512,8 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
             "impedax_kind": "shared_posterior", "model": self.model, "noise": self.noise.value, "shared": ",".join(self.shared), "over": ",".join(self.over),
             "spectra": list(self.spectra), "units": list(self.units), "priors": {n: [p.kind.value, p.a, p.b] for n, p in self.priors.items()},
             "settings": dict(self.settings), "notes": list(self.notes), "warnings": list(self.warnings),
-            "fit": {"weighting": fr.weighting, "warnings": {k: list(v) for k, v in fr.warnings.items()}, "elapsed_s": fr.elapsed_s, "attrs": dict(fr.dataset.attrs)},
+            "fit": {"weighting": fr.weighting, "warnings": {k: list(v) for k, v in fr.warnings.items()}, "elapsed_s": fr.elapsed_s, "attrs": dict(fr.dataset.attrs),
+                    "warning_tags": None if fr.warning_tags is None else {k: tags_attr(v) for k, v in fr.warning_tags.items()}},  # (its warnings' tags, as a joint fit's .nc)
             "fit_variables": stored, "fit_dims": stored_dims, "straggler_walkers": list(self.stragglers.walkers), "stragglers": self.stragglers.to_attr(),
         }
         coords = {"walker": kept_walkers(self.n_walkers, self.stragglers), "draw": np.arange(self.n_draws), "param": list(self.names), **fit_coords}
@@ -549,9 +552,11 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
             (fit_coords if name in ds.coords else fit_data)[original] = xr.Variable(tuple(dims.get(d, d) for d in var.dims), var.values, var.attrs)
         fa = ds.attrs["fit"]
         fit_ds = xr.Dataset(fit_data, coords=fit_coords, attrs=fa["attrs"])
+        fit_warnings = {str(k): tuple(v) for k, v in fa["warnings"].items()}
         fit_result = SharedFitResult(
-            circuit=circuit, dataset=fit_ds, weighting=fa["weighting"], warnings={str(k): tuple(v) for k, v in fa["warnings"].items()},
+            circuit=circuit, dataset=fit_ds, weighting=fa["weighting"], warnings=fit_warnings,
             elapsed_s=float(fa["elapsed_s"]), registry=registry, shared=tuple(ds.attrs["shared"].split(",")), over=over,
+            warning_tags=stored_batch_tags(fa, fit_warnings),  # (a file written by an older version: none, the words)
         )
         return cls(
             circuit=circuit, shared=tuple(ds.attrs["shared"].split(",")), over=over, spectra=tuple(str(s) for s in ds.attrs["spectra"]), names=names,
