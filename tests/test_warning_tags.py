@@ -16,6 +16,7 @@ against a flat σ, and σ as the noise."""
 
 from __future__ import annotations
 
+import dataclasses
 import pickle
 
 import numpy as np
@@ -196,3 +197,5 @@ def test_tags_go_with_their_warnings(modulus):
     assert _answers(swapped) == _answers(flipped)
     dropped = with_warnings(flipped, flipped.tagged_warnings[1:] + ("a note of the caller",))
     assert (dropped.data_limit_note, dropped.uneven_noise, dropped.warning_tags[-1]) == ("", True, ())
+    alone = dataclasses.replace(flipped, warnings=flipped.warnings[:1])  # (the warnings replaced alone: the tags are not theirs)
+    assert alone.warning_tags is None and _answers(alone)[6:] == _answers(with_warnings(flipped, flipped.tagged_warnings[:1]))[6:]  # (the words say the same)

@@ -25,8 +25,8 @@ from ..problem import WEIGHTING_SCALES
 from ..reductions import RESISTOR_LIKE_ALPHA, WARBURG_LIKE_DEVIATION, warburg_deviation
 from ..statistics import FIT_RESIDUAL_NOISE, KNOWN_SIGMA, NOISE_OF_SIGMA, UNKNOWN_VARIANCE, covariances, dominant_points, information_criteria, known_noise_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .solvers import SolverOutput, SolverStatus
 from .notes import DATA_LIMIT, MISFIT, MODEL_MISFIT, SIGMA_RESIDUAL, SIGN_HINT, UNEVEN_NOISE, Note, has_tag, notes_tags, sign_hint_tag, stored_tags, tag_detail, tagged, tags_attr, tags_of
+from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
