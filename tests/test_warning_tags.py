@@ -168,6 +168,12 @@ def test_an_older_file_reads_back_with_the_same_answers(modulus, sigma, tmp_path
         bare = FitResult.from_xarray(read_netcdf(path))
         assert bare.warning_tags is None and (bare.model_misfit, bare.data_limit_note, bare.uneven_noise, bare.sigma_residual_notes) == (None,) * 4
         assert _answers(bare)[6:] == _answers(fit)[6:]  # (the words, on the normal path)
+    for fit in (modulus[1]["flipped"], modulus[1]["two"], sigma[0]["overstated"]):  # (a version that stored some of the values: the words for the others)
+        for key in (k for k in VALUE_ATTRS if k != "data_limit_hint"):  # (stored with data_limit_note from the first)
+            ds = fit.to_xarray()
+            ds.attrs = {k: v for k, v in ds.attrs.items() if k not in ("warning_tags", key, *(("data_limit_hint",) if key == "data_limit_note" else ()))}
+            write_netcdf(ds, path)
+            assert _answers(FitResult.from_xarray(read_netcdf(path))) == _answers(fit), key
     batch = modulus[2]
     ds = batch.to_xarray()
     ds.attrs = {k: v for k, v in ds.attrs.items() if k != "warning_tags"}  # (a batch's file before the tags: model_misfits alone)

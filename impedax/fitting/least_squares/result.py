@@ -1410,9 +1410,19 @@ def tags_from_values(warnings, *, model_misfit=None, data_limit_note=None, data_
     the notes they name are found among the warnings by their text (the misfit note, the note
     that the data limit the fit, the σ notes) and, for the two flags, by their words (the note
     that blames the model where ``misfit_note`` is "", `MODEL_MISFIT_MARKS`; the uneven-noise
-    note, `UNEVEN_NOISE_NOTE`)."""
+    note, `UNEVEN_NOISE_NOTE`). A value the file lacks (written by a version that stored some of
+    them) is the words' answer, as it was for such a file (`fit_blames_model`, `fit_data_limit`,
+    `fit_uneven_noise`, `fit_sigma_residual_notes`; the misfit note: the one that blames the
+    model, `fit_blaming_note`, or else the one that says the data limit the fit)."""
     if all(v is None for v in (model_misfit, data_limit_note, misfit_note, uneven_noise, sigma_residual_notes)):
         return None
+    words = _Untagged(tuple(warnings))
+    model_misfit = fit_blames_model(words) if model_misfit is None else model_misfit
+    if data_limit_note is None:
+        data_limit_note, data_limit_hint = fit_data_limit(words)
+    misfit_note = (fit_blaming_note(words) or data_limit_note or "") if misfit_note is None else misfit_note  # (the misfit note: one that blames the model, or says the data limit the fit)
+    uneven_noise = fit_uneven_noise(words) if uneven_noise is None else uneven_noise
+    sigma_residual_notes = fit_sigma_residual_notes(words) if sigma_residual_notes is None else sigma_residual_notes
     tags = [[] for _ in warnings]
 
     def mark(index, *new):
@@ -1426,15 +1436,23 @@ def tags_from_values(warnings, *, model_misfit=None, data_limit_note=None, data_
         return next((i for i, w in enumerate(warnings) if any(x in w for x in words)), None)
 
     mark(at(misfit_note), MISFIT)
-    if model_misfit is not None and bool(model_misfit):
+    if bool(model_misfit):
         mark(at(misfit_note) if misfit_note else worded(MODEL_MISFIT_MARKS), MISFIT, MODEL_MISFIT)
     if data_limit_note:
         mark(at(data_limit_note), DATA_LIMIT, *([sign_hint_tag(str(data_limit_hint))] if data_limit_hint else []))
-    if uneven_noise is not None and bool(uneven_noise):
+    if bool(uneven_noise):
         mark(worded((UNEVEN_NOISE_NOTE,)), UNEVEN_NOISE)
-    for note in () if sigma_residual_notes is None else stored_notes(sigma_residual_notes):
+    for note in stored_notes(sigma_residual_notes):
         mark(at(note), SIGMA_RESIDUAL)
     return tuple(tuple(t) for t in tags)
+
+
+@dataclass(frozen=True)
+class _Untagged:
+    """Warnings without tags: what the accessors (`fit_blames_model`, ...) read by their words."""
+
+    warnings: tuple[str, ...]
+    warning_tags = None
 
 
 def with_warnings(fit, warnings):
