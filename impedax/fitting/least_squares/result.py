@@ -1533,8 +1533,8 @@ def fit_blames_model(fit) -> bool:
 
 
 # the end of the note that the data, not only the model, limit a fit (`misfit_notes`): `comparison.compare`
-# replaces it where another model fits the same data significantly better (the note is a value of
-# the fit, `FitResult.data_limit_note`; this phrase finds it only in a fit without one: `fit_data_limit`)
+# replaces it where another model fits the same data significantly better (the note is found by its
+# `notes.DATA_LIMIT` tag; this phrase finds it only in a fit without tags: `fit_data_limit`)
 DATA_LIMIT_NOTE = "the data's noise, drift or artifacts limit the fit, not only the model (see impedax kk)"
 # ... followed, when the KK test says the imaginary part may be stored with the opposite sign
 # (`io.sign_check.sign_hint`), by this and the hint (`comparison` keeps it when it replaces the note)
