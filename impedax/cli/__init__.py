@@ -517,7 +517,6 @@ def _spread_params(argv: list[str], options: tuple[str, ...] = ASSIGNMENT_OPTION
 
 def _run(argv: list[str], command: list[str]) -> int:
     from ..errors import ImpedaxError
-    from .common import option_words, positional_model, read_impedance_py_model, unused_figure_options
 
     name = _command_of(argv)
     parser = build_parser(name)
@@ -525,7 +524,9 @@ def _run(argv: list[str], command: list[str]) -> int:
     if name:
         spread = tuple(o for o in ASSIGNMENT_OPTIONS if o in _subparser(parser, name)._option_string_actions)
         argv = _spread_params(argv, spread) if spread else argv
-    args, unknown = parser.parse_known_args(argv)
+    args, unknown = parser.parse_known_args(argv)  # (``--version`` and ``--help`` end here, before NumPy is imported)
+    from .common import option_words, positional_model, read_impedance_py_model, unused_figure_options
+
     command[0] = args.command
     if unknown:
         _refuse_unknown(parser, args.command, unknown, getattr(args, "model", None))
