@@ -34,7 +34,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, fit_
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
-from .notes import MISFIT, MODEL_MISFIT, has_tag, notes_tags, stored_tags, tagged, tags_attr, tags_of, with_tag
+from .notes import MISFIT, MODEL_MISFIT, carried_over, has_tag, notes_tags, stored_tags, tagged, tags_attr, tags_of, with_tag
 from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, draw_size, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
@@ -130,6 +130,7 @@ class BatchFitResult(FrozenResult):
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice for every spectrum that is not a warning, as `FitResult.notes`
     warning_tags: dict[str, tuple[tuple[str, ...], ...]] | None = field(default=None, repr=False)  # each spectrum's (key of ``warnings``) tags of its warnings, in their order, as `FitResult.warning_tags`; None: not known, read from the words
+    _tags_given_with: tuple | None = field(default=None, repr=False)  # (the warnings and tags ``warning_tags`` were set with, as `FitResult`'s: `notes.carried_over`)
 
     @property
     def model_misfits(self) -> tuple[str, ...] | None:
@@ -145,8 +146,12 @@ class BatchFitResult(FrozenResult):
         return tagged(self.warnings.get(key, ()), None if self.warning_tags is None else self.warning_tags.get(key, ((),) * len(self.warnings.get(key, ()))))
 
     def __post_init__(self):
-        if self.warning_tags is not None and (set(self.warning_tags) != set(self.warnings) or any(len(self.warning_tags[k]) != len(w) for k, w in self.warnings.items())):  # (``warnings`` replaced alone, not by `batch_with_warnings`)
-            object.__setattr__(self, "warning_tags", None)
+        warnings, tags = {k: tuple(v) for k, v in self.warnings.items()}, self.warning_tags
+        if tags is not None and (set(tags) != set(warnings) or any(len(tags[k]) != len(w) for k, w in warnings.items()) or carried_over(warnings, tags, self._tags_given_with)):  # (``warnings`` replaced alone, not by `batch_with_warnings`: the tags are not theirs; `notes.Note`s bring their own)
+            tags = {k: notes_tags(v) for k, v in warnings.items()} if any(tags_of(n) for v in warnings.values() for n in v) else None
+            object.__setattr__(self, "warnings", {k: tuple(str(n) for n in v) for k, v in warnings.items()})
+        object.__setattr__(self, "warning_tags", tags)
+        object.__setattr__(self, "_tags_given_with", None if tags is None else ({k: tuple(v) for k, v in self.warnings.items()}, tags))
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`); to_xarray hands out a copy
 
     @property
@@ -1588,7 +1593,7 @@ def batch_with_warnings(batch: BatchFitResult, warnings) -> BatchFitResult:
     whose tags are not known and that gets no tagged note keeps none (as `result.with_warnings`)."""
     warnings = {k: tuple(v) for k, v in warnings.items()}
     known = batch.warning_tags is not None or any(tags_of(n) for v in warnings.values() for n in v)
-    return replace(batch, warnings={k: tuple(str(n) for n in v) for k, v in warnings.items()}, warning_tags={k: notes_tags(v) for k, v in warnings.items()} if known else None)
+    return replace(batch, warnings={k: tuple(str(n) for n in v) for k, v in warnings.items()}, warning_tags={k: notes_tags(v) for k, v in warnings.items()} if known else None, _tags_given_with=None)  # (the tags given with these warnings: theirs)
 
 
 def stored_batch_tags(attrs, warnings) -> dict[str, tuple[tuple[str, ...], ...]] | None:

@@ -12,7 +12,7 @@ from typing import Iterable
 
 __all__ = [
     "Note", "with_tag", "MISFIT", "MODEL_MISFIT", "DATA_LIMIT", "SIGN_HINT", "UNEVEN_NOISE", "SIGMA_RESIDUAL", "WARNING_TAGS", "tags_of", "has_tag", "tag_detail",
-    "sign_hint_tag", "tagged", "notes_tags", "stored_tags", "tags_attr",
+    "sign_hint_tag", "tagged", "notes_tags", "stored_tags", "tags_attr", "carried_over",
 ]
 
 MISFIT = "misfit"
@@ -102,3 +102,12 @@ def stored_tags(stored, n_warnings: int) -> tuple[tuple[str, ...], ...] | None:
         stored = [stored]
     rows = [(t,) if isinstance(t, str) else tuple(str(x) for x in t) for t in stored]
     return tuple(rows) if len(rows) == n_warnings else None
+
+
+def carried_over(warnings, tags, given_with) -> bool:
+    """Whether ``tags`` came with a result's other warnings, not its ``warnings``: ``given_with``
+    is the (warnings, tags) the result it was made from held (`dataclasses.replace` copies it;
+    None: a new result, or one `result.with_warnings` made), and the tags are those unchanged
+    while the warnings are not (other words, another order). Such tags describe other words: the
+    result keeps none (its words decide) or, for `Note`s, theirs."""
+    return given_with is not None and tags is not None and tags == given_with[1] and warnings != given_with[0]

@@ -25,7 +25,7 @@ from ..problem import WEIGHTING_SCALES
 from ..reductions import RESISTOR_LIKE_ALPHA, WARBURG_LIKE_DEVIATION, warburg_deviation
 from ..statistics import FIT_RESIDUAL_NOISE, KNOWN_SIGMA, NOISE_OF_SIGMA, UNKNOWN_VARIANCE, covariances, dominant_points, information_criteria, known_noise_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
-from .notes import DATA_LIMIT, MISFIT, MODEL_MISFIT, SIGMA_RESIDUAL, SIGN_HINT, UNEVEN_NOISE, Note, has_tag, notes_tags, sign_hint_tag, stored_tags, tag_detail, tagged, tags_attr, tags_of
+from .notes import DATA_LIMIT, MISFIT, MODEL_MISFIT, SIGMA_RESIDUAL, SIGN_HINT, UNEVEN_NOISE, Note, carried_over, has_tag, notes_tags, sign_hint_tag, stored_tags, tag_detail, tagged, tags_attr, tags_of
 from .solvers import SolverOutput, SolverStatus
 from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
@@ -156,11 +156,16 @@ class FitResult(FrozenResult):
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict, repr=False)  # the user's bounds of free parameters (`fit(bounds=...)`), those narrower than the element's (`constraints.user_bounds`)
     source: str | None = field(default=None, repr=False)  # where the data came from (their ``attrs["source"]``, `impedax.load`'s path), None if unknown: `impedax.write_result` records it
     notes: tuple[str, ...] = ()  # advice that is not a warning (`unused_sigma_notes`)
-    warning_tags: tuple[tuple[str, ...], ...] | None = field(default=None, repr=False)  # each warning's tags (`notes.WARNING_TAGS`: what it says as values, set where it is made), in the order of ``warnings``; None: not known (a fit built by hand, a file written without them, ``warnings`` replaced alone with another number of them: `with_warnings` keeps them), read from the words
+    warning_tags: tuple[tuple[str, ...], ...] | None = field(default=None, repr=False)  # each warning's tags (`notes.WARNING_TAGS`: what it says as values, set where it is made), in the order of ``warnings``; None: not known (a fit built by hand, a file written without them, ``warnings`` replaced alone by other ones: `with_warnings` keeps them), read from the words
+    _tags_given_with: tuple | None = field(default=None, repr=False)  # (the warnings and tags ``warning_tags`` were set with: `dataclasses.replace` copies them, so that tags carried over onto other warnings are known as not theirs, `notes.carried_over`)
 
     def __post_init__(self):
-        if self.warning_tags is not None and len(self.warning_tags) != len(self.warnings):  # (``warnings`` replaced alone, not by `with_warnings`: the tags are not theirs)
-            object.__setattr__(self, "warning_tags", None)
+        warnings, tags = tuple(self.warnings), self.warning_tags
+        if tags is not None and (len(tags) != len(warnings) or carried_over(warnings, tags, self._tags_given_with)):  # (``warnings`` replaced alone, not by `with_warnings`: the tags are not theirs; `notes.Note`s bring their own)
+            tags = notes_tags(warnings) if any(tags_of(w) for w in warnings) else None
+            object.__setattr__(self, "warnings", tuple(str(w) for w in warnings))
+        object.__setattr__(self, "warning_tags", tags)
+        object.__setattr__(self, "_tags_given_with", None if tags is None else (self.warnings, tags))
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
@@ -1468,7 +1473,7 @@ def with_warnings(fit, warnings):
         said = note_value_attrs(fit)
         own = dict(zip(fit.warnings, tags_from_values(fit.warnings, **{key: said[key] for key in _NOTE_VALUE_KEYS})))
         warnings = tuple(w if tags_of(w) else Note(w, own.get(w, ())) for w in warnings)
-    return replace(fit, warnings=tuple(str(w) for w in warnings), warning_tags=notes_tags(warnings) if known else None)
+    return replace(fit, warnings=tuple(str(w) for w in warnings), warning_tags=notes_tags(warnings) if known else None, _tags_given_with=None)  # (the tags given with these warnings: theirs, `notes.carried_over`)
 
 
 def _first_tagged(warnings, tags, tag: str) -> str:
