@@ -14,6 +14,7 @@ model) and one arc with 2.5 % noise below 1 Hz and 0.5 % above (uneven residuals
 from __future__ import annotations
 
 import dataclasses
+import json
 import pickle
 
 import numpy as np
@@ -21,6 +22,7 @@ import pytest
 import xarray as xr
 
 import impedax as ix
+from impedax.cli import main
 from impedax.fitting.least_squares import notes
 from impedax.fitting.least_squares.batch import batch_with_warnings
 from impedax.fitting.least_squares.result import MODEL_MISFIT_MARKS, UNEVEN_NOISE_NOTE, fit_blames_model, with_warnings
@@ -66,6 +68,78 @@ def fits():
     return {case: ix.fit(MODEL, ix.make_spectrum(F, z), progress=False) for case, z in CASES.items()}
 
 
+def _json(capsys, *argv) -> dict:
+    code = main([str(a) for a in argv] + ["--json", "-q"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    return json.loads(out)
+
+
+def test_cases_warn_as_intended(fits):
+    """The cases hold what the tests below read: the two-arc fit blames the model, the uneven one
+    says uneven residuals, each in one warning (by the words alone)."""
+    assert [_said(w) for w in fits["two"].warnings] == [{notes.MODEL_MISFIT}]
+    assert [_said(w) for w in fits["uneven"].warnings] == [{notes.UNEVEN_NOISE}]
+
+
+def test_a_single_fit_s_json_gives_each_warning_s_tags(files, fits, capsys, tmp_path):
+    for case in CASES:
+        out = tmp_path / f"{case}.json"
+        printed = _json(capsys, "fit", files[case], "--model", MODEL, "--out", out)
+        assert len(printed["warning_tags"]) == len(printed["warnings"]) >= 1
+        assert [_named(t) for t in printed["warning_tags"]] == [_said(w) for w in printed["warnings"]], case
+        assert printed["warning_tags"] == [list(t) for t in fits[case].warning_tags]  # (the Python API's, as lists)
+        assert json.loads(out.read_text(encoding="utf-8"))["warning_tags"] == printed["warning_tags"]  # (--out FILE.json is the --json document)
+    blamed = _json(capsys, "fit", files["two"], "--model", MODEL)
+    assert any(notes.MODEL_MISFIT in t for t in blamed["warning_tags"]) and blamed["misses_structure"] is True
+
+
+def test_a_batch_s_json_gives_each_spectrum_s_tags_beside_its_warnings(files, fits, capsys):
+    printed = _json(capsys, "fit", files["stack"], "--model", MODEL)
+    rows = {row["case"]: row for row in printed["spectra"]}
+    assert set(rows) == set(CASES)
+    for case, row in rows.items():
+        assert len(row["warning_tags"]) == len(row["warnings"])
+        assert [_named(t) for t in row["warning_tags"]] == [_said(w) for w in row["warnings"]], case
+        assert [_named(t) for t in row["warning_tags"]] == [_named(t) for t in fits[case].warning_tags], case  # (as the spectrum fitted alone)
+    assert [any(notes.MODEL_MISFIT in t for t in rows[c]["warning_tags"]) for c in CASES] == [True, False]
+    assert "warning_tags" not in printed  # (per spectrum only, as the batch gives its warnings per spectrum; the top level's are their distinct union)
+
+
+@pytest.mark.slow  # (~10–20 s: two models on one spectrum, then on two)
+def test_compare_s_json_gives_each_model_s_tags(files, capsys):
+    printed = _json(capsys, "compare", files["two"], "--model", MODEL, "--model", "R0 + R1 || C1 + R2 || C2")
+    by_label = {m["label"]: m for m in printed["models"]}
+    for model in by_label.values():
+        assert len(model["warning_tags"]) == len(model["warnings"])
+        assert [_named(t) for t in model["warning_tags"]] == [_said(w) for w in model["warnings"]]
+    assert any(notes.MODEL_MISFIT in t for t in by_label[MODEL]["warning_tags"])
+    batch = _json(capsys, "compare", files["stack"], "--model", MODEL, "--model", "R0 + R1 || C1 + R2 || C2")
+    for spectrum in batch["spectra"]:
+        for model in spectrum["models"]:
+            assert len(model["warning_tags"]) == len(model["warnings"])
+            assert [_named(t) for t in model["warning_tags"]] == [_said(w) for w in model["warnings"]]
+    two = next(s for s in batch["spectra"] if s["case"] == "two")
+    assert any(notes.MODEL_MISFIT in t for m in two["models"] if m["label"] == MODEL for t in m["warning_tags"])
+
+
+@pytest.mark.slow  # (~5–8 s: the start fit and a short chain)
+def test_sample_s_json_tags_its_start_fit_s_warnings(files, fits, capsys):
+    printed = _json(capsys, "sample", files["two"], "--model", MODEL, "--steps", "200", "--walkers", "16")
+    assert len(printed["warning_tags"]) == len(printed["warnings"])
+    start = [(w, t) for w, t in zip(printed["warnings"], printed["warning_tags"]) if w.startswith("least-squares start: ")]
+    assert [t for _, t in start] == [list(t) for t in fits["two"].warning_tags]
+    assert all(t == [] for w, t in zip(printed["warnings"], printed["warning_tags"]) if not w.startswith("least-squares start: "))  # (the sampler's own: none)
+
+
+def test_a_fit_without_known_tags_gives_those_its_words_say(fits):
+    """A fit read from a file written without tags (tags None): the JSON's tags are its words'."""
+    for fit in fits.values():
+        bare = dataclasses.replace(fit, warning_tags=None)
+        assert bare.warning_tags is None
+        assert [_named(t) for t in bare.summary()["warning_tags"]] == [_said(w) for w in fit.warnings]
+
+
 # --- tags that cannot go stale ------------------------------------------------------------------
 
 
@@ -74,6 +148,7 @@ def test_replacing_a_fit_s_warnings_by_other_words_keeps_no_old_tags(fits):
     assert two.model_misfit is True
     other = dataclasses.replace(two, warnings=("a caller's note",))  # (as many warnings as before, other words)
     assert other.warning_tags is None and other.model_misfit is None and fit_blames_model(other) is False
+    assert [_named(t) for t in other.summary()["warning_tags"]] == [set()]
     again = dataclasses.replace(pickle.loads(pickle.dumps(two)), warnings=("a caller's note",))  # (a pickled fit alike)
     assert again.warning_tags is None
 
@@ -98,6 +173,7 @@ def test_a_batch_s_replaced_warnings_keep_no_old_tags(fits):
     reworded = {k: tuple(f"a caller's note {i}" for i, _ in enumerate(v)) for k, v in batch.warnings.items()}  # (as many per spectrum, other words)
     other = dataclasses.replace(batch, warnings=reworded)
     assert other.warning_tags is None and other.model_misfits is None and other.misses_structure.values.tolist() == [False, False]
+    assert [row["warning_tags"] for row in other.summary()["spectra"]] == [[[]] * len(v) for v in reworded.values()]
     notes_swapped = {k: tuple(batch.tagged_warnings(k))[::-1] for k in batch.warnings}
     swapped = dataclasses.replace(batch, warnings=notes_swapped)
     assert dict(swapped.warning_tags) == {k: tuple(v)[::-1] for k, v in batch.warning_tags.items()}

@@ -35,7 +35,7 @@ from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .notes import MISFIT, MODEL_MISFIT, carried_over, has_tag, notes_tags, stored_tags, tagged, tags_attr, tags_of, with_tag
-from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
+from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, warning_tags_by_words, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
 from .starts import SpectrumFeatures, climb_target, draw_size, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -144,6 +144,15 @@ class BatchFitResult(FrozenResult):
         """Spectrum ``key``'s warnings as `notes.Note`s carrying their tags (plain texts where not
         known), as `FitResult.tagged_warnings`."""
         return tagged(self.warnings.get(key, ()), None if self.warning_tags is None else self.warning_tags.get(key, ((),) * len(self.warnings.get(key, ()))))
+
+    def spectrum_warning_tags(self, key: str) -> tuple[tuple[str, ...], ...]:
+        """Spectrum ``key``'s warnings' tags, in their order (`warning_tags`), or, where they are
+        not known, those the words say (`result.warning_tags_by_words`), as
+        `result.fit_warning_tags` gives a single fit's: a JSON row's ``warning_tags``."""
+        warnings = self.warnings.get(key, ())
+        if self.warning_tags is None:
+            return warning_tags_by_words(warnings)
+        return tuple(tuple(t) for t in self.warning_tags.get(key, ((),) * len(warnings)))
 
     def __post_init__(self):
         warnings, tags = {k: tuple(v) for k, v in self.warnings.items()}, self.warning_tags
@@ -660,6 +669,7 @@ class BatchFitResult(FrozenResult):
                 "converged": bool(converged[index]),
                 "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],
                 "warnings": list(self.warnings.get(key, ())),
+                "warning_tags": [list(t) for t in self.spectrum_warning_tags(key)],  # (each warning's tags, in their order, as a single fit's JSON)
                 **({} if stored_groups is None else {"unidentified_groups": [list(g) for g in parameter_groups(stored_groups.get(key, ()))]}),
                 "misses_structure": bool(misses[position]),  # (`misses_structure`)
             }

@@ -31,7 +31,7 @@ from .starts import attainable_misfit, inward_start, rms_rel_of, well_inside
 
 __all__ = [
     "FitResult", "fit_result", "fit_notes", "parameter_groups", "BOUND_RESTARTS", "stack_notes", "bound_sides", "confirm_bounds", "falling_inward", "inward_message", "vanishing_term_sides", "at_bound_names", "weighting_notes", "dominated_notes", "is_dominated_note",
-    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "fit_sigma_residual_notes", "note_value_attrs", "stored_note_values", "tags_from_values", "with_warnings", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
+    "misfit_notes", "uneven_residual_notes", "sigma_scale_notes", "sigma_misstated", "SIGMA_CHAIN_CHI2_RATIO", "sigma_unit_slip", "SIGMA_UNIT_SLIP_FACTOR", "SIGMA_UNIT_SLIP_FRACTION", "SIGMA_RELATIVE_Z", "unused_sigma_notes", "SIGMA_OF_TRIAL_MEANS_WORDS", "trial_means_of_sigma", "SIGMA_SOURCES_ATTR", "SIGMA_FROM_TRIALS", "SIGMA_FROM_OWN", "SIGMA_FROM_NONE", "sigma_sources", "names_in_words", "stored_notes", "chi2_red_range", "SIGMA_SCALE_FACTOR", "residual_band_rms", "UNEVEN_BAND_POINTS", "UNEVEN_RESIDUAL_RATIO", "UNEVEN_NOISE_NOTE", "REMAINDER_ATTRS", "SUBTRACTION_CAUSE", "is_remainder", "listed_frequencies", "DATA_LIMIT_NOTE", "MODEL_MISFIT_MARKS", "warnings_blame_model", "fit_blames_model", "fit_blaming_note", "fit_data_limit", "fit_sigma_residual_notes", "note_value_attrs", "stored_note_values", "tags_from_values", "warning_tags_by_words", "fit_warning_tags", "with_warnings", "fit_uneven_noise", "MODEL_MISSES_STRUCTURE", "MISFIT_IS_MODELS", "SIGN_HINT_LEAD", "SIGN_CAUSE_NOTE", "sign_notes_first", "SIGNS_IN_DOUBT_SHARE", "signs_in_doubt", "MODEL_MISFIT_OVER_CONSISTENT", "MODEL_MISFIT_NOISE_SHARE", "MODEL_MISFIT_DELTA_AIC", "misfit_beyond_chain", "misfit_beyond_noise", "SIGMA_EXCEEDED", "gross_misfits", "within_stated_noise", "misfit_hint", "misfit_hint_spectra", "MISFIT_HINT_FROM", "known_kk_misfits", "on_bound", "bound_note", "CORRELATION_LIMIT", "RELATIVE_ERROR_LIMIT", "BOUND_STDERR_FRACTION",
     "BOUND_CHI2_FRACTION", "ON_BOUND_FRACTION", "NUMERICALLY_ON_FRACTION", "shown_stderr", "value_shown_at_bound", "without_error", "near_bound_notes", "resistor_like_notes", "warburg_like_notes", "arc_beyond_band_notes", "STDERR_NOTE", "LINEARISED_STDERR_NAME", "data_difference", "stored_bounds", "user_bounds", "user_bounds_text",
     "embedded_fit", "fit_from_embedded", "bounds_attr", "unidentified_group_note", "FIT_STATISTICS",
 ]
@@ -339,6 +339,7 @@ class FitResult(FrozenResult):
             "message": self.message,
             "at_bound": list(self.at_bound),
             "warnings": list(self.warnings),
+            "warning_tags": [list(t) for t in fit_warning_tags(self)],  # (each warning's tags, in the order of warnings: docs/fitting.md, "What a warning says")
             "unidentified_groups": [list(g) for g in self.unidentified_groups],
             "weighting": self.weighting,
             "n_evaluations": self.n_evaluations,
@@ -1450,6 +1451,23 @@ def tags_from_values(warnings, *, model_misfit=None, data_limit_note=None, data_
     for note in stored_notes(sigma_residual_notes):
         mark(at(note), SIGMA_RESIDUAL)
     return tuple(tuple(t) for t in tags)
+
+
+def warning_tags_by_words(warnings) -> tuple[tuple[str, ...], ...]:
+    """The tags of ``warnings`` as their words say them (`tags_from_values` with nothing stored:
+    the misfit note is the one that blames the model, `MODEL_MISFIT_MARKS`, or else the one that
+    says the data limit the fit, `DATA_LIMIT_NOTE`; the uneven-noise and σ notes by their words),
+    for warnings whose tags are not known."""
+    words = _Untagged(tuple(str(w) for w in warnings))
+    return tags_from_values(words.warnings, model_misfit=fit_blames_model(words))
+
+
+def fit_warning_tags(fit) -> tuple[tuple[str, ...], ...]:
+    """The tags of each of ``fit``'s warnings, in their order: its `FitResult.warning_tags`, or,
+    where they are not known (None: a fit built by hand, a file written without them, warnings
+    replaced alone), those the words say (`warning_tags_by_words`). A JSON's ``warning_tags``."""
+    tags = getattr(fit, "warning_tags", None)
+    return warning_tags_by_words(fit.warnings) if tags is None else tuple(tuple(t) for t in tags)
 
 
 @dataclass(frozen=True)
