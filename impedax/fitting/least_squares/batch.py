@@ -160,8 +160,10 @@ class BatchFitResult(FrozenResult):
             tags = {k: notes_tags(v) for k, v in warnings.items()} if any(tags_of(n) for v in warnings.values() for n in v) else None
             object.__setattr__(self, "warnings", {k: tuple(str(n) for n in v) for k, v in warnings.items()})
         object.__setattr__(self, "warning_tags", tags)
-        object.__setattr__(self, "_tags_given_with", None if tags is None else ({k: tuple(v) for k, v in self.warnings.items()}, tags))
+        object.__setattr__(self, "_tags_given_with", None)
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`); to_xarray hands out a copy
+        if tags is not None:  # (the frozen mappings themselves: a copy of the result walks them no more, `frozen.read_only`)
+            object.__setattr__(self, "_tags_given_with", (self.warnings, self.warning_tags))
 
     @property
     def model(self) -> str:
