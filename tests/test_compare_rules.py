@@ -201,10 +201,11 @@ def test_a_pair_nested_by_a_limit_on_the_edge_of_the_space_takes_the_chi_bar_squ
     (test,) = ix.compare([simple, larger]).f_tests
     assert test["boundary_limits"] == ["W1 removed: sigma -> 0"]
     assert test["p_value"] == pytest.approx(0.5 * stats.f.sf(test["f"], test["df1"], test["df2"]), rel=1e-12)
-    # a block of two elements removed (R2 -> 0 leaves C2 unidentified): no mixture, the plain F-test
+    # a block of two elements removed (R2 -> 0 leaves C2 unidentified): no mixture, the plain
+    # F-test, whose note says that is not p's reference there (Davies 1977, 1987)
     simple, larger = ix.fit("R0 + R1 || C1", wo_data), ix.fit("R0 + R1 || C1 + R2 || C2", wo_data)
     (test,) = ix.compare([simple, larger]).f_tests
-    assert test["boundary_limits"] == [] and test["note"] is None
+    assert test["boundary_limits"] == [] and "R2 || C2 removed: C2 is not identified when R2 -> 0" in test["note"]
     assert test["p_value"] == pytest.approx(stats.f.sf(test["f"], test["df1"], test["df2"]), rel=1e-12)
 
 

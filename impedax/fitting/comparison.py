@@ -26,7 +26,7 @@ from .frozen import FrozenResult, freeze_fields
 from .problem import WEIGHTING_SCALES
 from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
 
-__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "nested_as_held", "boundary_parameters", "boundary_limits", "chi_bar_squared_p_value", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
+__all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "nested_as_held", "boundary_parameters", "boundary_limits", "unidentified_limits", "chi_bar_squared_p_value", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
 
 
 def fit_label(fit: FitResult) -> str:
@@ -632,7 +632,9 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
     F = ((χ²_s − χ²_c)/(k_c − k_s)) / (χ²_c/(n − k_c)), its p from the F distribution, or, where the
     smaller model is the larger one at a limit on the edge of its space (a W for a Wo at τ → ∞,
     `boundary_limits`), from the chi-bar-squared mixture (`chi_bar_squared_p_value`, Self & Liang
-    1987: half the F-test's p for one such limit; ``note`` says so), not made (``valid`` false, ``reason``
+    1987: half the F-test's p for one such limit; ``note`` says so; where a limit leaves a parameter
+    not identified, `unidentified_limits`, ``note`` says its p is typically too small, Davies
+    1977, 1987), not made (``valid`` false, ``reason``
     and ``note`` say why) when the larger model fits worse, sits with a parameter at its bound
     (`boundary_parameters`) or fits to rounding. AIC ranks. Items may also be posteriors
     with a ``fit`` attribute; their ``log_evidence`` and ``waic`` become extra columns.
@@ -699,9 +701,11 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
             denom = c.chi2 / (n - c.n_params)
             f_value = max(s.chi2 - c.chi2, 0.0) / dk / denom if denom > 0 else math.inf
             limits = boundary_limits(s.circuit, c.circuit, c.registry)
+            unidentified = unidentified_limits(s.circuit, c.circuit, c.registry)
+            notes = ([_mixture_note(limits, labels[i], labels[j])] if limits else []) + ([_unidentified_note(unidentified, labels[i], labels[j], mixture=bool(limits))] if unidentified else [])
             test = {"simple": s.model, "complex": c.model, "f": float(f_value), "df1": dk, "df2": n - c.n_params, "p_value": chi_bar_squared_p_value(f_value, dk, n - c.n_params, len(limits)),
-                    "valid": True, "note": _mixture_note(limits, labels[i], labels[j]) if limits else None, "simple_label": labels[i], "complex_label": labels[j], "reason": None, "at_bound": [],
-                    "boundary_limits": limits}
+                    "valid": True, "note": "; ".join(notes) or None, "simple_label": labels[i], "complex_label": labels[j], "reason": None, "at_bound": [],
+                    "boundary_limits": limits, "unidentified_limits": unidentified}
             on_boundary = boundary_parameters(s, c)
             # with a parameter at its bound, a hair of excess is the bound's, not a fit short of its
             # optimum: a start on the bound is nudged inside (`fit_of`), and α = 0.999999 left χ²
@@ -854,6 +858,118 @@ def _vanishing_end(spec, opens: bool) -> str | None:
     return large if opens else small
 
 
+def unidentified_limits(simple: Circuit, complex_: Circuit, registry: Registry = DEFAULT_REGISTRY) -> list[str]:
+    """The limits by which ``simple`` sits in ``complex_`` (`embedding`) that leave parameters of
+    ``complex_`` not identified, the ones `boundary_limits` does not count: a removed block or
+    element of several parameters, taken away by the first of its parameters (in the order
+    written) whose bound does so, a series part at Z → 0 and a parallel branch at Z → ∞ ("R2 ||
+    C2 removed: C2 is not identified when R2 -> 0"), and an element reduced by one of its limits
+    to an element with two or more parameters fewer ("CC1 reduced to R1: CC1.alpha is not
+    identified when CC1.tau -> 0"). Under ``simple`` such a parameter has no value, and neither F
+    nor a chi-bar-squared mixture is the statistic's reference distribution (Davies 1977,
+    Biometrika 64, 247; 1987, Biometrika 74, 33): the plain F-test's p is typically too small."""
+    from ..circuits.tree import Element, Parallel
+
+    pairs = embedding(simple, complex_, registry)
+    if pairs is None:
+        return []
+    out = []
+    for small, large, limit in pairs:
+        spec = registry[large.symbol]
+        free = [] if limit is None else _left_free(registry[small.symbol], spec, limit)
+        if free:
+            names, named = spec.parameter_names(large.name), _limit_parameter(spec, limit.where)
+            where = limit.where if named is None else names[named] + limit.where[_LIMIT_RE.match(limit.where).end(1):]  # ("CC1.tau -> 0")
+            out.append(f"{large.name} reduced to {small.name}: {_not_identified([names[k] for k in free])} when {where}")
+    kept = {large.name for _, large, _ in pairs}
+
+    def walk(node) -> None:
+        for child in node.children:
+            if not any(e.name in kept for e in child.elements()):
+                way = _vanishing(child, isinstance(node, Parallel), registry)
+                free = [] if way is None else [n for e in child.elements() for n in registry[e.symbol].parameter_names(e.name) if n not in way[1]]
+                if free:
+                    out.append(f"{child} removed: {_not_identified(free)} when {' and '.join(way[0])}")
+            elif not isinstance(child, Element):
+                walk(child)
+
+    if not isinstance(complex_, Element):
+        walk(complex_)
+    return out
+
+
+def _not_identified(names: Sequence[str]) -> str:
+    return f"{' and '.join(names)} {'is' if len(names) == 1 else 'are'} not identified"
+
+
+def _left_free(simpler, spec, limit) -> list[int]:
+    """Positions of ``spec``'s parameters that its ``limit`` (to the element ``simpler``) leaves
+    free: neither the parameter its ``where`` names nor one that ``simpler``'s parameters set
+    (`ElementLimit.values` at the defaults, each doubled in turn: a CC at τ → 0 sets α = 1 for
+    any R)."""
+    given = tuple(float(p.default) for p in simpler.parameters)
+    base = limit.values(given, 1.0, 1e3)
+    moved = set()
+    for i in range(len(given)):
+        bumped = limit.values(tuple(2 * v if k == i else v for k, v in enumerate(given)), 1.0, 1e3)
+        moved |= {j for j, (a, b) in enumerate(zip(base, bumped)) if float(a) != float(b)}
+    return [j for j in range(len(spec.parameters)) if j not in moved and j != _limit_parameter(spec, limit.where)]
+
+
+def _limit_parameter(spec, where: str) -> int | None:
+    """The position of the parameter of ``spec`` that a limit's ``where`` names first ("tau -> 0":
+    τ), or None."""
+    match = _LIMIT_RE.match(where)
+    return None if match is None else next((j for j, p in enumerate(spec.parameters) if (p.suffix or spec.symbol.lower()) == match.group(1)), None)
+
+
+def _vanishing(node, opens: bool, registry: Registry) -> tuple[list[str], list[str]] | None:
+    """How ``node`` is taken away at bounds of its parameters: shorted (Z → 0, in series) or,
+    ``opens``, opened (Z → ∞, a parallel branch), as (the limits, "R2 -> 0", and the parameters
+    they set); None when no bound does so. A series node opens, and a parallel one shorts, when
+    one part does (the first that can); a series node shorts, and a parallel one opens, when
+    every part does."""
+    from ..circuits.tree import Element, Parallel
+
+    if isinstance(node, Element):
+        spec = registry[node.symbol]
+        found = _vanishing_parameter(spec, opens)
+        if found is None:
+            return None
+        name = spec.parameter_names(node.name)[found[0]]
+        return [f"{name} -> {found[1]}"], [name]
+    if isinstance(node, Parallel) == opens:
+        parts = [_vanishing(c, opens, registry) for c in node.children]
+        return None if None in parts else ([t for p in parts for t in p[0]], [n for p in parts for n in p[1]])
+    return next((way for c in node.children if (way := _vanishing(c, opens, registry)) is not None), None)
+
+
+VANISHED = 1e-6
+"""An element is taken away by a parameter at a bound when that parameter, 1e12 times nearer the
+bound than its default (the others at theirs), moves |Z| by this factor or more toward 0
+(shorted) or ∞ (opened) at ω = 0.01, 1 and 100 rad/s."""
+
+
+def _vanishing_parameter(spec, opens: bool) -> tuple[int, str] | None:
+    """The first parameter of ``spec`` (its position, and "0" or "inf") whose bound 0 or ∞ shorts
+    the element or, ``opens``, opens it (`VANISHED`); None when none does."""
+    defaults = [float(p.default) for p in spec.parameters]
+    omegas = (1e-2, 1.0, 1e2)
+
+    def size(values) -> list[float]:
+        return [abs(complex(spec.impedance(w, *values))) for w in omegas]
+
+    base = size(defaults)
+    for i, p in enumerate(spec.parameters):
+        for end, factor, bound in (("0", 1e-12, p.lower), ("inf", 1e12, p.upper)):
+            if bound != (0.0 if end == "0" else math.inf):
+                continue
+            z = size([v * factor if k == i else v for k, v in enumerate(defaults)])
+            if all((b <= VANISHED * x) if opens else (x <= VANISHED * b) for x, b in zip(z, base)):
+                return i, end
+    return None
+
+
 def chi_bar_squared_p_value(f_value: float, df1: int, df2: int, n_boundary: int = 0) -> float:
     """The p-value of F (``df1``, ``df2``) when ``n_boundary`` of the df1 constraints put the
     smaller model on the boundary of the larger one's space (`boundary_limits`). The statistic
@@ -882,6 +998,14 @@ def _mixture_note(limits: Sequence[str], simple_label: str, complex_label: str) 
     """The note of a valid F-test whose smaller model sits on the boundary of the larger one's space."""
     mixture = "the 50:50 chi-bar-squared mixture (Self & Liang 1987)" if len(limits) == 1 else "the chi-bar-squared mixture (Self & Liang 1987)"
     return f"{simple_label} is {complex_label} at the edge of its parameter space ({'; '.join(limits)}): p is from {mixture}, not the plain F distribution"
+
+
+def _unidentified_note(limits: Sequence[str], simple_label: str, complex_label: str, *, mixture: bool) -> str:
+    """The note of a valid F-test whose smaller model is the larger one only at a limit that
+    leaves a parameter not identified (`unidentified_limits`)."""
+    reference = "the chi-bar-squared mixture" if mixture else "the plain F distribution"
+    return (f"{simple_label} is {complex_label} only where a parameter is not identified ({'; '.join(limits)}): {reference} is not p's reference distribution there "
+            "(Davies 1977, 1987), and p is typically too small; weigh the two by AIC too")
 
 
 def boundary_parameters(simple: FitResult, complex_: FitResult) -> list[str]:
