@@ -33,7 +33,7 @@ from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
 from .frozen import FrozenResult, freeze_fields
 
-__all__ = ["KKResult", "KKBatchResult", "ValidityGrid", "kk_test", "kk_test_batch", "passing_band", "retested_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
+__all__ = ["KKResult", "KKBatchResult", "ValidityGrid", "kk_test", "kk_test_batch", "passing_band", "retested_band", "band_name", "band_points", "kk_misfits", "kk_sigma_misfits", "kk_verdicts", "KKChains", "NOISE_SOURCES", "noise_shapes", "rejudged", "DEFAULT_THRESHOLDS", "CONCLUSIVE_POINTS_MIN", "RULE_NAMES", "BAND_MERGE_DECADES", "band_rules", "band_rule_counts", "bad_band_lines", "note_and_hint_lines", "points_text", "thresholds_for", "left_out_options", "frequency_text"]
 
 
 # Validity rule (see `kk_test`): scale = max(noise_estimate, noise_floor).
@@ -623,18 +623,10 @@ class KKResult(FrozenResult):
                 level = {"point": f"{t['point']:.3g} s", "run": f"{t['run']:.3g} s", "window": f"{t['window_mean'] / math.sqrt(t['window']):.3g} s"}
             else:
                 level = {rule: f"{value * 100:.3g} %" for rule, value in levels.items()}
-            for counts, points in zip(band_rule_counts(*self._rule_masks()), self.band_frequencies):
-                said = [
-                    f"{points_text(counts['point'])} with |Δ| > {level['point']} (point rule)" if counts["point"] else "",
-                    f"{points_text(counts['run'])} in runs of ≥ {int(t['run_length'])} with |Δ| > {level['run']} (run rule)" if counts["run"] else "",
-                    f"{points_text(counts['window'])} under a {int(t['window'])}-point mean of Δ' or Δ'' > {level['window']} (window rule)" if counts["window"] else "",
-                ]
-                said = "; ".join(x for x in said if x)
-                lines.append(f"  bad band: {band_name(points)}" + (f": {said}" if said else ""))
-        if self.non_passive_note:
-            lines.append(f"note: {self.non_passive_note}")
-        if self.sign_hint:
-            lines.append(f"hint: {self.sign_hint}")
+            lines += bad_band_lines(self.band_frequencies, band_rule_counts(*self._rule_masks()), {
+                "point": f"with |Δ| > {level['point']} (point rule)", "run": f"in runs of ≥ {int(t['run_length'])} with |Δ| > {level['run']} (run rule)",
+                "window": f"under a {int(t['window'])}-point mean of Δ' or Δ'' > {level['window']} (window rule)"})
+        lines += note_and_hint_lines(self.non_passive_note, self.sign_hint)
         lines += self.next_step(command)
         return "\n".join(lines)
 
@@ -1371,6 +1363,24 @@ def band_rules(flag, masks, freq_sorted=None) -> tuple[tuple[str, ...], ...]:
     """For each band of ``flag``, the names of the rules of ``masks`` that flagged points in it
     (`band_rule_counts`)."""
     return tuple(tuple(name for name, n in counts.items() if n) for counts in band_rule_counts(flag, masks, freq_sorted))
+
+
+def bad_band_lines(band_frequencies, band_counts, rule_words: Mapping[str, str]) -> list[str]:
+    """A validity test's report line per bad band (the linear KK test's and Z-HIT's): its name
+    (`band_name`, from its flagged measured frequencies) and, for each rule that flagged points in
+    it (``band_counts``: per band, rule → count, `band_rule_counts`), how many and the rule's
+    words (``rule_words``: rule → "with |Δ| > 1.2 % (point rule)", in the order said)."""
+    lines = []
+    for points, counts in zip(band_frequencies, band_counts):
+        said = "; ".join(f"{points_text(counts[rule])} {words}" for rule, words in rule_words.items() if counts[rule])
+        lines.append(f"  bad band: {band_name(points)}" + (f": {said}" if said else ""))
+    return lines
+
+
+def note_and_hint_lines(non_passive_note: str, sign_hint: str) -> list[str]:
+    """A validity test's report lines after its bad bands: the note on points with Re Z < 0 and
+    the sign hint, each where there is one."""
+    return ([f"note: {non_passive_note}"] if non_passive_note else []) + ([f"hint: {sign_hint}"] if sign_hint else [])
 
 
 def points_text(n: int) -> str:

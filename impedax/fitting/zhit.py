@@ -42,7 +42,7 @@ import xarray as xr
 from ..arguments import checked_arguments, count, real
 from ..data import concise_repr, counted, format_frequency, label_value, report_text
 from ..errors import DataError, ParameterError
-from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, NON_PASSIVE_LEAVE_OUT, ValidityGrid, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, points_text, thresholds_for, zero_impedance_text
+from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, NON_PASSIVE_LEAVE_OUT, ValidityGrid, bad_band_lines, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, note_and_hint_lines, thresholds_for, zero_impedance_text
 from .grid import refuse_result_names
 from .problem import frequency_and_z
 from .statistics import difference_noise, non_passive, non_passive_words
@@ -248,17 +248,9 @@ class ZHITResult(FrozenResult):
         order = np.argsort(self.frequency)
         masks = _rule_masks(np.abs(self.residuals[order]), self.threshold, self.run_threshold, self.run_length)
         flag = np.asarray(self.flagged, bool)[order]
-        for points, counts in zip(self.band_frequencies, band_rule_counts(flag, masks, self.frequency[order])):  # (as the linear test writes them)
-            said = [
-                f"{points_text(counts['point'])} with |residual| > {self.threshold * 100:.3g} % (point rule)" if counts["point"] else "",
-                f"{points_text(counts['run'])} in runs of ≥ {self.run_length} with |residual| > {self.run_threshold * 100:.3g} % (run rule)" if counts["run"] else "",
-            ]
-            said = "; ".join(x for x in said if x)
-            lines.append(f"  bad band: {band_name(points)}" + (f": {said}" if said else ""))
-        if self.non_passive_note:
-            lines.append(f"note: {self.non_passive_note}")
-        if self.sign_hint:
-            lines.append(f"hint: {self.sign_hint}")
+        lines += bad_band_lines(self.band_frequencies, band_rule_counts(flag, masks, self.frequency[order]), {  # (as the linear test writes them)
+            "point": f"with |residual| > {self.threshold * 100:.3g} % (point rule)", "run": f"in runs of ≥ {self.run_length} with |residual| > {self.run_threshold * 100:.3g} % (run rule)"})
+        lines += note_and_hint_lines(self.non_passive_note, self.sign_hint)
         return "\n".join(lines)
 
     def _repr_html_(self) -> str:
