@@ -6,8 +6,6 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from .common import WithSummaryKeys
-
 
 def register(sub) -> None:
     from .common import add_plot_option, add_select_option, data_help
@@ -46,7 +44,7 @@ def run(args) -> int:
     from ..fitting.batch_comparison import FIT_COMMAND_WORDS
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, json_in_command_words, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source
+    from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, json_in_command_words, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
     from .fit import check_max_steps
 
     if len(args.model) < 2:
@@ -104,7 +102,7 @@ def run(args) -> int:
     finally:
         progress.close()
     started = [{"model": str(circuits[i]), "from": str(circuits[j])} for i, j in sorted(started_from.items())]
-    comparison = WithWarningTags(compare(fits), {"skipped_rows": skipped_rows(data), "started_from_contained": started})  # (the JSON's, as fit's and inspect --json's)
+    comparison = WithSummaryKeys(compare(fits), {"skipped_rows": skipped_rows(data), "started_from_contained": started})  # (the JSON's, as fit's and inspect --json's)
     # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them; a `BatchComparison`'s alike)
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])
@@ -149,24 +147,6 @@ def run(args) -> int:
     if not args.json and not outputs.uses_stdout:
         note_skipped_rows(data, "compare", args.data)
     return 0
-
-
-class WithWarningTags(WithSummaryKeys):
-    """A comparison whose ``summary()`` (``--json``, ``--out FILE.json``) also holds ``keys``
-    (`common.WithSummaryKeys`) and, over several spectra, each model's ``warning_tags`` beside
-    its ``warnings`` in ``spectra[].models[]`` (that spectrum's fit's tags, in the order of its
-    warnings: `BatchFitResult.spectrum_warning_tags`), as a batch fit's rows give them; one
-    spectrum's ``models[]`` have them from their fits' summaries (`FitResult.summary`)."""
-
-    def summary(self) -> dict:
-        out = super().summary()
-        batches = getattr(self._result, "batches", None)
-        if batches is None or "spectra" not in out:
-            return out
-        keys = [[key for key, _ in batch.spectrum_keys()] for batch in batches]  # (C order, as the rows)
-        out["spectra"] = [{**row, "models": [{**model, "warning_tags": [list(t) for t in batches[m].spectrum_warning_tags(keys[m][s])]} for m, model in enumerate(row["models"])]}
-                          for s, row in enumerate(out["spectra"])]
-        return out
 
 
 def nesting_order(circuits, registry, held=None) -> list[int]:

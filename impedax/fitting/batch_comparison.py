@@ -396,12 +396,14 @@ class BatchComparison(FrozenResult):
         ``models``: each model's `PER_SPECTRUM_CRITERIA` with its ``model``, ``label``,
         ``misses_structure`` (`BatchFitResult.misses_structure` on that spectrum, as a batch fit's
         rows) and ``warnings`` (its fit's warnings on that spectrum,
-        `BatchFitResult.warnings`; [] if none)."""
+        `BatchFitResult.warnings`; [] if none) with their ``warning_tags``, in their order
+        (`BatchFitResult.spectrum_warning_tags`, as a batch fit's rows give them)."""
         best, runner_up = self._winners()
         _, reduces, lead = self._leads()
         same = self._same_as_winner(best)
         values = {c: self._per_spectrum(c) for c in PER_SPECTRUM_CRITERIA}
         warned = [[list(batch.warnings.get(key, ())) for key in _keys(batch)] for batch in self.batches]
+        tags = [[[list(t) for t in batch.spectrum_warning_tags(key)] for key in _keys(batch)] for batch in self.batches]
         misses = [batch.misses_structure.transpose(*batch.dims).values.reshape(-1) for batch in self.batches]  # (C order, as `_labels`)
         rows = []
         for s, labels in enumerate(_labels(self.batches[0])):
@@ -413,7 +415,7 @@ class BatchComparison(FrozenResult):
                 "same_fit_as_best": [self.labels[m] for m in np.flatnonzero(same[:, s])],
                 "lead": float(lead[s]) if np.isfinite(lead[s]) else None, "weak_evidence": bool(lead[s] < WEAK_DELTA_AIC),
                 "models": [{"model": batch.model, "label": label, **{c: (bool(values[c][m, s]) if c == "converged" else float(values[c][m, s])) for c in PER_SPECTRUM_CRITERIA},
-                            "misses_structure": bool(misses[m][s]), "warnings": warned[m][s]}
+                            "misses_structure": bool(misses[m][s]), "warnings": warned[m][s], "warning_tags": tags[m][s]}
                            for m, (batch, label) in enumerate(zip(self.batches, self.labels))],
             })
         return rows
