@@ -180,3 +180,15 @@ def test_a_batch_s_replaced_warnings_keep_no_old_tags(fits):
     assert dict(dataclasses.replace(batch, elapsed_s=0.0).warning_tags) == dict(batch.warning_tags)
     kept = batch_with_warnings(batch, {k: (notes.Note("reworded", tags),) for k, (tags,) in batch.warning_tags.items()})  # (same tags, other words)
     assert kept.model_misfits == ("case=two",)
+
+
+@pytest.mark.slow
+def test_a_posterior_s_summary_tags_its_start_fit_s_warnings_in_python(files, fits):
+    """`Posterior.summary()` (what `sample --json` prints) holds ``warning_tags`` parallel to its
+    ``warnings``: none for the sampling's own, the start fit's for its "least-squares start: …"."""
+    posterior = ix.sample(MODEL, ix.load(files["two"]), steps=200, walkers=16, seed=0)
+    summary = posterior.summary()
+    assert len(summary["warning_tags"]) == len(summary["warnings"])
+    start = [t for w, t in zip(summary["warnings"], summary["warning_tags"]) if w.startswith("least-squares start: ")]
+    assert start == [list(t) for t in posterior.fit.warning_tags]
+    assert all(t == [] for w, t in zip(summary["warnings"], summary["warning_tags"]) if not w.startswith("least-squares start: "))

@@ -232,7 +232,7 @@ def run(args) -> int:
     if getattr(posterior, "n_walkers", None) is not None:
         settled["walkers_used"] = chain.get("walkers", posterior.n_walkers)  # (the run's: with straggler walkers left out, the draws hold fewer)
     record = command_provenance(args, source=source, data_files=[args.data], **settled)
-    read = WithSummaryKeys(posterior, {"skipped_rows": skipped_rows(data), **start_fit_warning_tags(posterior)})  # (the JSON's, as fit's and inspect --json's)
+    read = WithSummaryKeys(posterior, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's)
     if corner_names is not None:  # (before any output is written)
         from ..plotting.bayes import corner_params
 
@@ -246,18 +246,3 @@ def run(args) -> int:
     if posterior.warnings:  # (--quiet drops progress lines only: warnings are said, as gap says them)
         print(f"impedax sample: {len(posterior.warnings)} warning(s); see the {'JSON' + chr(39) + 's warnings' if args.json else 'report'}", file=sys.stderr)
     return 0
-
-
-def start_fit_warning_tags(posterior) -> dict:
-    """The JSON's ``warning_tags`` of a one-spectrum posterior, parallel to its ``warnings``
-    (`Posterior.warnings`): none for the sampling's own, and for the least-squares start's
-    ("least-squares start: …") that fit's tags (`result.fit_warning_tags`), so that a program
-    asks whether the start fit's warnings blame the model without reading their words; {} for a
-    joint posterior, whose start fit's warnings are grouped by kind over the spectra."""
-    from ..fitting.bayes.posterior import Posterior
-    from ..fitting.least_squares.result import fit_warning_tags
-
-    if not isinstance(posterior, Posterior):
-        return {}
-    tags = [[] for _ in posterior.own_warnings] + [list(t) for t in fit_warning_tags(posterior.fit)]
-    return {"warning_tags": tags} if len(tags) == len(posterior.warnings) else {}

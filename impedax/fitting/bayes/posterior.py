@@ -25,7 +25,7 @@ from ...errors import DataError, ParameterError
 from ..derived import bind_frequency, called, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
-from ..least_squares.result import bounds_attr, note_value_attrs, shown_stderr, stored_bounds, stored_note_values, without_sample_advice
+from ..least_squares.result import bounds_attr, fit_warning_tags, note_value_attrs, shown_stderr, stored_bounds, stored_note_values, without_sample_advice
 from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
 from .evidence import EvidenceDoubt, WaicDoubt, evidence_doubt_of_notes, model_comparison_notes_of, short_chain_waic_note, waic_doubts
@@ -309,6 +309,8 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             "autocorr": dict(self.autocorr),
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
+            # (parallel to warnings: none for the sampling's own, the start fit's tags for its "least-squares start: …")
+            "warning_tags": [[] for _ in self.own_warnings] + [list(t) for t in fit_warning_tags(self.fit)],
             "undetermined": list(self.undetermined),
             "piled_up": self.piled_up,
             "at_prior_edge": self.at_prior_edge,  # (the rows the report marks AT PRIOR EDGE)
