@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -832,7 +832,36 @@ def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residua
     fitting_ylabel(ax, ylabel)
     ax.set_xlabel("frequency [Hz]")
     ax.grid(alpha=0.3, which="both")
+    residual_axis(ax, np.concatenate([np.ravel(real), np.ravel(imag)]))
     ax.legend(fontsize=font_size("legend", 8), ncol=3 if limit is not None else 2)
+
+
+# a residual within this fraction of |Z| is the round-off of float64 arithmetic, not a misfit:
+# fits to noise-free SYNTHETIC data end at 1e-16 – 1e-13 of |Z|; a file written to 6 significant
+# digits leaves 1e-7 or more
+ROUNDING_RESIDUAL = 1e-10
+
+
+def residual_axis(ax, residuals) -> bool:
+    """Finish a residual panel ``ax`` (values drawn in %): on a linear y axis, tick labels as
+    plain numbers (`PlainTicks`: ``−4e−14 … 4e−14``, where matplotlib wrote ticks −4 … 4 under
+    a detached "1e−14" and the residuals of a fit to noise-free SYNTHETIC data read as a few
+    percent); and where every residual (``residuals``: fractions of |Z|, real or complex, NaN
+    ignored) lies within `ROUNDING_RESIDUAL`, a legend entry that says so, with the largest:
+    "rounding level: |residual| ≤ 5.5e−14 %" (a legend made before is redrawn with it). Whether
+    it added the entry: a caller that draws no legend otherwise then makes one. The fit, KK,
+    DRT, Z-HIT, diagnosis, refinement and comparison figures finish their residual panels here."""
+    if ax.get_yscale() == "linear":
+        plain_linear_ticks(ax.yaxis)
+    r = np.asarray(residuals)
+    parts = np.abs(np.concatenate([np.real(r).ravel(), np.imag(r).ravel()]).astype(float))
+    parts = parts[np.isfinite(parts)]
+    if not parts.size or parts.max() > ROUNDING_RESIDUAL:
+        return False
+    largest = f"{parts.max() * 100:.2g}"  # (as the title and the report write rms_rel: 3.01e-14 %)
+    ax.plot([], [], ls="none", label=f"rounding level: |residual| ≤ {largest} %")
+    refresh_legend(ax)
+    return True
 
 
 # how far [× the panel's height] a y label may run along its panel before `fitting_ylabel`

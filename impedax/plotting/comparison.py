@@ -13,7 +13,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
     for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`, which
     ``figsize`` (width, height) [in] sizes). Figure."""
-    from . import legends_off_data, model_curve, nyquist_frame, nyquist_shape, nyquist_view, plain_log_ticks, spectrum_layout
+    from . import legends_off_data, model_curve, nyquist_frame, nyquist_shape, nyquist_view, plain_log_ticks, residual_axis, spectrum_layout
 
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
@@ -45,6 +45,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]")
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
     plain_log_ticks(ax_res.yaxis)
+    residual_axis(ax_res, np.concatenate([np.ravel(r.residuals) for r in comparison.fits]))
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=font_size("legend", 7))

@@ -14,7 +14,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, font_size, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, font_size, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_spectrum, legends_off_data, refresh_legend, residual_axis, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement", "noise_levels", "NOISE_LEVEL_LABEL"]
 
@@ -266,7 +266,7 @@ def plot_refinement(refinement, *, title: str | None = None):
         a.set_title(head + "\n" + wrap_model(s.model, title_chars), fontsize=font_size("title", 8))
         a.set_ylabel(REFINEMENT_RESIDUAL_LABEL, fontsize=font_size("label", 8))
         a.grid(alpha=0.3)
-        if row == 0 or fresh:
+        if residual_axis(a, s.fit.residuals) or row == 0 or fresh:
             a.legend(fontsize=font_size("legend", 7), ncol=3)
     fig.axes[-1].set_xlabel("frequency [Hz]")
     nyquist = fig.add_subplot(grid[0, :] if across else left[0])

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import counted, format_lambda, format_percent, format_quantity, format_time
-from . import FLAT_NYQUIST, dense_model, drawn_label, font_size, label_spectra_axis, legends_off_data, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, shade_bands
+from . import FLAT_NYQUIST, dense_model, drawn_label, font_size, label_spectra_axis, legends_off_data, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -136,6 +136,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.set_xlabel("frequency [Hz]")
     ax_res.set_ylabel("DRT residual (Z − Z_fit)/|Z| [%]")
     ax_res.grid(alpha=0.3, which="both")
+    residual_axis(ax_res, result.residuals)
     ax_res.legend(fontsize=font_size("legend", 8), ncol=2)
     dropped = len(getattr(result, "dropped_peaks", ()))
     n_counted = len(counted_peaks(result.peaks))  # resolved, inside the measured range (docs/drt.md, "Peaks")
@@ -290,6 +291,8 @@ def plot_zhit(result, *, title: str | None = None):
         ax_res.axhline(sign * result.threshold * 100, color="tab:red", lw=0.7, ls="--")
     ax_res.set_ylabel("(|Z| − |Z|_ZHIT)/|Z| [%]")
     ax_res.set_xlabel("frequency [Hz]")
+    if residual_axis(ax_res, result.residuals):
+        ax_res.legend(fontsize=font_size("legend", 8))
     for ax in (ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
     ax_mod.legend(fontsize=font_size("legend", 8))
