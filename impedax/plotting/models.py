@@ -90,10 +90,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "probability density [1/µm]", title=title)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]
-    wide = force_span(gap.force) > FORCE_LOG_SPAN
-    unit = _force_bands(ax, gap.force, ep_label="with EP branch", scale="loglog" if wide else "semilogx", alpha=0.2, suffix="median, 90% band", in_newtons=wide)
-    if wide:
-        plain_log_ticks(ax.yaxis)
+    unit = _force_axis(ax, gap.force, ep_label="with EP branch", alpha=0.2, suffix="median, 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:.4g} V (Sirin eq 1, peak)" + _force_title_note(gap))
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 7))
     for a in axes:
@@ -131,9 +128,11 @@ def force_unit(force_n) -> tuple[float, str]:
 
 
 FORCE_LOG_SPAN = 100.0
-"""The gap figure's force axis is logarithmic when the force's 90 % band and median span more
-than this factor (`force_span`): on REAL data.dfr (no air gap) the band reaches from pN to 6.6 N,
-and a linear axis would draw the median, 6.31 µN, on the zero line."""
+"""The force axes of the gap analysis' figures (`_force_axis`: the gap figure's force panel, the
+demo's force figure) count in N, their ticks SI-prefixed (1p … 1), when the force's 90 % band and
+median span more than this factor (`force_span`); else in the SI prefix of the largest force (mN).
+On REAL data.dfr (no air gap) the band reaches from pN to 6.6 N: in mN its ticks would read
+"1n" of a mN."""
 
 
 def force_span(force) -> float:
@@ -154,6 +153,24 @@ def _force_bands(ax, force, *, ep_label: str, scale: str, alpha: float, suffix: 
         band = force.sel(branch=branch)
         ax.fill_between(ff, band["q05"] / unit_scale, band["q95"] / unit_scale, color=color, alpha=alpha)
         getattr(ax, scale)(ff, band["median"] / unit_scale, color=color, label=f"{label}: {suffix}")
+    return unit
+
+
+def _force_axis(ax, force, *, ep_label: str, alpha: float, suffix: str) -> str:
+    """The force bands (`_force_bands`) on ``ax`` over log frequency, on a log force axis with
+    plain tick labels (`plain_log_ticks`: 40, 60, 100, 200 in mN), in N beyond `FORCE_LOG_SPAN`;
+    linear when no force is positive. The gap figure's force panel and the demo's force figure
+    (`plot_force_bands`) draw the force alike: the force falls by a decade or more over the band
+    (Sirin's finger: 395 mN at 1 Hz to 35 mN at 1 MHz), which a linear axis drew as a curve
+    pressed to its floor above 10 kHz beside the other figure's log axis. Returns the unit."""
+    from . import plain_log_ticks
+
+    values = np.concatenate([np.ravel(force[k].values) for k in ("q05", "median", "q95")]).astype(float)
+    positive = bool(np.any(np.isfinite(values) & (values > 0)))
+    wide = force_span(force) > FORCE_LOG_SPAN
+    unit = _force_bands(ax, force, ep_label=ep_label, scale="loglog" if positive else "semilogx", alpha=alpha, suffix=suffix, in_newtons=wide)
+    if positive:
+        plain_log_ticks(ax.yaxis)
     return unit
 
 
@@ -185,12 +202,10 @@ def plot_force_bands(gap):
     `GapAnalysis` (the demo's last figure)."""
     import matplotlib.pyplot as plt
 
-    from . import plain_log_ticks
-
     fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
-    unit = _force_bands(ax, gap.force, ep_label="with electrode polarization (refined model)", scale="loglog", alpha=0.25, suffix="median and 90% band")
+    # (60, 200, 400 as the other log axes read, where matplotlib wrote 6×10¹, 2×10², 4×10²; the gap figure's force panel alike)
+    unit = _force_axis(ax, gap.force, ep_label="with electrode polarization (refined model)", alpha=0.25, suffix="median and 90% band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"electrostatic force [{unit}] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
-    plain_log_ticks(ax.yaxis)  # (60, 200, 400 as the other log axes read, where matplotlib wrote 6×10¹, 2×10², 4×10²)
     ax.grid(alpha=0.3, which="both")
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 8))
     return fig
