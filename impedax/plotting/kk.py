@@ -141,7 +141,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
 
-    from . import frequency_cell_edges, label_spectra_axis, plain_log_ticks
+    from . import frame_points, frequency_cell_edges, label_spectra_axis, plain_log_ticks
     from .fit import MAP_VECTOR_CELLS
 
     results = batch.results
@@ -190,4 +190,5 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     # (a legend over a flagged circle goes above its panel: "flagged (280 points)" in the upper
     # right hid the REAL battery cycles' 6.2–9.9 kHz flags of cycles 92, 112 and 116)
     legends_off_data(fig)
+    frame_points(ax_rms, np.concatenate([rms, noise]))  # (as the DRT batch figure's rms_rel panel)
     return fig
