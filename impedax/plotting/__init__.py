@@ -14,7 +14,7 @@ from typing import Sequence
 import matplotlib.pyplot as plt
 from matplotlib.axes import Axes
 from matplotlib.transforms import Bbox
-from matplotlib.ticker import Formatter, Locator, MaxNLocator, ScalarFormatter
+from matplotlib.ticker import AutoLocator, Formatter, Locator, LogLocator, MaxNLocator, ScalarFormatter
 import numpy as np
 import xarray as xr
 
@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -569,7 +569,7 @@ def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", mod
         ax_mod.loglog(f, np.abs(z), style, label=label, **kw)
         ax_phase.semilogx(f, np.degrees(np.angle(z)), style, label=label, **kw)
     ax_mod.set_ylabel("|Z| [Ω]")
-    plain_log_ticks(ax_mod.yaxis, nyquist=nyquist)
+    magnitude_axis(ax_mod.yaxis, nyquist=nyquist)
     ax_phase.set_ylabel("phase [deg]")
     ax_phase.set_xlabel("frequency [Hz]")
     for ax in (ax_mod, ax_phase):
@@ -737,7 +737,7 @@ def plot_spectra(spectra: Sequence, labels: Sequence[str], *, title: str | None 
     else:
         equal_aspect(ax_nyq)
     ax_mod.set_ylabel("|Z| [Ω]")
-    plain_log_ticks(ax_mod.yaxis, nyquist=ax_nyq)
+    magnitude_axis(ax_mod.yaxis, nyquist=ax_nyq)
     ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")
     for ax in (ax_nyq, ax_mod, ax_ph):
         ax.grid(alpha=0.3, which="both")
@@ -1016,10 +1016,143 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True) -> None:
             _thin_minor_labels(self)
 
         def __call__(self, x, pos=None):
+            if isinstance(self.axis.get_minor_locator(), MagnitudeMinorLocator) and x > 0 and not _integer_mantissa(x):
+                return scaled(self, x, 1e3)  # (a linear tick of a short |Z| axis: each one is labelled, 0.98k too)
             return scaled(self, x, 1e3) if super().__call__(x, pos) else ""
 
     axis.set_major_formatter(_Plain())
     axis.set_minor_formatter(_MinorLogLabels(labelOnlyBase=False))
+
+
+def _integer_mantissa(x: float) -> bool:
+    """Whether ``x`` > 0 is 1 … 9 × 10ⁿ (a log axis' decade or minor tick)."""
+    mantissa = x / 10.0 ** math.floor(math.log10(x) + 1e-9)
+    return abs(mantissa - round(mantissa)) < 1e-6
+
+
+def _marks_between(lo: float, hi: float) -> list[float]:
+    """The values 1 … 9 × 10ⁿ from ``lo`` to ``hi`` (both > 0)."""
+    return [m * 10.0**d for d in range(math.floor(math.log10(lo)) - 1, math.ceil(math.log10(hi)) + 1) for m in range(1, 10) if lo <= m * 10.0**d <= hi]
+
+
+# a |Z| axis with fewer than this many of 1 … 9 × 10ⁿ in view (under about half a decade) is
+# ticked linearly (`MagnitudeMinorLocator`)
+LINEAR_BELOW_MARKS = 3
+
+
+class MagnitudeMinorLocator(LogLocator):
+    """The minor ticks of a |Z| axis (`magnitude_axis`): matplotlib's (2 … 9 × 10ⁿ), or, where
+    fewer than `LINEAR_BELOW_MARKS` of 1 … 9 × 10ⁿ lie in view, evenly spaced round values
+    (matplotlib's `AutoLocator`, as many as the axis' length holds), each labelled: |Z| from 160
+    to 340 Ω reads 150, 200, 250, 300, 350 (matplotlib turns linear only below two, and read 200,
+    300 alone)."""
+
+    def __init__(self):
+        super().__init__(subs="auto")
+
+    def tick_values(self, vmin, vmax):
+        lo, hi = sorted((vmin, vmax))
+        if lo > 0 and np.isfinite(hi) and len(_marks_between(lo, hi)) < LINEAR_BELOW_MARKS:
+            linear = AutoLocator()
+            linear.set_axis(self.axis)
+            return linear.tick_values(lo, hi)
+        return super().tick_values(vmin, vmax)
+
+
+# the most ticks `magnitude_axis` moves each end of its range outwards by, one at a time
+SPAN_STEPS = 12
+
+
+def magnitude_axis(axis, *, nyquist=None) -> None:
+    """A log axis of impedance magnitude (``ax.yaxis`` of a Bode |Z| panel): plain tick labels,
+    in the prefix of the ``nyquist`` panel when given (`plain_log_ticks`); short axes ticked
+    linearly (`MagnitudeMinorLocator`); and a range that reaches a labelled tick at or below the
+    lowest point drawn and one at or above the highest, two labels at least (`_span_labels`,
+    at every draw, on the figure as laid out): |Z| from 150 to 450 Ω was labelled 200, 300, 400,
+    none at or below the lowest point, and on a small figure one label alone. Range set by hand
+    after this (a zoom) is left as it is. Every |Z| panel of impedax's figures is made so (fit,
+    KK, DRT, diagnosis, comparison, posterior bands, Z-HIT, the gap analysis' |Z_R|)."""
+    plain_log_ticks(axis, nyquist=nyquist)
+    axis.set_minor_locator(MagnitudeMinorLocator())
+    # (minor labels up to two decade ticks in view, thinned to fit: a range widened to 1 – 10 kΩ
+    # reads 1, 2, 3, 4, 6, 10, where matplotlib's threshold of one labelled the decades alone)
+    axis.get_minor_formatter().minor_thresholds = (2, 0.4)
+    ax = axis.axes
+    state = {"ours": None if ax.get_autoscaley_on() else tuple(sorted(ax.get_ylim()))}
+    ax.apply_aspect = types.MethodType(functools.partial(_spanning_aspect, state=state), ax)
+
+
+def _spanning_aspect(ax, position=None, *, state) -> None:
+    """``ax.apply_aspect`` of a |Z| panel (`magnitude_axis`): matplotlib's, then `_span_labels`."""
+    Axes.apply_aspect(ax, position)
+    if state.get("busy"):  # (measuring the panel, `axis_length_pt`, applies the aspect again)
+        return
+    # (the same range, data, panel and figure size as when it last ran: nothing to do; a figure's
+    # layout and legends measure the panel many times per draw)
+    seen = (ax.get_ylim(), tuple(ax.dataLim.intervaly), tuple(ax.get_position(original=True).bounds), tuple(ax.get_figure().get_size_inches()))
+    if state.get("seen") == seen:
+        return
+    state["busy"] = True
+    try:
+        _span_labels(ax, state)
+    finally:
+        state["busy"] = False
+    state["seen"] = (ax.get_ylim(), *seen[1:])
+
+
+def _labelled_ticks(axis) -> list[float]:
+    """The tick values ``axis`` labels in view (major and minor), as its formatters write them now."""
+    lo, hi = sorted(axis.get_view_interval())
+    shown: set[float] = set()
+    for locator, formatter in ((axis.get_major_locator(), axis.get_major_formatter()), (axis.get_minor_locator(), axis.get_minor_formatter())):
+        locs = np.asarray(locator(), float)
+        locs = locs[(locs >= lo * (1 - 1e-9)) & (locs <= hi * (1 + 1e-9))]
+        shown.update(float(v) for v, text in zip(locs, formatter.format_ticks(locs)) if text)
+    return sorted(shown)
+
+
+def _tick_beyond(axis, bound: float, direction: int) -> float:
+    """The nearest tick position beyond ``bound`` (below for ``direction`` −1, above for +1):
+    of the axis' locators on the present view, or 1 … 9 × 10ⁿ."""
+    candidates = np.concatenate([np.asarray(axis.get_major_locator()(), float), np.asarray(axis.get_minor_locator()(), float), _marks_between(bound / 10.0, bound * 10.0)])
+    candidates = candidates[np.isfinite(candidates) & (candidates > 0)]
+    beyond = candidates[candidates < bound * (1 - 1e-9)] if direction < 0 else candidates[candidates > bound * (1 + 1e-9)]
+    if not beyond.size:
+        return bound / 2.0 if direction < 0 else bound * 2.0
+    return float(beyond.max() if direction < 0 else beyond.min())
+
+
+def _span_labels(ax, state) -> None:
+    """Widen the log y range of ``ax``, a tick at a time (`_tick_beyond`, at most `SPAN_STEPS`
+    each way), until a labelled tick (`_labelled_ticks`) lies at or below the lowest point drawn
+    in the range matplotlib chose and one at or above the highest, and two are labelled; as it
+    was if none does. Not on a range set by hand (``state["ours"]``: the range the figure set)."""
+    axis = ax.yaxis
+    if ax.get_yscale() != "log":
+        return
+    low, high = sorted(ax.get_ylim())
+    if not ax.get_autoscaley_on() and (low, high) != state["ours"]:
+        return
+    top, bottom = ax.dataLim.y1, ax.dataLim.y0 if ax.dataLim.y0 > 0 else axis.get_minpos()
+    d_lo, d_hi = max(bottom, low), min(top, high)
+    if not (np.all(np.isfinite([d_lo, d_hi, low, high])) and 0 < d_lo <= d_hi and 0 < low < high):
+        return
+    lo, hi = low, high
+    for _ in range(2 * SPAN_STEPS):
+        shown = _labelled_ticks(axis)
+        below = any(v <= d_lo * (1 + 1e-9) for v in shown)
+        above = any(v >= d_hi * (1 - 1e-9) for v in shown)
+        if below and above and len(shown) >= 2:
+            break
+        if not below or len(shown) < 2:
+            lo = _tick_beyond(axis, lo, -1)
+        if not above or len(shown) < 2:
+            hi = _tick_beyond(axis, hi, +1)
+        ax.set_ybound(lo, hi)
+    else:
+        ax.set_ybound(low, high)
+    if not ax.get_autoscaley_on():
+        state["ours"] = tuple(sorted(ax.get_ylim()))
 
 
 def percent_axis(axis) -> bool:

@@ -13,7 +13,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
     for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`, which
     ``figsize`` (width, height) [in] sizes). Figure."""
-    from . import legends_off_data, model_curve, nyquist_frame, nyquist_shape, nyquist_view, plain_log_ticks, residual_axis, spectrum_layout
+    from . import legends_off_data, magnitude_axis, model_curve, nyquist_frame, nyquist_shape, nyquist_view, plain_log_ticks, residual_axis, spectrum_layout
 
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
@@ -41,7 +41,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     nyquist_view(ax_nyq, z, *curves, frequency=f, frame=nyquist_frame(z, *curves))
     ax_nyq.legend(fontsize=font_size("legend", 7), loc="best")  # (data and every model; the Bode panels draw them alike)
     ax_mod.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]")
-    plain_log_ticks(ax_mod.yaxis, nyquist=ax_nyq)  # (in the Nyquist panel's prefix: one unit across the figure)
+    magnitude_axis(ax_mod.yaxis, nyquist=ax_nyq)  # (in the Nyquist panel's prefix: one unit across the figure)
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]")
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
     plain_log_ticks(ax_res.yaxis)

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import counted, format_lambda, format_percent, format_quantity, format_time
-from . import FLAT_NYQUIST, dense_model, drawn_label, font_size, frame_points, label_spectra_axis, legends_off_data, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
+from . import FLAT_NYQUIST, dense_model, drawn_label, font_size, frame_points, label_spectra_axis, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -283,7 +283,7 @@ def plot_zhit(result, *, title: str | None = None):
     ax_mod.loglog(f, np.abs(result.impedance[order]), "o", ms=3.5, mfc="none", label="|Z| data")
     ax_mod.loglog(f, result.modulus[order], "-", lw=1.5, label="|Z| from the phase (Z-HIT)")
     ax_mod.set_ylabel("|Z| [Ω]")
-    plain_log_ticks(ax_mod.yaxis)
+    magnitude_axis(ax_mod.yaxis)
     ax_ph.semilogx(f, np.degrees(np.angle(result.impedance[order])), "o", ms=3.5, mfc="none")
     ax_ph.set_ylabel("phase [deg]")
     ax_res.semilogx(f, result.residuals[order] * 100, "o-", ms=3, lw=0.8)

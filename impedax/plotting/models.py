@@ -25,7 +25,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     import matplotlib.pyplot as plt
 
     from ..data import format_percent
-    from . import model_curve, plain_log_ticks
+    from . import magnitude_axis, model_curve
 
     fig, axes = plt.subplots(1, 3, figsize=figure_size(figsize, "figsize") or GAP_FIGSIZE, layout="constrained")
     f = gap.remaining["frequency"].values
@@ -57,7 +57,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
         ax.set_ylim(low / 1.5, high * 1.5)
     single = getattr(gap, "single_contact", False)  # (nothing subtracted: the total is the contact's impedance)
     ax.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]" if single else "|Z_R| [Ω]", title="single contact: total, nothing subtracted" if single else "remaining impedance (Sirin eq 5)")
-    plain_log_ticks(ax.yaxis)
+    magnitude_axis(ax.yaxis)  # (a labelled tick at or below the lowest |Z_R| and at or above the highest)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[1]
     u = gap.draws("u") * 1e6

@@ -1,0 +1,104 @@
+"""Every log |Z| axis labels a tick at or below its lowest point and one at or above its highest,
+two at least (`plotting.magnitude_axis`). |Z| from 150 to 450 Ω was labelled 200, 300, 400 (none
+at or below 150), on a 6.3 × 5 in figure |Z| from 15 to 70 Ω only 20 and 50, and a gap
+analysis' |Z_R| from 4.5 kΩ to 50 MΩ from 10k up (2026-12-07). Oracle: the tick labels of the
+drawn figure read back as numbers (with the prefix of the label's brackets or their own) and
+checked against their ticks' positions, and the |Z| of the arrays drawn; SYNTHETIC spectra of
+R0 + R1 || C1 written here with numpy."""
+
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+from impedax.plotting import plot_bode, plot_spectrum  # noqa: E402
+
+PREFIXES = {"": 1.0, "k": 1e3, "M": 1e6, "G": 1e9, "m": 1e-3, "µ": 1e-6}
+F = np.geomspace(1.0, 1e5, 51)
+
+
+def _rc(low: float, high: float):
+    """|Z| from ``high`` (R0 + R1) at low frequency to ``low`` (R0) at high frequency."""
+    return low + (high - low) / (1 + 2j * np.pi * F * (high - low) * 1e-6)
+
+
+def _labels(ax):
+    """The labelled ticks of ``ax``'s y axis in view, as values [Ω] read from their texts."""
+    fig = ax.get_figure()
+    fig.draw_without_rendering()
+    axis = ax.yaxis
+    unit = re.search(r"\[(.*?)Ω\]", ax.get_ylabel()).group(1)
+    lo, hi = sorted(axis.get_view_interval())
+    values = []
+    for minor in (False, True):
+        locs = axis.get_minorticklocs() if minor else axis.get_majorticklocs()
+        ticks = (axis.get_minor_ticks if minor else axis.get_major_ticks)(len(locs))
+        for loc, tick in zip(locs, ticks):
+            text = tick.label1.get_text().replace("\N{MINUS SIGN}", "-")
+            if not text or not lo * (1 - 1e-9) <= loc <= hi * (1 + 1e-9):
+                continue
+            own = text[-1] if text[-1] in PREFIXES else ""
+            value = float(text[: len(text) - len(own)]) * PREFIXES[own] * PREFIXES[unit]
+            assert value == pytest.approx(loc, rel=1e-6), (text, loc)  # (the label is its tick's value)
+            values.append(value)
+    return sorted(values)
+
+
+def _assert_spans(ax, magnitudes):
+    shown = _labels(ax)
+    assert len(shown) >= 2, shown
+    assert min(shown) <= min(magnitudes) * (1 + 1e-9), (shown, min(magnitudes))
+    assert max(shown) >= max(magnitudes) * (1 - 1e-9), (shown, max(magnitudes))
+    return shown
+
+
+@pytest.mark.parametrize("low, high", [(150, 450), (160, 340), (101, 184), (15, 70), (1500, 9000), (20, 520), (1325, 1.14e6), (0.021, 0.035)])
+@pytest.mark.parametrize("figsize", [None, (6.3, 5.0)])
+def test_the_modulus_panel_labels_ticks_around_its_data(low, high, figsize):
+    """`plot_spectrum` (the fit's, KK's, diagnosis' |Z| panel through `plot_bode`): a SYNTHETIC
+    arc over a factor 1.7 to 860 in |Z|, in Ω, kΩ or mΩ, at the default size and at a thesis
+    text width."""
+    z = _rc(low, high)
+    model = z * (1 + 1e-3)
+    fig = plot_spectrum((F, z), (F, model), figsize=figsize)
+    _assert_spans(fig.axes[1], np.abs(np.concatenate([z, model])))
+    plt.close(fig)
+
+
+def test_plot_bode_on_your_own_axes_spans_the_data():
+    """docs/io.md's `plot_bode(ax_mod, ax_ph, data, model)` on axes of one's own (6.3 × 2.4 in)."""
+    z = _rc(150, 450)
+    fig, (ax_nyq, ax_mod, ax_ph) = plt.subplots(1, 3, figsize=(6.3, 2.4), layout="constrained")
+    plot_bode(ax_mod, ax_ph, (F, z), (F, z))
+    _assert_spans(ax_mod, np.abs(z))
+    plt.close(fig)
+
+
+def test_a_zoom_is_left_as_set():
+    """A range set by hand after the figure is made (a zoom into 200 – 300 Ω) is not widened."""
+    z = _rc(150, 450)
+    fig = plot_spectrum((F, z), (F, z))
+    ax = fig.axes[1]
+    ax.set_ylim(200, 300)
+    fig.draw_without_rendering()
+    assert ax.get_ylim() == (200, 300)
+    plt.close(fig)
+
+
+def test_the_gap_figures_remaining_impedance_spans_its_data():
+    """The gap analysis' |Z_R| panel (its range set from the data, a runaway model cut): a
+    SYNTHETIC R_EP ∥ C_gap of 3 repeats, 4.5 kΩ to 50 MΩ (`test_gap_outputs`' stub, as the
+    figure draws it): labelled from at or below the lowest point to at or above the highest."""
+    from test_gap_outputs import _stub
+
+    gap = _stub(rhat_max=1.001)
+    fig = gap.plot()
+    ax = fig.axes[0]
+    assert ax.get_yscale() == "log" and "|Z_R|" in ax.get_ylabel()
+    drawn = np.abs(gap.remaining["Z"].values)
+    _assert_spans(ax, drawn)
+    plt.close(fig)
