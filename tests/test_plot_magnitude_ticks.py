@@ -102,3 +102,16 @@ def test_the_gap_figures_remaining_impedance_spans_its_data():
     drawn = np.abs(gap.remaining["Z"].values)
     _assert_spans(ax, drawn)
     plt.close(fig)
+
+
+def test_a_range_just_past_a_decade_ends_near_its_data():
+    """|Z| from 57 to 112 Ω (the span of REAL exampleDataBioLogic.mpt, here a SYNTHETIC arc):
+    the range ends at a labelled 120, not at the next minor tick, 200, which left the top 40 %
+    of the panel empty; the bottom at 50."""
+    z = _rc(57, 112)
+    fig = plot_spectrum((F, z), (F, z))
+    ax = fig.axes[1]
+    shown = _assert_spans(ax, np.abs(z))
+    assert ax.get_ylim()[1] <= 1.3 * 112 and 120 in shown
+    assert 50 in shown and ax.get_ylim()[0] >= 50 * (1 - 1e-9)
+    plt.close(fig)

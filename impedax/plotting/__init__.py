@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -1016,8 +1016,10 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True) -> None:
             _thin_minor_labels(self)
 
         def __call__(self, x, pos=None):
-            if isinstance(self.axis.get_minor_locator(), MagnitudeMinorLocator) and x > 0 and not _integer_mantissa(x):
-                return scaled(self, x, 1e3)  # (a linear tick of a short |Z| axis: each one is labelled, 0.98k too)
+            minor = self.axis.get_minor_locator()
+            if isinstance(minor, MagnitudeMinorLocator) and x > 0 and not _integer_mantissa(x):
+                # (an evenly spaced tick of a short |Z| axis, each one labelled, 0.98k too; an end of its range at 1.2, 1.5, 2.5 × 10ⁿ)
+                return scaled(self, x, 1e3) if minor.labels(x) else ""
             return scaled(self, x, 1e3) if super().__call__(x, pos) else ""
 
     axis.set_major_formatter(_Plain())
@@ -1049,18 +1051,32 @@ class MagnitudeMinorLocator(LogLocator):
 
     def __init__(self):
         super().__init__(subs="auto")
+        self.linear = False  # (the ticks last given are the evenly spaced ones)
+        self.ends: set[float] = set()  # (ends of the range at 1.2, 1.5 or 2.5 × 10ⁿ that `_span_labels` set: ticked and labelled)
 
     def tick_values(self, vmin, vmax):
         lo, hi = sorted((vmin, vmax))
-        if lo > 0 and np.isfinite(hi) and len(_marks_between(lo, hi)) < LINEAR_BELOW_MARKS:
+        self.linear = bool(lo > 0 and np.isfinite(hi) and len(_marks_between(lo, hi)) < LINEAR_BELOW_MARKS)
+        if self.linear:
             linear = AutoLocator()
             linear.set_axis(self.axis)
-            return linear.tick_values(lo, hi)
-        return super().tick_values(vmin, vmax)
+            ticks = linear.tick_values(lo, hi)
+        else:
+            ticks = super().tick_values(vmin, vmax)
+        ends = [e for e in self.ends if lo * (1 - 1e-9) <= e <= hi * (1 + 1e-9) and not np.any(np.isclose(ticks, e, rtol=1e-9, atol=0))]
+        return np.sort(np.concatenate([ticks, ends])) if ends else ticks
+
+    def labels(self, x: float) -> bool:
+        """Whether a tick at ``x`` that is not 1 … 9 × 10ⁿ is labelled: an evenly spaced one, or an end of `ends`."""
+        return self.linear or any(abs(x - e) <= 1e-9 * e for e in self.ends)
 
 
 # the most ticks `magnitude_axis` moves each end of its range outwards by, one at a time
 SPAN_STEPS = 12
+# the values between 1 … 9 × 10ⁿ an end of a |Z| axis' range may stand at, ticked and labelled
+# there (`_span_labels`): |Z| from 57 to 112 Ω ends at 120, where the next tick, 200, left the
+# top 40 % of the panel empty
+END_MANTISSAS = (1.2, 1.5, 2.5)
 
 
 def magnitude_axis(axis, *, nyquist=None) -> None:
@@ -1114,12 +1130,24 @@ def _labelled_ticks(axis) -> list[float]:
 def _tick_beyond(axis, bound: float, direction: int) -> float:
     """The nearest tick position beyond ``bound`` (below for ``direction`` −1, above for +1):
     of the axis' locators on the present view, or 1 … 9 × 10ⁿ."""
-    candidates = np.concatenate([np.asarray(axis.get_major_locator()(), float), np.asarray(axis.get_minor_locator()(), float), _marks_between(bound / 10.0, bound * 10.0)])
+    ends = [m * 10.0**d for d in range(math.floor(math.log10(bound)) - 1, math.floor(math.log10(bound)) + 2) for m in END_MANTISSAS]
+    candidates = np.concatenate([np.asarray(axis.get_major_locator()(), float), np.asarray(axis.get_minor_locator()(), float), _marks_between(bound / 10.0, bound * 10.0), ends])
     candidates = candidates[np.isfinite(candidates) & (candidates > 0)]
     beyond = candidates[candidates < bound * (1 - 1e-9)] if direction < 0 else candidates[candidates > bound * (1 + 1e-9)]
     if not beyond.size:
         return bound / 2.0 if direction < 0 else bound * 2.0
     return float(beyond.max() if direction < 0 else beyond.min())
+
+
+def _crowded(axis, value: float, others) -> bool:
+    """Whether a label at ``value`` on the log y ``axis`` lies closer to one at ``others`` than
+    the font's height and `LABEL_GAP_EM` (`FittingLocator`'s measure of a y axis)."""
+    lo, hi = sorted(axis.get_view_interval())
+    others = np.asarray(others, float)
+    if not others.size or not hi > lo > 0:
+        return False
+    per_decade = axis_length_pt(axis) / math.log10(hi / lo)
+    return bool(np.min(np.abs(np.log10(others / value))) * per_decade < (1 + LABEL_GAP_EM) * tick_label_size(axis))
 
 
 def _span_labels(ax, state) -> None:
@@ -1137,6 +1165,12 @@ def _span_labels(ax, state) -> None:
     d_lo, d_hi = max(bottom, low), min(top, high)
     if not (np.all(np.isfinite([d_lo, d_hi, low, high])) and 0 < d_lo <= d_hi and 0 < low < high):
         return
+    minor = axis.get_minor_locator()
+    ends = minor.ends if isinstance(minor, MagnitudeMinorLocator) else set()
+    ends.intersection_update(v for v in ends if any(abs(v - bound) <= 1e-9 * v for bound in (low, high)))  # (those it set before, still the range's ends)
+    for end in list(ends):
+        if _crowded(axis, end, [v for v in _labelled_ticks(axis) if abs(v - end) > 1e-9 * end]):
+            ends.discard(end)
     lo, hi = low, high
     for _ in range(2 * SPAN_STEPS):
         shown = _labelled_ticks(axis)
@@ -1148,8 +1182,16 @@ def _span_labels(ax, state) -> None:
             lo = _tick_beyond(axis, lo, -1)
         if not above or len(shown) < 2:
             hi = _tick_beyond(axis, hi, +1)
+        ends.clear()
+        ends.update(v for v in (lo, hi) if not _integer_mantissa(v))
         ax.set_ybound(lo, hi)
+        # (an end whose label would run into its neighbour's is not labelled: the range moves on)
+        shown = _labelled_ticks(axis)
+        for end in list(ends):
+            if _crowded(axis, end, [v for v in shown if abs(v - end) > 1e-9 * end]):
+                ends.discard(end)
     else:
+        ends.clear()
         ax.set_ybound(low, high)
     if not ax.get_autoscaley_on():
         state["ours"] = tuple(sorted(ax.get_ylim()))
