@@ -124,3 +124,17 @@ def test_a_noise_free_synthetic_fit_and_comparison_read_plainly(which):
         assert ax_res.get_yscale() == "log"
     assert any(t.startswith("rounding level") for t in _legend_texts(ax_res))
     plt.close(fig)
+
+
+def test_a_batchs_residual_map_colour_bar_reads_plainly():
+    """`BatchFitResult.plot_residual_map` of three noise-free SYNTHETIC spectra (R1 480, 500,
+    520 Ω): the colour bar's ticks are its values in e-notation, with no "1e−14" beside them."""
+    import impedax as ix
+
+    zs = np.stack([20.0 + r / (1 + 2j * np.pi * F * r * 1e-6) for r in (480.0, 500.0, 520.0)])
+    batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(F, zs, dims=("cell",)))
+    fig = batch.plot_residual_map()
+    bar = next(ax for ax in fig.axes if ax.get_label() == "<colorbar>")
+    texts = _assert_plain(bar)
+    assert any("e" in t for t in texts)
+    plt.close(fig)

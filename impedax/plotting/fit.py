@@ -435,7 +435,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     from matplotlib.colors import Normalize
     from matplotlib.patches import Patch
 
-    from . import characters_across, frequency_cell_edges, label_spectra_axis, plain_linear_ticks, plain_log_ticks, wrap_model
+    from . import PlainTicks, characters_across, frequency_cell_edges, label_spectra_axis, plain_linear_ticks, plain_log_ticks, wrap_model
 
     ds = batch.dataset
     dims = tuple(batch.dims)
@@ -478,6 +478,8 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     bar = fig.colorbar(mesh, ax=[ax_re, ax_im], shrink=0.9, extend={(True, True): "both", (True, False): "max", (False, True): "min"}.get((above, below), "neither"))
     beyond = f"; beyond it, up to {float(np.max(np.abs(parts))):.3g} {unit}" if above or below else ""
     bar.set_label(f"{quantity} [{unit}]\n(± {scale:.3g} {unit}: the 99th percentile{beyond})")  # (two lines: one ran past the figure's top)
+    bar.formatter = PlainTicks()  # (as every residual axis, `residual_axis`: −4e−14 … 4e−14, not −4 … 4 under a detached "1e−14")
+    bar.update_ticks()
     places = [coordinate_labels(ds, d) for d in dims]
     labels = [", ".join(drawn_label(places[k][i]) for k, i in enumerate(at)) for at in np.ndindex(*(ds.sizes[d] for d in dims))]
     # (in σ, each fit's chi2_red, about 1 at the noise σ states, as the report gives it; else
