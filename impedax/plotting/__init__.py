@@ -1139,6 +1139,12 @@ def _tick_beyond(axis, bound: float, direction: int) -> float:
     return float(beyond.max() if direction < 0 else beyond.min())
 
 
+def _end_mantissa(x: float) -> bool:
+    """Whether ``x`` > 0 is one of `END_MANTISSAS` × 10ⁿ."""
+    mantissa = x / 10.0 ** math.floor(math.log10(x) + 1e-9)
+    return any(abs(mantissa - m) < 1e-6 for m in END_MANTISSAS)
+
+
 def _crowded(axis, value: float, others) -> bool:
     """Whether a label at ``value`` on the log y ``axis`` lies closer to one at ``others`` than
     the font's height and `LABEL_GAP_EM` (`FittingLocator`'s measure of a y axis)."""
@@ -1167,12 +1173,14 @@ def _span_labels(ax, state) -> None:
         return
     minor = axis.get_minor_locator()
     ends = minor.ends if isinstance(minor, MagnitudeMinorLocator) else set()
-    ends.intersection_update(v for v in ends if any(abs(v - bound) <= 1e-9 * v for bound in (low, high)))  # (those it set before, still the range's ends)
-    for end in list(ends):
-        if _crowded(axis, end, [v for v in _labelled_ticks(axis) if abs(v - end) > 1e-9 * end]):
-            ends.discard(end)
     lo, hi = low, high
-    for _ in range(2 * SPAN_STEPS):
+    for _ in range(2 * SPAN_STEPS + 1):
+        # (the ends it set, those still ends of the range whose labels clear their neighbours': an
+        # end whose label would run into its neighbour's is not labelled, and the range moves on)
+        ends.intersection_update({e for e in ends if min(abs(e - lo), abs(e - hi)) <= 1e-9 * e})
+        for end in list(ends):
+            if _crowded(axis, end, [v for v in _labelled_ticks(axis) if abs(v - end) > 1e-9 * end]):
+                ends.discard(end)
         shown = _labelled_ticks(axis)
         below = any(v <= d_lo * (1 + 1e-9) for v in shown)
         above = any(v >= d_hi * (1 - 1e-9) for v in shown)
@@ -1180,16 +1188,11 @@ def _span_labels(ax, state) -> None:
             break
         if not below or len(shown) < 2:
             lo = _tick_beyond(axis, lo, -1)
+            ends.update([lo] if _end_mantissa(lo) else [])
         if not above or len(shown) < 2:
             hi = _tick_beyond(axis, hi, +1)
-        ends.clear()
-        ends.update(v for v in (lo, hi) if not _integer_mantissa(v))
+            ends.update([hi] if _end_mantissa(hi) else [])
         ax.set_ybound(lo, hi)
-        # (an end whose label would run into its neighbour's is not labelled: the range moves on)
-        shown = _labelled_ticks(axis)
-        for end in list(ends):
-            if _crowded(axis, end, [v for v in shown if abs(v - end) > 1e-9 * end]):
-                ends.discard(end)
     else:
         ends.clear()
         ax.set_ybound(low, high)
