@@ -115,3 +115,17 @@ def test_a_range_just_past_a_decade_ends_near_its_data():
     assert ax.get_ylim()[1] <= 1.3 * 112 and 120 in shown
     assert 50 in shown and ax.get_ylim()[0] >= 50 * (1 - 1e-9)
     plt.close(fig)
+
+
+def test_a_wide_axis_ends_at_a_decade_and_a_skipped_value_at_an_end_is_labelled():
+    """|Z| over three decades (R0 + R1 || C1: 1 kΩ + 1 MΩ ∥ 1 nF, 2.6 kΩ to 1.0 MΩ; its labels
+    are decades) ends at a decade, 10 MΩ, not at 1.2 or 2 MΩ beside decade labels; over 1.4
+    decades (20 to 520 Ω, labels 20, 50, 100, 200, 500) its top, 800, is labelled though the
+    axis' minor labels skip 8."""
+    wide = 1e3 + 1e6 / (1 + 2j * np.pi * F * 1e6 * 1e-9)
+    for z, top in ((wide, 1e7), (_rc(20, 520), 800)):
+        fig = plot_spectrum((F, z), (F, z))
+        ax = fig.axes[1]
+        shown = _assert_spans(ax, np.abs(z))
+        assert ax.get_ylim()[1] == pytest.approx(top) and max(shown) == pytest.approx(top), shown
+        plt.close(fig)

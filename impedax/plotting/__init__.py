@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -1017,9 +1017,9 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True) -> None:
 
         def __call__(self, x, pos=None):
             minor = self.axis.get_minor_locator()
-            if isinstance(minor, MagnitudeMinorLocator) and x > 0 and not _integer_mantissa(x):
-                # (an evenly spaced tick of a short |Z| axis, each one labelled, 0.98k too; an end of its range at 1.2, 1.5, 2.5 × 10ⁿ)
-                return scaled(self, x, 1e3) if minor.labels(x) else ""
+            if isinstance(minor, MagnitudeMinorLocator) and x > 0 and (minor.is_end(x) or not _integer_mantissa(x)):
+                # (an end of a |Z| axis' range `_span_labels` set; an evenly spaced tick of a short one, each labelled, 0.98k too)
+                return scaled(self, x, 1e3) if minor.is_end(x) or minor.linear else ""
             return scaled(self, x, 1e3) if super().__call__(x, pos) else ""
 
     axis.set_major_formatter(_Plain())
@@ -1052,7 +1052,7 @@ class MagnitudeMinorLocator(LogLocator):
     def __init__(self):
         super().__init__(subs="auto")
         self.linear = False  # (the ticks last given are the evenly spaced ones)
-        self.ends: set[float] = set()  # (ends of the range at 1.2, 1.5 or 2.5 × 10ⁿ that `_span_labels` set: ticked and labelled)
+        self.ends: set[float] = set()  # (ends of the range `_span_labels` set: ticked and labelled)
 
     def tick_values(self, vmin, vmax):
         lo, hi = sorted((vmin, vmax))
@@ -1066,9 +1066,9 @@ class MagnitudeMinorLocator(LogLocator):
         ends = [e for e in self.ends if lo * (1 - 1e-9) <= e <= hi * (1 + 1e-9) and not np.any(np.isclose(ticks, e, rtol=1e-9, atol=0))]
         return np.sort(np.concatenate([ticks, ends])) if ends else ticks
 
-    def labels(self, x: float) -> bool:
-        """Whether a tick at ``x`` that is not 1 … 9 × 10ⁿ is labelled: an evenly spaced one, or an end of `ends`."""
-        return self.linear or any(abs(x - e) <= 1e-9 * e for e in self.ends)
+    def is_end(self, x: float) -> bool:
+        """Whether ``x`` is one of `ends`."""
+        return any(abs(x - e) <= 1e-9 * e for e in self.ends)
 
 
 # the most ticks `magnitude_axis` moves each end of its range outwards by, one at a time
@@ -1127,22 +1127,28 @@ def _labelled_ticks(axis) -> list[float]:
     return sorted(shown)
 
 
+# a |Z| axis over more than this many decade ticks labels the decades alone (its minor
+# formatter's threshold, `magnitude_axis`): its range ends at a decade (`_tick_beyond`)
+DECADE_TICKS_ALONE = 2
+
+
 def _tick_beyond(axis, bound: float, direction: int) -> float:
     """The nearest tick position beyond ``bound`` (below for ``direction`` −1, above for +1):
-    of the axis' locators on the present view, or 1 … 9 × 10ⁿ."""
-    ends = [m * 10.0**d for d in range(math.floor(math.log10(bound)) - 1, math.floor(math.log10(bound)) + 2) for m in END_MANTISSAS]
-    candidates = np.concatenate([np.asarray(axis.get_major_locator()(), float), np.asarray(axis.get_minor_locator()(), float), _marks_between(bound / 10.0, bound * 10.0), ends])
+    of the axis' locators on the present view, 1 … 9 × 10ⁿ and `END_MANTISSAS` × 10ⁿ; a decade
+    on an axis that labels the decades alone (`DECADE_TICKS_ALONE`: a |Z| over 7 decades ends
+    at 1000 MΩ, not at 1200 or 200 MΩ beside labels 1, 100)."""
+    lo, hi = sorted(axis.get_view_interval())
+    d = math.floor(math.log10(bound))
+    if math.floor(math.log10(hi)) - math.floor(math.log10(lo) - 1e-12) > DECADE_TICKS_ALONE:
+        candidates = 10.0 ** np.arange(d - 1, d + 3, dtype=float)
+    else:
+        ends = [m * 10.0**k for k in range(d - 1, d + 2) for m in END_MANTISSAS]
+        candidates = np.concatenate([np.asarray(axis.get_major_locator()(), float), np.asarray(axis.get_minor_locator()(), float), _marks_between(bound / 10.0, bound * 10.0), ends])
     candidates = candidates[np.isfinite(candidates) & (candidates > 0)]
     beyond = candidates[candidates < bound * (1 - 1e-9)] if direction < 0 else candidates[candidates > bound * (1 + 1e-9)]
     if not beyond.size:
         return bound / 2.0 if direction < 0 else bound * 2.0
     return float(beyond.max() if direction < 0 else beyond.min())
-
-
-def _end_mantissa(x: float) -> bool:
-    """Whether ``x`` > 0 is one of `END_MANTISSAS` × 10ⁿ."""
-    mantissa = x / 10.0 ** math.floor(math.log10(x) + 1e-9)
-    return any(abs(mantissa - m) < 1e-6 for m in END_MANTISSAS)
 
 
 def _crowded(axis, value: float, others) -> bool:
@@ -1188,10 +1194,10 @@ def _span_labels(ax, state) -> None:
             break
         if not below or len(shown) < 2:
             lo = _tick_beyond(axis, lo, -1)
-            ends.update([lo] if _end_mantissa(lo) else [])
+            ends.add(lo)
         if not above or len(shown) < 2:
             hi = _tick_beyond(axis, hi, +1)
-            ends.update([hi] if _end_mantissa(hi) else [])
+            ends.add(hi)
         ax.set_ybound(lo, hi)
     else:
         ends.clear()
