@@ -1056,12 +1056,18 @@ def _runner_ups(u_best: np.ndarray, screened: list, solver: "_LaneRunner", max_s
         return np.empty((0, k))
     points = np.concatenate([p.reshape(-1, k) for p, _ in screened])
     chi2 = np.concatenate([np.ravel(c) for _, c in screened])
-    picked = [u_best]
-    for i in np.argsort(np.where(np.isfinite(chi2), chi2, np.inf)):
-        if not np.isfinite(chi2[i]) or len(picked) > RUNNER_UP_CANDIDATES:
+    order = np.argsort(np.where(np.isfinite(chi2), chi2, np.inf))
+    # (apart from the optimum and from each point picked: the same maxima of |difference| as
+    # point by point, against all the picked ones at once)
+    apart = np.max(np.abs(points - u_best), axis=-1) > DISTINCT_BASIN
+    picked = np.empty((RUNNER_UP_CANDIDATES + 1, k))
+    picked[0], n_picked = u_best, 1
+    for i, finite, far in zip(order.tolist(), np.isfinite(chi2[order]).tolist(), apart[order].tolist()):
+        if not finite or n_picked > RUNNER_UP_CANDIDATES:
             break
-        if all(np.max(np.abs(points[i] - p)) > DISTINCT_BASIN for p in picked):
-            picked.append(points[i])
+        if far and (n_picked == 1 or np.all(np.max(np.abs(points[i] - picked[1:n_picked]), axis=-1) > DISTINCT_BASIN)):
+            picked[n_picked], n_picked = points[i], n_picked + 1
+    picked = list(picked[:n_picked])
     if len(picked) == 1:
         return np.empty((0, k))
     # (the optimum solved with them: its chi² on the same scale, after a step or two)
