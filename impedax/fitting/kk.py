@@ -16,6 +16,7 @@ described in `kk_test` and docs/kk.md.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import inspect
 import math
 from dataclasses import dataclass, field
@@ -1002,8 +1003,17 @@ def chain_error(freq: np.ndarray, m: int, inductance: bool, capacitance: bool) -
     constants (the worst place for a relaxation). Residuals of this size are the chain's
     approximation, not the data's inconsistency. Beyond `CHAIN_ERROR_POINTS` frequencies it is
     evaluated on that many log-spaced over the same band (memory stays bounded; at such
-    densities the misfit depends on the chain's spacing alone)."""
+    densities the misfit depends on the chain's spacing alone).
+    Remembered per frequencies and chain (`_chain_error`): every KK test of a batch fit's checked
+    spectra, and each test of their conj(Z), asks for the same one."""
     freq = np.asarray(freq, dtype=np.float64)
+    return _chain_error(freq.tobytes(), freq.shape, int(m), bool(inductance), bool(capacitance))
+
+
+@functools.lru_cache(maxsize=64)
+def _chain_error(freq_bytes: bytes, shape: tuple[int, ...], m: int, inductance: bool, capacitance: bool) -> float:
+    """`chain_error` of frequencies given as their bytes (hashable, for the cache)."""
+    freq = np.frombuffer(freq_bytes, dtype=np.float64).reshape(shape)
     tau = _time_constants(freq, m)
     if m < 2:
         return 0.0
