@@ -1383,20 +1383,21 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
     # parameters at a bound: as `fit_result`, the candidates of all regular fits confirmed at once
     sides = np.zeros((b, k), np.int8)
     regular = np.flatnonzero(~odd)
+    jac_regular = jac[regular] if k else None  # (one copy for the four rules below that read it)
     sides[regular] = confirm_bounds(table, values[regular], bound_sides(table, values[regular], stderr[regular]), lambda p, s: solver.chi2_at_x(p, regular[s]), n_res)
     if k and regular.size:  # (a parameter of a term that vanishes at any value is undetermined, not at a bound: as `fit_result`)
-        sides[regular] = vanishing_term_sides(circuit, registry, table, values[regular], sides[regular], freq, z[regular], jac[regular])
+        sides[regular] = vanishing_term_sides(circuit, registry, table, values[regular], sides[regular], freq, z[regular], jac_regular)
     # parameters of a term that changes Z by < 1e-6: at the natural bound that explains it, or undetermined (as `fit_result`)
     free_values, free_stderr = values[regular][:, table.free_index], stderr[regular][:, table.free_index]
     vanishing = np.zeros((len(regular), k), np.int8)
     if k:
         candidates = vanishing_candidates(sides[regular], free_values, free_stderr)
-        vanishing = vanishing_parameters(circuit, registry, table, values[regular], freq, candidates, jac[regular])
+        vanishing = vanishing_parameters(circuit, registry, table, values[regular], freq, candidates, jac_regular)
     sides[regular], free_stderr, vanished = settle_vanishing(vanishing, sides[regular], free_values, free_stderr)
     if k and regular.size:  # the others' errors hold a vanishing term's parameters at no bound at their values (as `fit_result`)
-        held = vanishing_term_mask(circuit, registry, table, values[regular], freq, jac[regular]) & (sides[regular] == 0)
+        held = vanishing_term_mask(circuit, registry, table, values[regular], freq, jac_regular) & (sides[regular] == 0)
         if held.any():
-            cov[regular], corr[regular] = held_covariances(jac[regular], chi2_red[regular], weighting, cov[regular], corr[regular], held)
+            cov[regular], corr[regular] = held_covariances(jac_regular, chi2_red[regular], weighting, cov[regular], corr[regular], held)
             free_stderr = np.where(held | vanished, free_stderr, np.sqrt(np.clip(np.einsum("bii->bi", cov[regular]), 0, None)))
     # the parameters of near-null directions are undetermined whatever χ²_red is (as `fit_result`)
     ratios = {}
