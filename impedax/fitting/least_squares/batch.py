@@ -36,7 +36,7 @@ from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes,
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .notes import MISFIT, MODEL_MISFIT, carried_over, has_tag, notes_tags, stored_tags, tagged, tags_attr, tags_of, with_tag
 from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, warning_tags_by_words, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
-from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, trimmed, unscale
+from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, unscale
 from .starts import SpectrumFeatures, climb_target, draw_size, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
 __all__ = ["BatchFitResult", "fit_batch", "labels_by_keyword"]
@@ -1170,6 +1170,25 @@ def _multistart_rung(out, solver, circuit, table, features, poor, n_starts, mult
     return _merged(out, poor, multi)
 
 
+_JACOBIAN = SolverOutput._fields.index("jacobian")
+
+
+def _rows_joined(jacobians: list[np.ndarray], n_padded: int, n: int) -> np.ndarray:
+    """The chunks' Jacobians (…, 2·n_padded, K) of a solve on points padded by `padded_points`
+    joined along the first axis, with the rows `trimmed` keeps (the first ``n`` points' Re, then
+    their Im) copied once into a C-ordered stack: concatenating, then trimming with a fancy
+    index copied twice and left the stack laid out (2N, B, K) in memory."""
+    if n_padded == n:
+        return np.concatenate(jacobians)
+    out = np.empty((sum(len(j) for j in jacobians), 2 * n, *np.shape(jacobians[0])[2:]), np.result_type(*jacobians))
+    start = 0
+    for j in jacobians:
+        out[start : start + len(j), :n] = j[:, :n]
+        out[start : start + len(j), n:] = j[:, n_padded : n_padded + n]
+        start += len(j)
+    return out
+
+
 def _merged(out: SolverOutput, rows, candidate: SolverOutput) -> SolverOutput:
     """``out`` with rows ``rows`` replaced by ``candidate`` where its chi² is lower."""
     for mine, theirs in zip(out, better(out.row(rows), candidate)):
@@ -1345,8 +1364,10 @@ class _LaneRunner:
         """Solver outputs at solutions ``u`` of spectra ``spectrum`` (as `solvers._finish`), each
         a new array (not a view of another or of an argument: callers may update them)."""
         parts = self._per_spectrum("finish", [u], spectrum)
-        out = SolverOutput(*(None if first is None else np.concatenate([p[i] for p in parts]) for i, first in enumerate(parts[0])))
-        out = trimmed(out, self.n_points)
+        n_padded = np.shape(parts[0].z_model)[-1]
+        out = SolverOutput(*(None if first is None else _rows_joined([p[i] for p in parts], n_padded, self.n_points) if i == _JACOBIAN else np.concatenate([p[i] for p in parts])
+                             for i, first in enumerate(parts[0])))
+        out = out._replace(z_model=out.z_model[..., : self.n_points])  # (`trimmed`'s cut; the Jacobian's rows were cut as they were joined)
         code = np.where(done, int(SolverStatus.CONVERGED), int(SolverStatus.MAX_STEPS))
         return out._replace(code=code, steps=np.array(steps), steps_total=np.array(steps_total), chi2_starts=out.chi2[:, None].copy())
 
