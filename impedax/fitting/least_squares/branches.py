@@ -219,7 +219,7 @@ def vanishing_parameters(circuit: Circuit, registry: Registry, table: ParameterT
     small = np.asarray(candidates, bool)
     if jacobian is not None:
         with np.errstate(all="ignore"):
-            norms = np.sqrt(np.sum(np.abs(np.asarray(jacobian, float)) ** 2, axis=-2))
+            norms = np.sqrt(np.sum(np.square(np.asarray(jacobian, float)), axis=-2))  # (x² = |x|², without |x| taken first)
             # ... or |x|·column, the change for a relative step: a series term's scale run to ~0 (a
             # Warburg σ = 1e-11 Ω s^-1/2: Z_W = σ(1−j)/√ω) keeps its column ∂Z/∂σ, only x∂Z/∂x = Z_W shrinks
             relative = norms * np.abs(values[:, table.free_index])
