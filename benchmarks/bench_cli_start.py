@@ -2,6 +2,8 @@
 
 1. ``impedax --version``, ``impedax --help``, ``fit --help``, ``inspect`` of a REAL file and
    ``info`` (the median of 11 runs after one warm-up). None imports JAX (issue 14: ≤ 0.3 s).
+   Then ``import jax`` alone, which every computing command pays, with the versions of JAX and
+   ml_dtypes (whose NumPy loops are registered at import: 0.7.0 took 1–2 s, 0.6.0 ~0.1 s).
 2. ``--compile``: the wait of a first fit, each in a fresh process, with an empty JAX
    persistent cache (``IMPEDAX_CACHE_DIR`` pointing at a new directory: everything compiles)
    and again with that cache filled (issue 14: ``impedax fit`` on an empty cache ≤ 3 s for
@@ -54,6 +56,17 @@ def median_seconds(args, runs=11):
         subprocess.run([sys.executable, "-m", "impedax", *args], env=env, cwd=ROOT, capture_output=True, check=True)
         times.append(time.perf_counter() - t0)
     return statistics.median(times)
+
+
+def import_jax_seconds(runs=5) -> tuple[float, str]:
+    """Median seconds of ``import jax`` in a fresh process, and the versions imported."""
+    code = "import time; t0 = time.perf_counter(); import jax, ml_dtypes; print(time.perf_counter() - t0, jax.__version__, ml_dtypes.__version__)"
+    times, versions = [], ""
+    for _ in range(runs):
+        seconds, jax_version, dtypes_version = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+        times.append(float(seconds))
+        versions = f"jax {jax_version}, ml_dtypes {dtypes_version}"
+    return statistics.median(times), versions
 
 
 def cli_fit_seconds(csv: str, model: str, cache: str) -> float:
@@ -112,5 +125,7 @@ if __name__ == "__main__":
     # commands that compute nothing: none imports JAX (tests/test_cli_no_jax.py)
     for args in (["--version"], ["--help"], ["fit", "--help"], ["inspect", "tests/fixtures/real/exampleDataZPlot.z"], ["info", "R0 + R1 || CPE1"]):
         print(f"impedax {' '.join(args):<45} {median_seconds(args) * 1000:7.0f} ms")
+    seconds, versions = import_jax_seconds()
+    print(f"{'import jax (' + versions + ')':<53} {seconds * 1000:7.0f} ms")
     if options.compile:
         compile_rows(options.repeat)
