@@ -373,8 +373,15 @@ def check_last_field_digits(column: Sequence[str], path: Path, line: int | None,
     `check_field_count` passes it; it is refused here, naming ``line``, when that field has
     fewer `significant_digits` than the column has on every other row (the least of up to
     `LAST_FIELD_SAMPLE` rows above it, at least `LAST_FIELD_MIN_ROWS`): ``-8.44`` under rows
-    of ``-8.440604``. A column holding any cell that is no number is not judged."""
+    of ``-8.440604``. A column holding any cell that is no number is not judged. A last field
+    that is empty where every other row has one (the cut fell just after a delimiter) is refused
+    the same way; a column with gaps on other rows (notes) is not judged."""
     if len(column) <= LAST_FIELD_MIN_ROWS:
+        return
+    what = f"column {name!r}: " if name else ""
+    if not column[-1].strip():
+        if all(cell.strip() for cell in column[-1 - LAST_FIELD_SAMPLE:-1]):
+            raise DataError(f"{what}empty on the last row, where every other row has a value; {CUT_SHORT}", path=path, line=line)
         return
     last = significant_digits(column[-1])
     others = [significant_digits(cell) for cell in column[-1 - LAST_FIELD_SAMPLE:-1]]
@@ -382,7 +389,6 @@ def check_last_field_digits(column: Sequence[str], path: Path, line: int | None,
         return
     fewest = min(others)
     if last < fewest:
-        what = f"column {name!r}: " if name else ""
         raise DataError(
             f"{what}{column[-1].strip()!r} on the last row has {last} significant digits, every other row at least {fewest}; {CUT_SHORT}",
             path=path, line=line,
