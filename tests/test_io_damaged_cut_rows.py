@@ -1,5 +1,6 @@
 """REAL instrument files cut short while copying, at places the field count cannot show: the
-last row ends on a delimiter (its last field missing). The oracle is the file's own bytes: where the cut falls, and the row it cut."""
+last row ends on a delimiter (its last field missing), or a PowerSuite row is cut inside its
+last number. The oracle is the file's own bytes: where the cut falls, and the row it cut."""
 
 from pathlib import Path
 
@@ -70,6 +71,38 @@ def test_an_empty_last_cell_as_on_other_rows_is_no_cut(tmp_path):
     path.write_text("frequency_hz,z_real_ohm,z_imag_ohm,note\n1000,10,-1,\n100,11,-2,drift\n10,12,-3,\n1,13,-4,")
     data = ix.load(path)
     assert data.sizes["frequency"] == 4 and data["Z"].values[-1] == 13 - 4j
+
+
+def test_powersuite_cut_inside_its_last_number_is_refused(tmp_path):
+    """PowerSuite writes its numbers in their shortest form ('-30050.48', '-1397.7358'), so a
+    Zimg cut inside (``-30050.4``) has as many digits as other rows; but it ends every row with
+    CR CR LF, the last included, which no editor writes: a file whose rows end so and whose
+    last row ends without a line end is cut. The REAL exampleDataPowersuite.txt cut before the
+    last digit of '-30050.48' is refused naming that line (its lines counted as the reader
+    counts them, CR and CR LF each a line end); the rows above it, with their CR CR LF, are read."""
+    raw = (REAL / "exampleDataPowersuite.txt").read_bytes()
+    assert raw.endswith(b"\r\r\n") and raw.count(b"-30050.48\r\r\n") == 1
+    at = raw.index(b"-30050.48\r\r\n") + len(b"-30050.4")
+    cut = tmp_path / "cut.txt"
+    cut.write_bytes(raw[:at])
+    with pytest.raises(DataError) as err:
+        ix.load(cut)
+    text = str(err.value)
+    line = len(raw[:at].decode().splitlines())
+    assert f"line {line}:" in text and "ends without a line end" in text and "CR CR LF" in text
+    whole = tmp_path / "whole.txt"
+    whole.write_bytes(raw[: raw.rindex(b"\r\r\n", 0, at) + 3])
+    rows = whole.read_bytes().count(b"\r\r\n") - 1
+    assert rows >= 3 and ix.load(whole).sizes["frequency"] == rows
+
+
+def test_powersuite_rows_an_editor_rewrote_are_read_without_a_final_line_end(tmp_path):
+    """The same REAL file with its line ends rewritten to LF (an editor's save) and no line end
+    after its last row: nothing shows a cut, and all 30 points are read as written."""
+    raw = (REAL / "exampleDataPowersuite.txt").read_bytes()
+    path = tmp_path / "edited.txt"
+    path.write_bytes(raw.replace(b"\r\r\n", b"\n").rstrip(b"\n"))
+    assert ix.load(path).sizes["frequency"] == ix.load(REAL / "exampleDataPowersuite.txt").sizes["frequency"] == 30
 
 
 @pytest.mark.parametrize("command", [["inspect"], ["fit", "--model", "R0 + R1 || CPE1"]])

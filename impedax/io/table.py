@@ -23,7 +23,7 @@ import numpy as np
 import xarray as xr
 
 from ..errors import DataError, SweepGridsDiffer
-from ._common import SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, radians_beyond_turn_note, read_text, split_header_cell, unit_scale, unquoted
+from ._common import CUT_SHORT, SWEEP_RTOL, UNIT_CELL, Skipped, check_field_count, check_last_field_digits, column_entry, cut_last_line, decimal_comma, finish, first_line, head_text, number, radians_beyond_turn_note, read_text, split_header_cell, unit_scale, unquoted
 
 __all__ = ["ROLES", "FALLBACK_ROLES", "Layout", "detect_layout", "role_of", "fallback_role", "spectrum_from_rows",
            "NUMBER_CELL", "PREAMBLE_ROWS_MAX", "HeaderFound", "RowBlock", "with_units_row", "header_layout", "find_header", "preamble_note", "units_row_note", "EMPTY_ROW"]
@@ -1067,12 +1067,22 @@ def _spectrum(path, freq, z, lines, attrs, *, skipped: Skipped, extra: dict, sig
     return ds
 
 
-def read_headed_table(path: str | Path, attrs: dict, delimiter: str = "\t") -> xr.Dataset:
+def read_headed_table(path: str | Path, attrs: dict, delimiter: str = "\t", *, row_end: tuple[str, str] | None = None) -> xr.Dataset:
     """A file that is one table: the first non-blank line its header (column roles by
-    `detect_layout`), every further non-blank line a row."""
+    `detect_layout`), every further non-blank line a row. ``row_end``: (the line end the
+    instrument writes after every row, the last included; its name), e.g. ``("\\r\\r\\n", "CR CR LF")``:
+    a file whose every line ends so, but whose last row ends without one, was cut short, and is
+    refused naming that row even when its last number shows no cut (`check_last_field_digits`
+    cannot judge numbers written in their shortest form). A file an editor saved (other line
+    ends) is not judged so."""
     path = Path(path)
     text = read_text(path)
     lines = text.splitlines()
+    if row_end is not None and (cut := cut_last_line(text, lines)) is not None:
+        end, name = row_end
+        if end in text and text.count("\n") == text.count(end):
+            raise DataError(f"the last row lacks the {name} that {attrs['format']} ends every row with, as the rows above it end; {CUT_SHORT}",
+                            path=path, line=cut)
     k = first_line(lines, path)
     layout = detect_layout(lines[k].split(delimiter), path, k + 1)
     rows = [(j + 1, lines[j].split(delimiter)) for j in range(k + 1, len(lines)) if lines[j].strip()]
