@@ -566,6 +566,7 @@ def impedax_text(model: str, command: str, registry=None) -> tuple[str, str | No
         return model, None  # (impedax text first: a user's element P1 is no AutoEIS CPE)
     except CircuitSyntaxError as exc:
         impedax_error = exc
+    refuse_a_file_name(model, command)
     if looks_like_cdc(model, registry):
         text, notation = str(from_cdc(model, registry)), CDC_NOTATION
     elif looks_like_autoeis(model):
@@ -580,6 +581,31 @@ def impedax_text(model: str, command: str, registry=None) -> tuple[str, str | No
         return model, None  # (the command's own parse gives the error)
     print(f"impedax {command}: read {notation}: {text}", file=sys.stderr)
     return text, notation
+
+
+def refuse_a_file_name(model: str, command: str) -> None:
+    """One `ParameterError` when circuit text ``model``, which does not parse, is a file or ends
+    in a spectrum file's extension (``impedax info run1.mpt``: a file given where a model is
+    asked for): it names `impedax inspect`, which reads files, in place of a circuit-syntax
+    caret under the name's '.'; nothing otherwise."""
+    import shlex
+    from pathlib import Path
+
+    from ..errors import ParameterError
+    from ..io import READERS
+    from ..io.loader import SPECTRUM_SUFFIXES
+
+    path = Path(model)
+    suffixes = {s.lower() for s in SPECTRUM_SUFFIXES if s} | {e.lower() for reader in READERS for e in reader.extensions}
+    if path.is_file():
+        what = "is a file"
+    elif path.suffix.lower() in suffixes:
+        what = "looks like a spectrum file's name (no such file)"
+    else:
+        return
+    example = "impedax info 'R0 + R1 || C1'" if command == "info" else "--model 'R0 + R1 || C1'"
+    raise ParameterError(f"{model!r} {what}, not a circuit: impedax {command} takes a model there ({example}); "
+                         f"what impedax reads from a spectrum file, and how: impedax inspect {shlex.quote(model)}")
 
 
 def add_positional_model(parser, **kwargs) -> None:
