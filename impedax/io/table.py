@@ -1086,7 +1086,7 @@ def read_headed_table(path: str | Path, attrs: dict, delimiter: str = "\t", *, r
     k = first_line(lines, path)
     layout = detect_layout(lines[k].split(delimiter), path, k + 1)
     rows = [(j + 1, lines[j].split(delimiter)) for j in range(k + 1, len(lines)) if lines[j].strip()]
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter=delimiter, cut_line=cut_last_line(text, lines))
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter=delimiter, header_line=k + 1, cut_line=cut_last_line(text, lines))
 
 
 def first_line_sniffer(is_header, expected: str):

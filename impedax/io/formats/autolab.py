@@ -61,7 +61,7 @@ def read_autolab(path: str | Path) -> xr.Dataset:
     attrs = {"format": "Metrohm Autolab NOVA text", "instrument": "Metrohm Autolab"}
     if k > 0:
         attrs["comments"] = "\n".join(ln.strip() for ln in lines[:k] if ln.strip())
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter=delimiter, cut_line=cut_last_line(text, lines))
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter=delimiter, header_line=k + 1, cut_line=cut_last_line(text, lines))
 
 
 READER = Reader("Metrohm Autolab NOVA text", (".txt", ".csv"), sniff, read_autolab, CONVENTIONS)

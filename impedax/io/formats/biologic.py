@@ -130,7 +130,7 @@ def _columns(path: Path, lines: list[str], header_index: int, attrs: dict, *, cu
     except NoLayout as exc:
         raise DataError(exc.reason, path=path, line=header_index + 1) from None
     rows = RowBlock.split([(k + 1, lines[k]) for k in range(header_index + 1, len(lines)) if lines[k].strip()], "\t")  # (at once: a long file's rows)
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t", split_sweeps=True, cut_line=cut_line)
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter="\t", split_sweeps=True, header_line=header_index + 1, cut_line=cut_line)
 
 
 READER = Reader("BioLogic EC-Lab mpt", (".mpt",), sniff, read_biologic, CONVENTIONS)

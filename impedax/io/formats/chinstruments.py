@@ -49,7 +49,7 @@ def read_chinstruments(path: str | Path) -> xr.Dataset:
         record_date(attrs, [" ".join(lines[0].split())])  # ('Feb. 20, 2020 15:55:08' as 2020-02-20T15:55:08)
     layout = detect_layout(lines[k].split(","), path, k + 1)
     rows = [(j + 1, lines[j].split(",")) for j in range(k + 1, len(lines)) if lines[j].strip()]
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter=",", cut_line=cut_last_line(text, lines))
+    return spectrum_from_rows(path, layout, rows, attrs, delimiter=",", header_line=k + 1, cut_line=cut_last_line(text, lines))
 
 
 READER = Reader("CH Instruments text", (".txt",), sniff, read_chinstruments, CONVENTIONS)

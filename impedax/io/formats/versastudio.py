@@ -67,7 +67,7 @@ def read_versastudio(path: str | Path) -> xr.Dataset:
             continue
         rows = [(j + 1, lines[j].split(",")) for j in range(definition + 1, end) if lines[j].strip()]
         attrs = {"format": "VersaStudio par", "instrument": "Princeton Applied Research (VersaStudio)", "segment": tag}
-        spectra.append((tag, spectrum_from_rows(path, layout, rows, attrs, delimiter=",", where=f"segment {tag}: ")))
+        spectra.append((tag, spectrum_from_rows(path, layout, rows, attrs, delimiter=",", where=f"segment {tag}: ", header_line=definition + 1)))
         k = end + 1
     if not spectra:
         raise DataError("no segment with Frequency(Hz), Z Real and Z Imag columns" + (f" ({'; '.join(tried)})" if tried else "") + cut_short_note(text), path=path)

@@ -48,7 +48,7 @@ def read_z60w(path: str | Path) -> xr.Dataset:
     attrs = {"format": "Autolab FRA Z60W", "instrument": "Metrohm Autolab (FRA)", "version": lines[0].strip().strip('"')}
     if announced.isdigit() and int(announced) != len(rows):
         attrs["point_count_note"] = f"header announces {announced} points; the file holds {len(rows)} rows (sweep stopped early?)"
-    return spectrum_from_rows(path, FIXED_LAYOUT, rows, attrs, comma=False, cut_line=cut_last_line(text, lines))
+    return spectrum_from_rows(path, FIXED_LAYOUT, rows, attrs, comma=False, header_line=header + 1, cut_line=cut_last_line(text, lines))
 
 
 READER = Reader("Autolab FRA Z60W", (".txt", ".z60w"), sniff, read_z60w, CONVENTIONS)

@@ -90,7 +90,7 @@ def read_zplot(path: str | Path) -> xr.Dataset:
     _check_decimal_commas(path, lines, rows, len(layout.header))
     if announced is not None and announced != len(rows):
         attrs["point_count_note"] = f"header says 'Data Points: {announced}'; the file holds {len(rows)} rows (sweep stopped early?)"
-    return spectrum_from_rows(path, layout, rows, attrs, comma=False, cut_line=cut_last_line(text, lines))
+    return spectrum_from_rows(path, layout, rows, attrs, comma=False, header_line=end + 1, cut_line=cut_last_line(text, lines))
 
 
 def _check_decimal_commas(path: Path, lines: list[str], rows: list[tuple[int, list[str]]], n_fields: int) -> None:
