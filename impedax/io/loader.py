@@ -411,6 +411,8 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
         raise DataError(f"cannot read standard input: {exc.strerror}", path=STDIN_NAME) from None
     if len(raw) > limit:
         raise DataError(f"more than {limit // 2**20} MB on standard input (the limit; see docs/robustness.md to raise it)", path=STDIN_NAME)
+    if not raw.strip(b" \t\r\n"):  # (not "file is empty": there is no file to look for)
+        raise DataError("standard input is empty: nothing was piped in (did the command before '|' write nothing, or fail?)", path=STDIN_NAME)
     with staging_directory(tempfile.gettempdir(), prefix=".impedax-stdin-") as folder:
         path = folder / "stdin"
         path.write_bytes(raw)
