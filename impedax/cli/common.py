@@ -597,7 +597,11 @@ def refuse_a_file_name(model: str, command: str) -> None:
 
     path = Path(model)
     suffixes = {s.lower() for s in SPECTRUM_SUFFIXES if s} | {e.lower() for reader in READERS for e in reader.extensions}
-    if path.is_file():
+    try:
+        is_file = path.is_file()
+    except (OSError, ValueError):  # (text too long for a file name, or holding a NUL: no file)
+        return
+    if is_file:
         what = "is a file"
     elif path.suffix.lower() in suffixes:
         what = "looks like a spectrum file's name (no such file)"
