@@ -28,7 +28,7 @@ from .consistency import FLIPPED_PHASE_KEY
 __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
-    "check_field_count", "CUT_AS", "CUT_BEFORE_END", "CUT_SHORT", "cut_short_note", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
+    "check_field_count", "check_zero_tail", "CUT_AS", "CUT_BEFORE_END", "CUT_SHORT", "cut_short_note", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
     "significant_digits", "check_last_field_digits", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS", "radians_beyond_turn_note",
 ]
 
@@ -161,6 +161,39 @@ def missing_file_hint(path: Path) -> str:
     same = [n for n in names if n.lower() == name.lower()]
     near = same or difflib.get_close_matches(name, names, n=3, cutoff=0.8)
     return f"; did you mean {' or '.join(repr(n) for n in near)}?" if near else ""
+
+
+_NOT_TEXT = re.compile(rb"[\x00-\x08\x0e-\x1f\x7f]")
+"""A byte no text export holds (a control character other than tab, line feed, vertical tab,
+form feed and carriage return): a binary file's, or UTF-16 text's zero bytes."""
+
+
+def check_zero_tail(path: Path, head: bytes) -> None:
+    """One `DataError` when ``path`` (whose first bytes are ``head``) is text whose tail is zero
+    bytes, as a copy or save that was interrupted leaves a file (its full size, its last blocks
+    never written), naming the line where the zeros start; or holds zero bytes only. A file with
+    a control byte other than tab and line ends before its trailing zeros (a binary format's
+    signature or data, UTF-16 text) is not judged."""
+    if _NOT_TEXT.search(head.rstrip(b"\x00")):
+        return
+    try:
+        with open(path, "rb") as fh:
+            fh.seek(-1, os.SEEK_END)
+            if fh.read(1) != b"\x00":
+                return
+            fh.seek(0)
+            raw = fh.read()  # (bounded: `check_file` refused a file above the size limit)
+    except OSError:
+        return  # (the read that follows says why)
+    body = raw.rstrip(b"\x00")
+    cause = "as a copy or save that was interrupted (a drive removed, a crash) leaves a file: copy it again"
+    if not body:
+        raise DataError(f"the file holds only zero bytes ({len(raw)}), {cause}", path=path)
+    if _NOT_TEXT.search(body):
+        return
+    line = len(body.splitlines()) + (1 if body.endswith((b"\n", b"\r")) else 0)
+    raise DataError(f"the file's last {len(raw) - len(body)} bytes (from byte {len(body)} on) are zero bytes after text that stops there, {cause}",
+                    path=path, line=line)
 
 
 def read_bytes(path: Path) -> bytes:

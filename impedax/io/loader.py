@@ -22,7 +22,7 @@ import xarray as xr
 from ..arguments import shown
 from ..data import CHECKED_FILE, validate_spectrum
 from ..errors import IN_MEMORY, DataError, ParameterError, SweepGridsDiffer
-from ._common import MAX_FILE_BYTES, check_file, head_text
+from ._common import MAX_FILE_BYTES, check_file, check_zero_tail, head_text
 from .csv import read_csv, write_csv
 from .export import written_result
 from .netcdf import NETCDF_FORMAT, not_a_spectrum, write_netcdf
@@ -94,6 +94,7 @@ def _identify(path: str | os.PathLike, readers: Sequence[Reader] | None) -> tupl
     readers = _checked_readers(readers)
     path = Path(path)
     head = _head(path)
+    check_zero_tail(path, head)  # (before any reader: text cut by zeros reads as fewer points, or as 'binary')
     tried, faults = [], []
     for reader in readers:
         try:
@@ -416,9 +417,9 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
     with staging_directory(tempfile.gettempdir(), prefix=".impedax-stdin-") as folder:
         path = folder / "stdin"
         path.write_bytes(raw)
-        identified = _identify(path, readers)  # (each sniff runs once, not here and again in load)
-        note = _stdin_declined(readers, identified)
         try:
+            identified = _identify(path, readers)  # (each sniff runs once, not here and again in load)
+            note = _stdin_declined(readers, identified)
             ds = _load_file(path, readers, sweep, identified)
         except DataError as exc:
             text = str(exc)
