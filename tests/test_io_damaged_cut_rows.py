@@ -120,3 +120,14 @@ def test_cli_refuses_a_cut_file_with_one_message_and_writes_nothing(tmp_path, ca
     err = capsys.readouterr().err
     assert err.count("error:") == 1 and "Traceback" not in err and f"{cut}, line {row + 1}:" in err
     assert out.read_text() == "kept\n"
+
+
+def test_a_last_row_of_one_cell_says_1_field(tmp_path):
+    """The REAL exampleData.csv cut after the first character of a row: 'the last row has 1
+    field', not '1 fields'."""
+    raw = (REAL / "exampleData.csv").read_bytes()
+    path = tmp_path / "cut.csv"
+    path.write_bytes(raw + b"3")
+    with pytest.raises(DataError) as err:
+        ix.load(path)
+    assert "line 67: the last row has 1 field, but" in str(err.value)

@@ -215,7 +215,8 @@ def _check_last_row_complete(path: Path, layout: Layout, rows: list[tuple[int, s
         cells.pop()
     cut = CUT_SHORT
     if len(cells) < len(header):
-        raise DataError(f"the last row has {len(cells)} fields, but {layout.field_count_text(len(header))}; {cut}", path=path, line=line)
+        fields = "1 field" if len(cells) == 1 else f"{len(cells)} fields"
+        raise DataError(f"the last row has {fields}, but {layout.field_count_text(len(header))}; {cut}", path=path, line=line)
     column = len(header) - 1
     if len(cells) != len(header) or len(rows) < 3 or column not in {index for index, _ in layout.columns.values()}:
         return
