@@ -79,3 +79,31 @@ def test_zero_tail_on_standard_input_names_stdin():
     line = len(raw[:k].splitlines()) + (1 if raw[:k].endswith(b"\n") else 0)
     err = run.stderr.decode()
     assert run.returncode == 2 and err.startswith(f"impedax inspect: error: <stdin>, line {line}: the file's last ") and "impedax-stdin" not in err
+
+
+@pytest.mark.parametrize("name", ["exampleData.csv", "exampleDataBioLogic.mpt"])
+def test_a_block_of_zero_bytes_inside_the_text_is_refused_naming_its_line(name, tmp_path):
+    """512 bytes zeroed in the middle of the REAL file (a damaged block): named with its line and
+    offset, not 'a binary file that no reader claims' (exampleData.csv) nor a field count
+    (exampleDataBioLogic.mpt's row with the zeros in it)."""
+    raw = bytearray((REAL / name).read_bytes())
+    at = len(raw) // 2
+    raw[at:at + 512] = b"\x00" * 512
+    path = tmp_path / name
+    path.write_bytes(bytes(raw))
+    line = len(bytes(raw[:at]).splitlines()) + (1 if bytes(raw[:at]).endswith((b"\n", b"\r")) else 0)
+    with pytest.raises(DataError) as err:
+        ix.load(path)
+    assert str(err.value).startswith(f"{path}, line {line}: 512 zero bytes (from byte {at} on) inside the text")
+    assert "copy it again" in str(err.value)
+
+
+def test_a_stray_zero_byte_is_left_to_the_readers(tmp_path):
+    """One zero byte in text (a string terminator some programs leave, or a stray byte) is no
+    block never written: the readers judge the file (here delimited text, whose last row, the
+    zero byte alone without a line end, is short of fields)."""
+    path = tmp_path / "terminated.csv"
+    path.write_bytes((REAL / "exampleData.csv").read_bytes() + b"\x00")
+    with pytest.raises(DataError) as err:
+        ix.load(path)
+    assert "zero bytes" not in str(err.value) and "line 67: the last row has 1 field," in str(err.value)

@@ -168,32 +168,46 @@ _NOT_TEXT = re.compile(rb"[\x00-\x08\x0e-\x1f\x7f]")
 form feed and carriage return): a binary file's, or UTF-16 text's zero bytes."""
 
 
+ZERO_RUN_MIN = 16
+"""The fewest zero bytes in a row that `check_zero_tail` takes for a block never written (a
+file system writes blocks of 512 bytes and more); one zero byte may be a string terminator."""
+
+
 def check_zero_tail(path: Path, head: bytes) -> None:
-    """One `DataError` when ``path`` (whose first bytes are ``head``) is text whose tail is zero
-    bytes, as a copy or save that was interrupted leaves a file (its full size, its last blocks
-    never written), naming the line where the zeros start; or holds zero bytes only. A file with
-    a control byte other than tab and line ends before its trailing zeros (a binary format's
-    signature or data, UTF-16 text) is not judged."""
-    if _NOT_TEXT.search(head.rstrip(b"\x00")):
+    """One `DataError` when ``path`` (whose first bytes are ``head``) is text with zero bytes in
+    it: a tail of them, as a copy or save that was interrupted leaves a file (its full size, its
+    last blocks never written), or a block of them inside (a damaged block), naming the line
+    where the first run of `ZERO_RUN_MIN` zero bytes starts; or zero bytes only. Judged when ``head`` holds a zero byte or
+    the file ends in one; a file with other control bytes than tab and line ends (a binary
+    format's signature or data) or UTF-16 text (a zero byte beside each character) is not."""
+    if head.startswith(_UTF16_BOMS) or utf16_without_bom(head) is not None or _NOT_TEXT.search(head.replace(b"\x00", b"")):
         return
     try:
         with open(path, "rb") as fh:
-            fh.seek(-1, os.SEEK_END)
-            if fh.read(1) != b"\x00":
-                return
+            if b"\x00" not in head:
+                fh.seek(-1, os.SEEK_END)
+                if fh.read(1) != b"\x00":
+                    return
             fh.seek(0)
             raw = fh.read()  # (bounded: `check_file` refused a file above the size limit)
     except OSError:
         return  # (the read that follows says why)
-    body = raw.rstrip(b"\x00")
     cause = "as a copy or save that was interrupted (a drive removed, a crash) leaves a file: copy it again"
+    body = raw.rstrip(b"\x00")
     if not body:
         raise DataError(f"the file holds only zero bytes ({len(raw)}), {cause}", path=path)
-    if _NOT_TEXT.search(body):
+    if _NOT_TEXT.search(raw.replace(b"\x00", b"")):
         return
-    line = len(body.splitlines()) + (1 if body.endswith((b"\n", b"\r")) else 0)
-    raise DataError(f"the file's last {len(raw) - len(body)} bytes (from byte {len(body)} on) are zero bytes after text that stops there, {cause}",
-                    path=path, line=line)
+    first = raw.find(b"\x00" * ZERO_RUN_MIN)
+    if first < 0:
+        return  # (a stray zero byte, a string terminator: the readers judge it)
+    line = len(raw[:first].splitlines()) + (1 if raw[:first].endswith((b"\n", b"\r")) or not first else 0)
+    if first == len(body):
+        raise DataError(f"the file's last {len(raw) - len(body)} bytes (from byte {len(body)} on) are zero bytes after text that stops there, {cause}",
+                        path=path, line=line)
+    run = len(raw[first:]) - len(raw[first:].lstrip(b"\x00"))
+    raise DataError(f"{run} zero bytes (from byte {first} on) inside the text, where a file's block was damaged or never written "
+                    "(an interrupted copy, a failing drive): copy it again from the instrument's computer", path=path, line=line)
 
 
 def read_bytes(path: Path) -> bytes:
