@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import counted, format_lambda, format_percent, format_quantity, format_time
-from . import FLAT_NYQUIST, dense_model, drawn_label, font_size, frame_points, label_spectra_axis, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
+from . import FLAT_NYQUIST, dense_model, drawn_label, font_size, frame_points, frame_spectra, label_spectra_axis, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plain_log_ticks, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -272,6 +272,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     fig.suptitle(title or f"DRT of {counted(n, 'spectrum', 'spectra')} over {', '.join(batch.dims)}: {peaks} in the measured τ range (shaded: outside)")
     legends_off_data(fig)
     frame_points(ax_rms, np.concatenate([rms, noise]))  # (on the final layout: the short panel's 5 % margin left cycle 22's point at the frame)
+    frame_spectra(ax_rms, n, maps=(ax_map,))
     return fig
 
 

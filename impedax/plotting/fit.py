@@ -31,7 +31,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     spectra have a capacitive tail, `phase_panel`). Returns a matplotlib Figure."""
     import matplotlib.pyplot as plt
 
-    from . import characters_across, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
+    from . import characters_across, frame_spectra, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
 
     figsize = figure_size(figsize, "figsize")
     ds = batch.dataset
@@ -121,6 +121,8 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
         _plot_fits(ax_nyq, ds, batch.dims, labels, batch.circuit.compile(batch.registry), phase)
     converged = float(ds["converged"].mean()) * 100
     fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}{sharing_text(batch)}, {converged:.0f}% converged, {batch.weighting} weighting", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
+    if series is None:  # (on the final layout: the first and last spectrum inside the frame)
+        frame_spectra(axes, batch.n_spectra)
     return fig
 
 
@@ -435,7 +437,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     from matplotlib.colors import Normalize
     from matplotlib.patches import Patch
 
-    from . import PlainTicks, characters_across, frequency_cell_edges, label_spectra_axis, plain_linear_ticks, plain_log_ticks, wrap_model
+    from . import PlainTicks, characters_across, frame_spectra, frequency_cell_edges, label_spectra_axis, plain_linear_ticks, plain_log_ticks, wrap_model
 
     ds = batch.dataset
     dims = tuple(batch.dims)
@@ -505,4 +507,5 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     in_sigma = " (map in σ)" if unit == "σ" else ""
     fig.suptitle(title or wrap_model(f"{batch.model}: residuals of {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}{sharing_text(batch)}, {batch.weighting} weighting{in_sigma}",
                                      characters_across(8, font_size("suptitle", 12))))
+    frame_spectra(ax_rms, batch.n_spectra, maps=(ax_re, ax_im))  # (last: on the final layout)
     return fig

@@ -141,7 +141,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
 
-    from . import frame_points, frequency_cell_edges, label_spectra_axis, plain_log_ticks
+    from . import frame_points, frame_spectra, frequency_cell_edges, label_spectra_axis, plain_log_ticks
     from .fit import MAP_VECTOR_CELLS
 
     results = batch.results
@@ -191,4 +191,5 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     # right hid the REAL battery cycles' 6.2–9.9 kHz flags of cycles 92, 112 and 116)
     legends_off_data(fig)
     frame_points(ax_rms, np.concatenate([rms, noise]))  # (as the DRT batch figure's rms_rel panel)
+    frame_spectra(ax_rms, n, maps=(ax_map,))
     return fig
