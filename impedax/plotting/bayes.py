@@ -321,7 +321,9 @@ def plot_trace(
             ax.set_title(f"τ = {tau:.3g} steps", loc="right", fontsize=font_size("title", 7))
         ax.tick_params(labelsize=font_size("tick", 7))
         ax.grid(alpha=0.3)
-    axes[0, 0].legend(loc="upper left", fontsize=font_size("legend", 7))
+    # (above the first row, on the line of its τ: inside, it lay over the walkers, which fill a
+    # converged chain's panel from edge to edge)
+    axes[0, 0].legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), borderaxespad=0.1, frameon=False, fontsize=font_size("legend", 7))
     axes[-1, 0].set_xlabel(f"step (burn-in of {first_step} left out)" if first_step else "step", fontsize=font_size("label", 8))
     fig.suptitle(f"{title} ({draws.shape[0]} walkers × {draws.shape[1]} draws)", fontsize=font_size("suptitle", 9))
     return fig
