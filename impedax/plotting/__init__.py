@@ -716,6 +716,9 @@ def plot_spectrum(
     if title:  # (each line wrapped to the figure, before a ' + ': a long model's title ran off it)
         width = characters_across(fig.get_figwidth(), font_size("suptitle", 12))
         fig.suptitle("\n".join(wrap_model(line, width) for line in title.split("\n")))
+    # (the residual legend of data.dfr's fit, with its rounding-level entry, sat on the Re
+    # residuals at 10–14 Hz: as the diagnosis, KK and comparison figures do)
+    legends_off_data(fig)
     return fig
 
 
