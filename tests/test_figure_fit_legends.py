@@ -48,3 +48,18 @@ def test_the_fit_figure_s_legends_lie_off_its_data():
         if legend is not None:
             assert _points_under(ax, legend.get_window_extent(renderer)) == 0, ax.get_ylabel()
     plt.close(fig)
+
+
+def test_the_zhit_figure_s_legends_lie_off_its_data_and_rule_levels():
+    """REAL exampleData.csv, Z-HIT: the residual legend (the two rules' levels) sat in the upper
+    right on the point rule's dashed line at +5.02 %, which it names."""
+    fig = ix.zhit(ix.load(REAL / "exampleData.csv")).plot()
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    ax_res = fig.axes[2]
+    assert [t.get_text() for t in ax_res.get_legend().get_texts()][0].startswith("point rule")
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        if legend is not None:
+            assert _points_under(ax, legend.get_window_extent(renderer)) == 0, ax.get_ylabel()
+    plt.close(fig)

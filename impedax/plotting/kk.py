@@ -32,11 +32,8 @@ def plot_kk(result, *, title: str | None = None):
     per_point = None if getattr(result, "point_scale", None) is None else (result.frequency[order], result.point_scale[order] * t["point"], result.point_scale[order] * t["run"])
     verdict = "valid" if result.valid else "not valid"
     fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {format_percent(result.rms_rel)}, µ {result.mu:.2f}")  # (before the legend is placed off the labels on the final layout)
+    # (last: it places the figure's legends off the data, `legends_off_data`)
     add_rule_levels(ax_res, point=levels["point"], run=levels["run"], run_length=int(t["run_length"]), bands=result.bad_bands, band_rules=result.band_rules, per_point=per_point)
-    # a legend that covers data wherever it stands inside goes above its panel: the residual
-    # legend's least covering place lay over REAL Parstat's Δ at 60 Hz – 10 kHz (its −40 % at
-    # 10 kHz) and Gamry's residuals and rule levels at 1 – 200 kHz
-    legends_off_data(fig)
     return fig
 
 
@@ -71,7 +68,11 @@ def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), 
     Z-HIT), above zero only when they test a magnitude (|Δ| of the KK test) — and write over each
     of ``bands`` the rules (``band_rules``) that flagged it. ``per_point``: (frequencies, point
     levels, run levels), each point's own levels (a KK test judged by the data's σ), drawn as
-    curves in place of ``point`` and ``run``."""
+    curves in place of ``point`` and ``run``. Last, every legend of the figure that covers data
+    goes above its panel (`legends_off_data`), the KK and the Z-HIT figure alike: the residual
+    legend's least covering place lay over REAL Parstat's Δ at 60 Hz – 10 kHz (its −40 % at
+    10 kHz) and Gamry's residuals and rule levels at 1 – 200 kHz, and on the Z-HIT figure of REAL
+    exampleData.csv over the point rule's line at +5.02 %."""
     signs = (-1, 1) if signed else (1,)
     what = "|residual|" if signed else "|Δ|"
     if per_point is not None:
@@ -98,6 +99,7 @@ def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), 
         refresh_legend(ax)
     if labels:
         legend_clear_of(ax, labels)
+    legends_off_data(ax.get_figure())
 
 
 # the places `legend_clear_of` tries, in turn
