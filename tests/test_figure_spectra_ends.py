@@ -18,6 +18,7 @@ from matplotlib.collections import QuadMesh  # noqa: E402
 from matplotlib.colors import to_rgb  # noqa: E402
 
 import impedax as ix  # noqa: E402
+from test_plot_rms_panel_frame import _room  # noqa: E402
 
 BATTERY = Path(__file__).resolve().parents[1] / "benchmarks" / "data" / "autoeis_battery_130.nc"
 GAP_PT = 3.0  # the free space [pt] a marker keeps from the frame
@@ -26,22 +27,7 @@ GAP_PT = 3.0  # the free space [pt] a marker keeps from the frame
 def _side_room(ax) -> float:
     """The smallest distance [pt] between a marker's edge (its centre ± markersize / 2) and the
     left or right of ``ax``'s frame, over its lines with markers."""
-    fig = ax.get_figure()
-    fig.draw_without_rendering()
-    box = ax.get_window_extent()
-    to_pt = 72.0 / fig.dpi
-    room = np.inf
-    for line in ax.get_lines():
-        if line.get_marker() in ("None", None, "", " ") or not line.get_visible():
-            continue
-        xy = np.asarray(line.get_xydata(), float)
-        xy = xy[np.all(np.isfinite(xy), axis=1)]
-        if not len(xy):
-            continue
-        x = ax.transData.transform(xy)[:, 0]
-        radius = line.get_markersize() / 2
-        room = min(room, float(np.min(x - box.x0)) * to_pt - radius, float(np.min(box.x1 - x)) * to_pt - radius)
-    return room
+    return _room(ax, across=True)
 
 
 @pytest.fixture(scope="module")

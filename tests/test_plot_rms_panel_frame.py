@@ -19,24 +19,28 @@ BATTERY = Path(__file__).resolve().parents[1] / "benchmarks" / "data" / "autoeis
 GAP_PT = 3.0  # the free space [pt] a framed marker keeps from the frame
 
 
-def _room(ax):
+def _room(ax, *, across: bool = False):
     """The smallest distance [pt] between a marker's edge (a line's points, its markersize / 2
     from the centre) and the top or bottom of ``ax``'s frame; lines without markers count with
-    radius 0."""
+    radius 0. ``across``: the left or right of the frame, over the lines with markers (a line
+    without, an axhline, spans the frame)."""
     fig = ax.get_figure()
     fig.draw_without_rendering()
     box = ax.get_window_extent()
     to_pt = 72.0 / fig.dpi
     room = np.inf
     for line in ax.get_lines():
-        y = np.asarray(line.get_ydata(), float)
-        x = np.asarray(line.get_xdata(), float)
-        keep = np.isfinite(y) & (y > 0 if ax.get_yscale() == "log" else True)
+        marked = line.get_marker() not in ("None", None, "", " ")
+        if across and not (marked and line.get_visible()):
+            continue
+        xy = np.asarray(line.get_xydata(), float)
+        keep = np.all(np.isfinite(xy), axis=1) & (xy[:, 1] > 0 if ax.get_yscale() == "log" else True)
         if not keep.any():
             continue
-        shown = ax.transData.transform(np.column_stack([x[keep], y[keep]]))[:, 1]
-        radius = line.get_markersize() / 2 if line.get_marker() not in ("None", None, "") else 0.0
-        room = min(room, float(np.min(box.y1 - shown)) * to_pt - radius, float(np.min(shown - box.y0)) * to_pt - radius)
+        shown = ax.transData.transform(xy[keep])[:, 0 if across else 1]
+        low, high = (box.x0, box.x1) if across else (box.y0, box.y1)
+        radius = line.get_markersize() / 2 if marked else 0.0
+        room = min(room, float(np.min(high - shown)) * to_pt - radius, float(np.min(shown - low)) * to_pt - radius)
     return room
 
 
