@@ -58,7 +58,7 @@ def _stub(*, rhat_max=1.062, hierarchical=True, warnings=WARNINGS):
     draws = {"u": u, "C_gap": EPS0 * EPS_AIR * AREA / u, "R_EP": 5e7 * np.exp(0.05 * rng.standard_normal(400))}
     quantiles = {"value": 0.03, "q05": 0.01, "q95": 0.06}
     post = SimpleNamespace(
-        population_parameters=lambda: draws, rhat=lambda: {"u": rhat_max, "R_EP": 1.001}, ess=lambda: {"u": 33.0, "R_EP": 400.0},
+        population_parameters=lambda: draws, rhat=lambda: {"u": rhat_max, "R_EP": 1.001}, ess=lambda: {"u": 33.0, "R_EP": 400.0}, mixing=lambda: ({"u": rhat_max, "R_EP": 1.001}, {"u": 33.0, "R_EP": 400.0}),
         divergences=0, n_draws=400, summary=lambda: {"discrepancy": quantiles}, spread_between_trials=lambda name: quantiles,
         new_trial=lambda name: {"value": GAP, "q05": 0.9 * GAP, "q95": 1.1 * GAP},
     )

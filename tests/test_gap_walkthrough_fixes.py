@@ -102,7 +102,7 @@ def _stub_analysis(*, rhat_max, divergences=0, misfit=None):
     u = 3.5e-6 * np.exp(0.01 * np.random.default_rng(0).standard_normal(200))
     post = SimpleNamespace(
         population_parameters=lambda: {"u": u, "C_gap": EPS0 * EPS_AIR * AREA / u, "R_EP": np.full(u.size, 5e7)},
-        rhat=lambda: {"u": rhat_max, "R_EP": 1.001}, ess=lambda: {"u": 33.0, "R_EP": 400.0}, divergences=divergences, n_draws=400,
+        rhat=lambda: {"u": rhat_max, "R_EP": 1.001}, ess=lambda: {"u": 33.0, "R_EP": 400.0}, mixing=lambda: ({"u": rhat_max, "R_EP": 1.001}, {"u": 33.0, "R_EP": 400.0}), divergences=divergences, n_draws=400,
     )
     band = np.geomspace(1e-3, 1e-2, f.size)
     force = xr.Dataset({k: (("branch", "frequency"), np.stack([band * s, band * s])) for k, s in (("median", 1.0), ("q05", 0.9), ("q95", 1.1))},

@@ -487,11 +487,13 @@ class GapAnalysis(FrozenResult):
 
     def _sampling_summary(self) -> dict | None:
         """Hierarchical: the NUTS diagnostics (divergent transitions of all draws, the largest
-        R-hat and the smallest ESS of μ and the spreads); None when pooled."""
+        R-hat and the smallest ESS of every sampled quantity: μ and the spreads, the shared
+        parameters and δ, `HierarchicalPosterior.mixing`, as its warnings and report line read
+        them); None when pooled."""
         post = self.hierarchical
         if post is None:
             return None
-        rhat, ess = post.rhat(), post.ess()
+        rhat, ess = post.mixing()
         return {"divergences": post.divergences, "draws": post.n_draws, "rhat_max": max(rhat.values()), "ess_min": min(ess.values()), "rhat": rhat, "ess": ess}
 
     def _sampling_unreliable(self) -> bool:

@@ -827,8 +827,8 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
     def _other_mixing(self) -> tuple[dict[str, float], dict[str, float]]:
         """(R-hat, ESS) of what `rhat` and `ess` leave out: each shared parameter (in the space it
         is sampled in: ln φ, or the logit within its bounds, where R-hat is the same up to the
-        monotone map) and R-hat of δ. Only the warnings read them: `rhat` and `ess` keep their
-        keys, which `impedax gap`'s verdict reads."""
+        monotone map) and R-hat of δ (`mixing` adds them to `rhat` and `ess`, which keep their
+        keys)."""
         rhat, ess = {}, {}
         for j, n in enumerate(self.shared_names):
             x = self.shared[..., j]
@@ -838,6 +838,14 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         if self.discrepancy:
             rhat["delta"] = float(_rhat(np.log(self.delta)))
         return rhat, ess
+
+    def mixing(self) -> tuple[dict[str, float], dict[str, float]]:
+        """(R-hat, ESS) of every sampled quantity: `rhat` and `ess` (μ and the spreads, keys
+        ``mu[NAME]``, ``spread[NAME]``; δ's ESS) with each shared parameter's (key NAME) and δ's
+        R-hat (``delta``) added. The warnings, the report's sampler line and ``impedax gap``'s
+        SAMPLING UNRELIABLE read these."""
+        other_rhat, other_ess = self._other_mixing()
+        return {**self.rhat(), **other_rhat}, {**self.ess(), **other_ess}
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -849,13 +857,13 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         if self.divergences:
             notes.append(f"{self.divergences} divergent NUTS transitions of {self.n_draws} draws: the intervals may be biased; sample with a higher "
                          f"target_accept= (smaller steps: 0.95 or 0.99, the default {TARGET_ACCEPT}) or a longer warmup= (the default {DEFAULT_WARMUP})")
-        other_rhat, other_ess = self._other_mixing()
+        all_rhat, all_ess = self.mixing()
         chains, per_chain = self.mu.shape[:2]
         more = f"run more draws per chain ({per_chain} now): draws={2 * per_chain}, or more chains ({chains} now): chains={2 * chains}"
-        bad = {k: r for k, r in {**self.rhat(), **other_rhat}.items() if not r < 1.05}
+        bad = {k: r for k, r in all_rhat.items() if not r < 1.05}
         if bad:
             notes.append(f"R-hat above 1.05 for {', '.join(f'{mixing_name(k)} ({r:.3g})' for k, r in bad.items())}: the chains disagree, so the intervals are not yet the posterior's; {more}")
-        low = {k: e for k, e in {**self.ess(), **other_ess}.items() if e < 100}
+        low = {k: e for k, e in all_ess.items() if e < 100}
         if low:
             whose = "their medians are uncertain and their 90 % intervals' ends" if len(low) > 1 else "its median is uncertain and its 90 % interval's ends"  # (one quantity: singular)
             notes.append(f"effective sample size below 100 for {', '.join(f'{mixing_name(k)} ({e:.0f})' for k, e in low.items())} of {self.n_draws} draws: "
@@ -943,8 +951,7 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
 
     def _sampler_line(self) -> str:
         """The sampling's health in one line (the report's second, the notebook's first)."""
-        rhat, ess = self._other_mixing()
-        rhat, ess = {**self.rhat(), **rhat}, {**self.ess(), **ess}
+        rhat, ess = self.mixing()
         return (f"sampler: {self.divergences} divergent transitions of {self.n_draws} draws, R-hat up to {max(rhat.values()):.3f}, ESS down to {min(ess.values()):.0f}, "
                 f"mean acceptance {self.mean_acceptance:.2f}")
 
