@@ -591,6 +591,7 @@ class GapAnalysis(FrozenResult):
             f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)}",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}{_edl_chi2_text(self.edl_fit, self.remaining)}",
             f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: {force_maximum_text(peak)}; without EP: {force_maximum_text(bare)}",
+            self._force_interval_line(),
             f"force bands     {self.force_conditions} (A = {self.area:g} m², i.e. {self.area * 1e6:g} mm²)",
         ]
         if self.single_contact:
@@ -663,6 +664,19 @@ class GapAnalysis(FrozenResult):
         if self.gap_bound_withheld is not None:  # (the summed capacitance's model misses the data: its gap bounds nothing, as the report's alarm says)
             return " at the gap of the summed capacitance, which bounds nothing here (u may lie below it), NO ESTIMATE of the force nor its bound:"
         return " at the gap of the summed capacitance (u's smallest value, so the force's largest),"
+
+    def _force_interval_line(self) -> str:
+        """The report's ``force 90%`` line: the 90 % band of the PEAK force at each branch's
+        maximum (`force_at_max`, the CSV's ``force_max_low_n``/``force_max_high_n``), in the SI
+        prefix of its median: ``with EP 337–369 mN at 31.6 Hz; without EP …``; "of the draws, no
+        estimate" when u is not determined (the force line's NO ESTIMATE)."""
+        parts = []
+        for what, branch in (("with EP", "with_ep"), ("without EP", "without_ep")):
+            q = self.force_at_max(branch)
+            scale, prefix = si_prefix(abs(q["value"])) if q["value"] else (1.0, "")
+            parts.append(f"{what} {q['q05'] / scale:.3g}–{q['q95'] / scale:.3g} {prefix}N at {format_frequency(q['frequency_hz'])}")
+        what = "credible band of the peak force" if self.gap_identified else "interval of the draws' peak force (no estimate: see the force line)"
+        return f"force 90%       {what} at each maximum: " + "; ".join(parts)
 
     def _force_bound_line(self) -> str | None:
         """The report's ``force bound`` line when u is not determined: the largest force the data
