@@ -309,6 +309,8 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             "autocorr": dict(self.autocorr),
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
+            # (the kept chain is at least 50 τ long for every parameter, τ known: false where the chain-length warning fires)
+            "chain_converged": self.chain_converged,
             # (parallel to warnings: none for the sampling's own, the start fit's tags for its "least-squares start: …")
             "warning_tags": [[] for _ in self.own_warnings] + [list(t) for t in fit_warning_tags(self.fit)],
             "undetermined": list(self.undetermined),

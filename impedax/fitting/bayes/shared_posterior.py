@@ -267,6 +267,7 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
             "autocorr": dict(self.autocorr),
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
+            "chain_converged": self.chain_converged,  # (as `Posterior.summary`'s)
             "undetermined": list(self.undetermined),  # (as `Posterior.summary`'s)
             "at_prior_edge": self.at_prior_edge,  # (as `Posterior.summary`'s)
             "piled_up": self.piled_up,
