@@ -1063,6 +1063,11 @@ def gap_analysis(
         notes.append(_merged_capacitors_note())
     if "C_gap" not in circuit.element_names:
         raise CircuitError(f"the remainder model {circuit} has no element named C_gap")
+    if edl_fit is not None and str(getattr(edl_fit, "circuit", "")) != str(circuit):  # (before any fit: else the sampling's init= refused it, in words the caller never used)
+        inputs = "total, None, None" if single else "total, skin, touchscreen"
+        raise ParameterError(f"edl_fit is a fit of {getattr(edl_fit, 'circuit', type(edl_fit).__name__)}; gap_analysis samples {circuit} (the EDL model of ep={ep!r}"
+                             f"{', remainder=' if remainder is not None else ''}): pass a fit of that circuit, ix.fit('{circuit}', "
+                             f"ix.models.remaining_impedance({inputs}), weighting='{weighting}'), or leave edl_fit out")
     notes += _paper_bound_notes(paper, remaining) + _paper_interval_notes(paper, remaining)
     announce("gap: fitting the naive model (C_gap alone) to the trial mean …", progress)
     naive = fit(remainder_circuit(None), remaining, weighting=weighting)
