@@ -4,27 +4,14 @@ text only, and ``stopped`` is null for a fixed --steps, so a program had to read
 words to tell a 40-step run's intervals from a converged one's. Oracle: the JSON's own figures,
 draws per walker ≥ 50 × the largest τ (in kept draws, τ / thin), and a chain too short to
 estimate τ (autocorr null) is not converged. SYNTHETIC R0 + R1 ∥ C1 (R0 = 10 Ω, R1 = 100 Ω,
-C1 = 1 µF, 1 % noise) written here."""
+C1 = 1 µF, 1 % noise) of test_cli_sample_options."""
 
 import json
 
-import numpy as np
 import pytest
 
-import impedax as ix
 from impedax.cli import main
-
-F = np.geomspace(1.0, 1e5, 30)
-
-
-@pytest.fixture(scope="module")
-def spectrum(tmp_path_factory):
-    rng = np.random.default_rng(3)
-    z = 10.0 + 100.0 / (1 + 2j * np.pi * F * 100.0 * 1e-6)
-    z = z * (1 + 0.01 * (rng.normal(size=F.size) + 1j * rng.normal(size=F.size)) / np.sqrt(2))
-    path = tmp_path_factory.mktemp("sample") / "rc.csv"
-    ix.save(ix.make_spectrum(F, z), path)
-    return path
+from test_cli_sample_options import spectrum  # noqa: F401 (the module fixture: its SYNTHETIC R0 + R1 ∥ C1 file)
 
 
 def _json(capsys, spectrum, steps):
