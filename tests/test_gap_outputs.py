@@ -44,6 +44,11 @@ def _force_bands():
     return ds
 
 
+POOLED_CHAIN = dict(mean_acceptance=0.41, autocorr={"u": 50.0, "R_EP": 40.0}, ess={"u": 3840.0, "R_EP": 4800.0}, n_walkers=64,
+                    settings={"steps": 4000, "burn": 1000, "thin": 1, "stopped": "converged"}, chain_converged=True)
+"""What the report's sampling line reads of a pooled (emcee) posterior: SYNTHETIC figures of a chain 60 τ long."""
+
+
 def _stub(*, rhat_max=1.062, hierarchical=True, warnings=WARNINGS):
     """A `GapAnalysis` built by hand: SYNTHETIC remainder R_EP ∥ C_gap of 3 repeats, a fit stub
     and a hierarchical (or pooled) posterior stub with the diagnostics given."""
@@ -59,10 +64,10 @@ def _stub(*, rhat_max=1.062, hierarchical=True, warnings=WARNINGS):
     quantiles = {"value": 0.03, "q05": 0.01, "q95": 0.06}
     post = SimpleNamespace(
         population_parameters=lambda: draws, rhat=lambda: {"u": rhat_max, "R_EP": 1.001}, ess=lambda: {"u": 33.0, "R_EP": 400.0}, mixing=lambda: ({"u": rhat_max, "R_EP": 1.001}, {"u": 33.0, "R_EP": 400.0}),
-        divergences=0, n_draws=400, summary=lambda: {"discrepancy": quantiles}, spread_between_trials=lambda name: quantiles,
+        divergences=0, n_draws=400, mean_acceptance=0.85, summary=lambda: {"discrepancy": quantiles}, spread_between_trials=lambda name: quantiles,
         new_trial=lambda name: {"value": GAP, "q05": 0.9 * GAP, "q95": 1.1 * GAP},
     )
-    pooled = SimpleNamespace(parameter_draws=lambda: draws)
+    pooled = SimpleNamespace(parameter_draws=lambda: draws, **POOLED_CHAIN)
     return GapAnalysis(remaining_impedance(*spectra), paper_gap_estimate(*spectra, area=AREA), fit, fit, None if hierarchical else pooled,
                        _force_bands(), AREA, V0, "CPE", warnings=warnings, method="hierarchical" if hierarchical else "pooled",
                        hierarchical=post if hierarchical else None)

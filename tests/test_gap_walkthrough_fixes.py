@@ -19,6 +19,7 @@ from impedax.models.gap import GapAnalysis, _gap_breakdown_notes, _paper_interva
 from impedax.data import format_quantity
 from impedax.models.sirin import paper_gap_estimate, remaining_impedance
 from spectra import sirin_scattered_measurements
+from test_gap_outputs import POOLED_CHAIN
 
 EPS0 = 8.8541878128e-12  # vacuum permittivity [F/m], CODATA 2018
 EPS_AIR = 1.00059  # air's relative permittivity (Sirin et al.)
@@ -103,6 +104,7 @@ def _stub_analysis(*, rhat_max, divergences=0, misfit=None):
     post = SimpleNamespace(
         population_parameters=lambda: {"u": u, "C_gap": EPS0 * EPS_AIR * AREA / u, "R_EP": np.full(u.size, 5e7)},
         rhat=lambda: {"u": rhat_max, "R_EP": 1.001}, ess=lambda: {"u": 33.0, "R_EP": 400.0}, mixing=lambda: ({"u": rhat_max, "R_EP": 1.001}, {"u": 33.0, "R_EP": 400.0}), divergences=divergences, n_draws=400,
+        mean_acceptance=0.85,
     )
     band = np.geomspace(1e-3, 1e-2, f.size)
     force = xr.Dataset({k: (("branch", "frequency"), np.stack([band * s, band * s])) for k, s in (("median", 1.0), ("q05", 0.9), ("q95", 1.1))},
@@ -192,7 +194,7 @@ def _pooled_stub(u):
     """A pooled `GapAnalysis` built by hand around the draws ``u`` [m] (no fit, no sampling): the
     SYNTHETIC remainder of `_stub_analysis` (u = 3.5 µm, so the paper's method gives an air gap)."""
     base = _stub_analysis(rhat_max=1.0)
-    post = SimpleNamespace(parameter_draws=lambda: {"u": u, "C_gap": EPS0 * EPS_AIR * AREA / u, "R_EP": np.full(u.size, 5e7)})
+    post = SimpleNamespace(parameter_draws=lambda: {"u": u, "C_gap": EPS0 * EPS_AIR * AREA / u, "R_EP": np.full(u.size, 5e7)}, **POOLED_CHAIN)
     force = base.force.assign({f"gap_voltage_{k}": base.force[k] * 0 + 75.0 for k in ("median", "q05", "q95")})
     return replace(base, method="pooled", hierarchical=None, posterior=post, force=force)
 

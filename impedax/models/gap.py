@@ -46,6 +46,7 @@ from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, c
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
+from ..fitting.bayes.diagnostics import CHAIN_TAU_MULTIPLE
 from ..fitting.bayes.reparam import AREA_UNIT_ADVICE, PLAUSIBLE_GAP_M
 from ..fitting.kk import KKChains
 from ..fitting.least_squares.branches import undetermined_names
@@ -590,6 +591,7 @@ class GapAnalysis(FrozenResult):
             f"paper method    u = {_gap_length(p.gap)}{f' ({NO_AIR_GAP})' if self.paper_gap_implausible is not None else ''}  {bounds}",
             f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)}",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}{_edl_chi2_text(self.edl_fit, self.remaining)}",
+            self._sampling_line(),
             f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: {force_maximum_text(peak)}; without EP: {force_maximum_text(bare)}",
             self._force_interval_line(),
             f"force bands     {self.force_conditions} (A = {self.area:g} m², i.e. {self.area * 1e6:g} mm²)",
@@ -664,6 +666,31 @@ class GapAnalysis(FrozenResult):
         if self.gap_bound_withheld is not None:  # (the summed capacitance's model misses the data: its gap bounds nothing, as the report's alarm says)
             return " at the gap of the summed capacitance, which bounds nothing here (u may lie below it), NO ESTIMATE of the force nor its bound:"
         return " at the gap of the summed capacitance (u's smallest value, so the force's largest),"
+
+    def _sampling_line(self) -> str:
+        """The report's ``sampling`` line: hierarchical, the NUTS figures of `_sampling_summary`
+        (every sampled quantity's R-hat and ESS), the mean acceptance and the verdict of its checks
+        (SAMPLING UNRELIABLE's rule); pooled, emcee's walkers, steps, burn, acceptance, the
+        largest τ [steps], the smallest ESS and how many τ the kept chain is (50 needed)."""
+        head = "sampling        "
+        if self.hierarchical is not None:
+            d = self._sampling_summary()
+            verdict = (f"FAILED its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX:.0%} divergent): see SAMPLING UNRELIABLE above"
+                       if self._sampling_unreliable() else f"passed its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX:.0%} divergent)")
+            return (f"{head}hierarchical NUTS, {d['draws']} draws: {d['divergences']} divergent, R-hat up to {d['rhat_max']:.3f}, ESS down to {d['ess_min']:.0f} "
+                    f"(of every sampled quantity), mean acceptance {self.hierarchical.mean_acceptance:.2f}: {verdict}")
+        post = self.posterior
+        settings = post.settings
+        steps, burn = int(settings["steps"]), int(settings["burn"])
+        stopped = {"converged": f", automatic: stopped at {CHAIN_TAU_MULTIPLE} τ", "cap": ", automatic: stopped at its cap"}.get(settings.get("stopped"), "")
+        tau = np.array([np.nan if t is None else t for t in post.autocorr.values()], float)
+        ess = np.array([np.nan if e is None else e for e in post.ess.values()], float)
+        line = f"{head}emcee, {post.n_walkers} walkers × {steps} steps (burn {burn}{stopped}), acceptance {post.mean_acceptance:.2f}, "
+        if not np.all(np.isfinite(tau)):
+            return line + "τ unknown: the chain is too short to estimate it (see the warning)"
+        length = (steps - burn) / float(np.max(tau))  # (the kept chain in autocorrelation times, τ in steps)
+        enough = f" (≥ {CHAIN_TAU_MULTIPLE} τ)" if post.chain_converged else f", under the {CHAIN_TAU_MULTIPLE} τ it needs (see the warning)"
+        return line + f"τ up to {np.max(tau):.3g} steps, ESS down to {np.min(ess):.0f}: the kept chain is {length:.3g} τ long{enough}"
 
     def _force_interval_line(self) -> str:
         """The report's ``force 90%`` line: the 90 % band of the PEAK force at each branch's
