@@ -51,3 +51,14 @@ def test_a_pooled_run_says_its_chain_length_in_autocorrelation_times():
     done = _line(_pooled(base, tau=50.0, steps=4000, burn=1000, converged=True, stopped="converged"))
     assert done.endswith("τ up to 50 steps, ESS down to 3840: the kept chain is 60 τ long (≥ 50 τ)")
     assert "(burn 1000, automatic: stopped at 50 τ)" in done
+
+
+def test_the_pooled_json_gives_the_chain_s_figures():
+    """`--pooled --json` had `sampling: null` and no chain figure at all: `pooled_sampling` holds
+    the line's numbers (null when hierarchical, whose figures are `sampling`'s)."""
+    base = _analysis(_posterior(alpha_apart=0.0))
+    assert base.summary()["pooled_sampling"] is None
+    doc = _pooled(base, tau=80.0, steps=4000, burn=1000, converged=False, stopped=None).summary()
+    assert doc["sampling"] is None
+    assert doc["pooled_sampling"] == {"walkers": 64, "steps": 4000, "burn": 1000, "stopped": None, "acceptance": 0.412, "autocorr_max_steps": 80.0,
+                                      "ess_min": 2400.0, "chain_tau": 37.5, "chain_converged": False}

@@ -406,6 +406,7 @@ class GapAnalysis(FrozenResult):
             "force_determined": self.gap_identified,
             "force_upper_bound_n": self._force_bound_summary(),
             "sampling": self._sampling_summary(),
+            "pooled_sampling": self._pooled_chain_summary(),  # (--pooled: the emcee chain's figures, the report's sampling line; null when hierarchical)
             "edl_parameters": self.edl_parameters,
             "settings": dict(self.settings) if self.settings is not None else None,
             # (the verdicts the report states, and keys with their unit beside the older ones without)
@@ -679,18 +680,32 @@ class GapAnalysis(FrozenResult):
                        if self._sampling_unreliable() else f"passed its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX:.0%} divergent)")
             return (f"{head}hierarchical NUTS, {d['draws']} draws: {d['divergences']} divergent, R-hat up to {d['rhat_max']:.3f}, ESS down to {d['ess_min']:.0f} "
                     f"(of every sampled quantity), mean acceptance {self.hierarchical.mean_acceptance:.2f}: {verdict}")
+        c = self._pooled_chain_summary()
+        stopped = {"converged": f", automatic: stopped at {CHAIN_TAU_MULTIPLE} τ", "cap": ", automatic: stopped at its cap"}.get(c["stopped"], "")
+        line = f"{head}emcee, {c['walkers']} walkers × {c['steps']} steps (burn {c['burn']}{stopped}), acceptance {c['acceptance']:.2f}, "
+        if c["chain_tau"] is None:
+            return line + "τ unknown: the chain is too short to estimate it (see the warning)"
+        enough = f" (≥ {CHAIN_TAU_MULTIPLE} τ)" if c["chain_converged"] else f", under the {CHAIN_TAU_MULTIPLE} τ it needs (see the warning)"
+        return line + f"τ up to {c['autocorr_max_steps']:.3g} steps, ESS down to {c['ess_min']:.0f}: the kept chain is {c['chain_tau']:.3g} τ long{enough}"
+
+    def _pooled_chain_summary(self) -> dict | None:
+        """Pooled: the emcee chain's figures (the JSON's ``pooled_sampling``, the report's
+        ``sampling`` line): ``walkers``, ``steps``, ``burn``, ``stopped`` (``"converged"``,
+        ``"cap"``, null for a fixed length), ``acceptance`` (mean fraction), ``autocorr_max_steps``
+        (the largest τ [steps]) and ``ess_min`` (null where τ is unknown), ``chain_tau`` (the kept
+        chain, steps − burn, in units of that τ; null when unknown) and ``chain_converged`` (≥ 50 τ
+        for every parameter); None when hierarchical."""
         post = self.posterior
+        if self.hierarchical is not None or post is None:
+            return None
         settings = post.settings
         steps, burn = int(settings["steps"]), int(settings["burn"])
-        stopped = {"converged": f", automatic: stopped at {CHAIN_TAU_MULTIPLE} τ", "cap": ", automatic: stopped at its cap"}.get(settings.get("stopped"), "")
         tau = np.array([np.nan if t is None else t for t in post.autocorr.values()], float)
         ess = np.array([np.nan if e is None else e for e in post.ess.values()], float)
-        line = f"{head}emcee, {post.n_walkers} walkers × {steps} steps (burn {burn}{stopped}), acceptance {post.mean_acceptance:.2f}, "
-        if not np.all(np.isfinite(tau)):
-            return line + "τ unknown: the chain is too short to estimate it (see the warning)"
-        length = (steps - burn) / float(np.max(tau))  # (the kept chain in autocorrelation times, τ in steps)
-        enough = f" (≥ {CHAIN_TAU_MULTIPLE} τ)" if post.chain_converged else f", under the {CHAIN_TAU_MULTIPLE} τ it needs (see the warning)"
-        return line + f"τ up to {np.max(tau):.3g} steps, ESS down to {np.min(ess):.0f}: the kept chain is {length:.3g} τ long{enough}"
+        known = bool(tau.size and np.all(np.isfinite(tau)))
+        return {"walkers": int(post.n_walkers), "steps": steps, "burn": burn, "stopped": settings.get("stopped"), "acceptance": float(post.mean_acceptance),
+                "autocorr_max_steps": float(np.max(tau)) if known else None, "ess_min": float(np.min(ess)) if known else None,
+                "chain_tau": (steps - burn) / float(np.max(tau)) if known else None, "chain_converged": bool(post.chain_converged)}
 
     def _force_interval_line(self) -> str:
         """The report's ``force 90%`` line: the 90 % band of the PEAK force at each branch's
