@@ -90,9 +90,26 @@ class _Story:
         self._close()
 
 
+SYNTHETIC_FOOTER = "data: SYNTHETIC (impedax's embedded set, made in the style of Sirin et al., not measured)"
+"""The line under a demo figure that does not yet say its data are synthetic (`synthetic_footer`)."""
+
+
+def synthetic_footer(fig) -> None:
+    """Put `SYNTHETIC_FOOTER` under ``fig`` (small, grey, as a caption: the figure's own heading,
+    an alarm's red included, keeps its words and style) unless a text of it already says
+    "SYNTHETIC". A demo figure copied into a talk or a paper keeps saying that its data were
+    made, not measured."""
+    from .plotting import font_size
+
+    texts = [text.get_text() for text in fig.texts] + [ax.get_title(loc) for ax in fig.axes for loc in ("left", "center", "right")]
+    if not any("SYNTHETIC" in text for text in texts):
+        fig.supxlabel(SYNTHETIC_FOOTER, fontsize=font_size("legend", 8), color="0.35")
+
+
 def _save(fig, folder: Path, name: str) -> str:
     import matplotlib.pyplot as plt
 
+    synthetic_footer(fig)
     fig.savefig(folder / name, dpi=110)
     plt.close(fig)
     return name
