@@ -27,7 +27,7 @@ def test_single_points_of_real_data_are_named_once():
     text = d.report()
     flagged = np.sort(kk.frequency[kk.flagged])
     words = ", ".join(f"{f:.3g} Hz" for f in flagged)  # (the four points, all between 1 Hz and 1 kHz)
-    assert f"the KK test flags 4 point(s) inside the band ({words})" in text
+    assert f"the KK test flags 4 points inside the band ({words})" in text
     for f in flagged:
         assert f"{f:.3g} Hz–{f:.3g} Hz" not in text and f"between {f:.3g} Hz and {f:.3g} Hz" not in text
     assert "at 56.2 Hz the data and the model differ" in text  # (the failing band 49.3–64.1 Hz holds one point of the model's misfit)

@@ -22,7 +22,7 @@ def test_biologics_kept_points_are_said_once(capsys):
     assert code == 0, err
     payload = json.loads(out)
     kept = payload["kk_flagged_kept"]
-    assert kept.startswith("the KK test flags 4 point(s) inside the band (5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz): kept in every fit")
+    assert kept.startswith("the KK test flags 4 points inside the band (5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz): kept in every fit")
     assert f"{kept}: diagnosed with every point" in payload["notes"]  # (the JSON as it was)
     code, out, err = run(["diagnose", path, "--model", "R0 + R1 || C1", "-q"], capsys)
     assert code == 0, err

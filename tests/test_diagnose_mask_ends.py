@@ -67,8 +67,8 @@ FORTY = "." * 40
     (".xxxxxxxx" + FORTY[9:], "xxxxxxxxx" + FORTY[9:], None),                    # with the one kept point below the run (`end_islands_masked`)
     ("xxxxx" + FORTY[5:36] + "xxxx", "xxxxx" + FORTY[5:36] + "xxxx", None),      # both ends, 9 of 40
     ("x" * 11 + FORTY[11:], FORTY, "would discard 28 % of the points, more than the 25 %"),  # 11 of 40 (28 %): kept
-    (FORTY[:15] + "xxxx" + FORTY[19:], FORTY, "4 point(s) inside the band"),     # a band inside the spectrum: kept
-    ("xxxxxx" + FORTY[6:15] + "xxx" + FORTY[18:], "xxxxxx" + FORTY[6:], "3 point(s) inside the band"),  # the end run out, the inside band in
+    (FORTY[:15] + "xxxx" + FORTY[19:], FORTY, "4 points inside the band"),     # a band inside the spectrum: kept
+    ("xxxxxx" + FORTY[6:15] + "xxx" + FORTY[18:], "xxxxxx" + FORTY[6:], "3 points inside the band"),  # the end run out, the inside band in
 ])
 def test_the_points_left_out_are_the_flagged_run_at_an_end_whatever_the_model(flags, masked, kept_words):
     """Which points a diagnosis leaves out is the data's judgement (the KK flags, `end_runs`), at

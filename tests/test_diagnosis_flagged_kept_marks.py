@@ -1,6 +1,6 @@
 """The diagnosis and refinement figures ring the points the KK test flags and the fits kept, the
 points the report names: on the REAL exampleDataBioLogic.mpt (impedance.py, MIT) diagnosed with
-R0 + R1 || C1 the report says "the KK test flags 4 point(s) inside the band (5.34 Hz, 56.2 Hz,
+R0 + R1 || C1 the report says "the KK test flags 4 points inside the band (5.34 Hz, 56.2 Hz,
 123 Hz, 270 Hz): kept in every fit", and the figures shaded 49–83 Hz alone (the one failing band
 the flags fall in). Oracle: the frequencies written in the report's own sentence. Also: the
 refinement figure's step labels end inside their panel (measured on the drawn figure)."""
@@ -24,8 +24,8 @@ FREQUENCY_UNITS = {"Hz": 1.0, "kHz": 1e3, "MHz": 1e6, "mHz": 1e-3}
 
 
 def named_in_report(sentence: str) -> list[float]:
-    """The frequencies [Hz] in "flags 4 point(s) inside the band (5.34 Hz, 56.2 Hz, …)"."""
-    inside = re.search(r"flags \d+ point\(s\) inside the band \(([^)]*)\)", sentence).group(1)
+    """The frequencies [Hz] in "flags 4 points inside the band (5.34 Hz, 56.2 Hz, …)"."""
+    inside = re.search(r"flags \d+ points? inside the band \(([^)]*)\)", sentence).group(1)
     return sorted(float(v) * FREQUENCY_UNITS[u] for v, u in re.findall(r"([\d.]+) (\w*Hz)", inside))
 
 

@@ -90,7 +90,7 @@ def test_refine_keeps_the_interior_points_the_kk_test_flags_and_its_final_fit_re
     refinement = json.loads(summary.read_text())
     assert refinement["masked_points"] == []
     data_line = next(x for x in text.splitlines() if x.startswith("data: "))
-    assert "the KK test flags 4 point(s) inside the band (5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz): kept in every fit" in data_line
+    assert "the KK test flags 4 points inside the band (5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz): kept in every fit" in data_line
     line = next((x for x in text.splitlines() if x.startswith("to reproduce the final fit")), None)
     argv = _command(line) if line else ["fit", str(BIOLOGIC), "--model", refinement["final_model"]]
     assert not {"--exclude", "--fmin", "--fmax"} & set(argv), argv

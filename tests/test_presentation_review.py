@@ -288,7 +288,7 @@ def test_refine_text_gives_the_command_for_init():
     # another path's note of its own model does not make the final fit need its values (the line had claimed so)
     assert reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(), final_from_values=False), args) is None
     masked = reproduce_line(SimpleNamespace(notes=(note,), final=final, masked_points=(5.0, 50.0), final_from_values=True), args)
-    assert "without the 2 masked point(s)" in masked and "--fmax 1000.0 --exclude 5,50 --model" in masked
+    assert "without the 2 masked points" in masked and "--fmax 1000.0 --exclude 5,50 --model" in masked
 
 
 @pytest.mark.parametrize("scratch_aic,says", [(-1000.0 + 0.15, "which the data do not tell apart"), (-1000.0 + 25.0, "; started from the refinement's values it reaches")])
@@ -375,7 +375,7 @@ def test_the_apply_line_says_when_the_diagnosis_left_points_out():
     d = ix.diagnose(ix.load(real / "exampleDataPowersuite.txt"), "R0 + R1 || C1")
     assert d.masked_points and d.best is not None
     report = d.report()
-    assert f"this diagnosis left out {len(d.masked_points)} point(s)" in report and "a fit of every point reaches other values" in report
+    assert f"this diagnosis left out {len(d.masked_points)} point{'' if len(d.masked_points) == 1 else 's'}" in report and "a fit of every point reaches other values" in report
     d = ix.diagnose(ix.load(real / "exampleDataBioLogic.mpt"), "R0 + R1 || C1")
     report = d.report()
     assert not d.masked_points and "this diagnosis left out" not in report

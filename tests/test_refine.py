@@ -364,7 +364,7 @@ def test_an_element_that_stood_in_for_a_later_effect_is_taken_out_again(monkeypa
     assert kept[-1].model == ends_at, notes
     if ends_at == _FINGER_GENERATING:
         assert kept[-1].removed == ("CPE_relax",) and kept[-1].added is None and kept[-1].change == "− CPE_relax [simplified]"
-        assert len(notes) == 1 and "CPE_relax is taken out again" in notes[0] and "2 parameter(s) fewer" in notes[0], notes
+        assert len(notes) == 1 and "CPE_relax is taken out again" in notes[0] and "2 parameters fewer" in notes[0], notes
         assert len(calls) == 2  # a second round found nothing more to take out
     else:
         assert len(kept) == 3 and not notes

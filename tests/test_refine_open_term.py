@@ -73,7 +73,7 @@ def test_an_open_resistor_is_flagged_as_a_vanished_term():
     text = Refinement((RefinementStep(loop, None, None, None),), "data_invalid", masked_points=(5.34, 56.2)).report()
     assert f"final fit {CH_MODEL}: R0 = 98.4 Ω (± " in text and "R1 = 1.77e+255 Ω (at its bound)" in text
     assert "undetermined in the final fit: R1 (" in text
-    assert "masked: 2 point(s) left out of every fit as the data's own problem (5.34 Hz, 56.2 Hz); impedax fit of the file keeps them" in text
+    assert "masked: 2 points left out of every fit as the data's own problem (5.34 Hz, 56.2 Hz); impedax fit of the file keeps them" in text
 
 
 @pytest.mark.slow  # (a whole refine of a REAL file, 21 s: make test-all; the suite's budget)

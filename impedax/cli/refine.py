@@ -54,19 +54,20 @@ def reproduce_line(refinement, args=None, data=None) -> str | None:
     command carries; from values, each start strictly inside its bounds); else None
     (``impedax fit`` of the final model reproduces it). ``data``: the
     spectrum refined, so that a --select list or range that picked it is given as its label."""
+    from ..data import counted
     from ..fitting.diagnosis.diagnosis import bound_words, restart_words
     from .common import fit_command
 
     final = refinement.final
     command = fit_command(args, kept=final.frequency, masked=refinement.masked_points, data=data)
     masked = len(refinement.masked_points)
-    without = f"; without the {masked} masked point(s)" if masked else ""
+    without = f"; without the {counted(masked, 'masked point')}" if masked else ""
     bounded = bound_words(final)
     if refinement.final_from_values:
         starts = restart_words(final) if bounded else " ".join(f"--{'fix' if final.fixed[k] else 'init'} {k}={v:.6g}" for k, v in final.values.items())
         return f"to reproduce the final fit from its values (a fit from scratch ends at another optimum; the notes give both{without}): {command} --model '{final.model}' {starts}"
     fixed = " ".join(f"--fix {k}={v:.6g}" for k, v in final.values.items() if final.fixed[k])
     if masked or fixed or bounded:
-        how = ([f"without the {masked} masked point(s)"] if masked else []) + (["its fixed values held"] if fixed else []) + (["within your bounds"] if bounded else []) + [f"rms_rel {final.rms_rel * 100:.3g} %"]
+        how = ([f"without the {counted(masked, 'masked point')}"] if masked else []) + (["its fixed values held"] if fixed else []) + (["within your bounds"] if bounded else []) + [f"rms_rel {final.rms_rel * 100:.3g} %"]
         return f"to reproduce the final fit ({', '.join(how)}): {command} --model '{final.model}'" + (f" {fixed}" if fixed else "") + bounded
     return None

@@ -519,12 +519,12 @@ class Diagnosis(FrozenResult):
             kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent" + ("" if named else f" in {self.kk.measured_bands_text()}")
             if not self.kk.conclusive:
                 kk_text = f"{b.n_points} frequencies are too few for the Kramers–Kronig test, and for the noise it estimates"
-            kept = f"; without the {len(self.masked_points)} masked point(s) they are (KK rms_rel {self.kk_of_kept.rms_rel * 100:.3g} %)" if self.kk_of_kept is not None else ""
+            kept = f"; without the {counted(len(self.masked_points), 'masked point')} they are (KK rms_rel {self.kk_of_kept.rms_rel * 100:.3g} %)" if self.kk_of_kept is not None else ""
             lines.append(f"data: {kk_text} (KK rms_rel {self.kk.rms_rel * 100:.3g} %){kept}" + (f"; {self.kk_flagged_kept}." if self.kk_flagged_kept else "."))
         tested = self.kk_of_kept if self.kk_of_kept is not None else self.kk
         lines.append(noise_line(self.noise, self.noise_source, self.noise_ratio, tested.noise_estimate if tested is not None else None, masked=self.kk_of_kept is not None))
         if self.masked_points:
-            lines.append(f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}; the notes say why).")
+            lines.append(f"masked: {counted(len(self.masked_points), 'point')} left out of every fit as the data's own problem ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}; the notes say why).")
         if self.failing_bands:
             # (adequate: structure no effect of the catalog explains significantly, not a failing model)
             lines.append("where the model fails:" if self.verdict != Verdict.ADEQUATE else "where the residuals are structured (below what an effect of the catalog explains significantly):")
@@ -553,7 +553,7 @@ class Diagnosis(FrozenResult):
             lines += self._drt_circuit_lines(fit_command)
             if self.masked_points:  # (impedax fit takes every point the file holds unless told)
                 lines.append(
-                    f"     note: this diagnosis left out {len(self.masked_points)} point(s) ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}); "
+                    f"     note: this diagnosis left out {counted(len(self.masked_points), 'point')} ({', '.join(format_frequency(f) for f in self.masked_points[:6])}{', …' if len(self.masked_points) > 6 else ''}); "
                     f"the command leaves them out too ({left_out_words(left_out)}); a fit of every point reaches other values (in Python: ix.fit(model, data, init=diagnosis.best.fit) on the data without them)"
                 )
         elif self.candidates and self.verdict == Verdict.ADEQUATE:
@@ -1529,15 +1529,16 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     n_left = int((~ends).sum())
     share_ends = float(np.mean(ends))
     inside_words = None if not inside.any() else (
-        f"the KK test flags {int(inside.sum())} point(s) inside the band ({runs_words(inside, fit.frequency)}): kept in every fit, as the data's problem there, not left out "
+        f"the KK test flags {counted(int(inside.sum()), 'point')} inside the band ({runs_words(inside, fit.frequency)}): kept in every fit, as the data's problem there, not left out "
         f"(a diagnosis leaves out only a flagged run at an end of the band, where an instrument's limit or a drifting start or end of the sweep puts it; "
         f"{left_out_words(left_out_options(fit.frequency[~inside], fit.frequency[inside]))} leaves these out too)"  # (impedax kk's words: REAL BioLogic --exclude 5.34,56.2,123,270)
     )
     if ends.any() and share_ends <= KK_MASK_MAX_FRACTION and n_left >= max(MIN_KEPT_POINTS, 3 * fit.n_params):
         island = ends & ~flagged
         island_words = None if not island.any() else (
-            f"{int(island.sum())} point(s) at the end of the band ({', '.join(format_frequency(f) for f in np.sort(fit.frequency[island]))}) lie beyond the masked run "
-            f"and are masked with it: the KK test does not flag them, but {END_ISLAND_MAX} or fewer points beyond a masked run carry its drift and a model "
+            f"{counted(int(island.sum()), 'point')} at the end of the band ({', '.join(format_frequency(f) for f in np.sort(fit.frequency[island]))}) "
+            f"{'lies' if island.sum() == 1 else 'lie'} beyond the masked run and {'is' if island.sum() == 1 else 'are'} masked with it: the KK test does not flag "
+            f"{'it' if island.sum() == 1 else 'them'}, but {END_ISLAND_MAX} or fewer points beyond a masked run carry its drift and a model "
             "fits them exactly, whatever it does over the run"
         )
         words = [w for w in (island_words, inside_words) if w]
@@ -1555,7 +1556,7 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
         f"leaving out {named} would discard "
         f"{share_ends * 100:.0f} % of the points, more than the {KK_MASK_MAX_FRACTION * 100:.0f} % a diagnosis leaves out"
         if share_ends > KK_MASK_MAX_FRACTION else
-        f"leaving them out would leave {n_left} point(s) for {counted(fit.n_params, 'free parameter')}"
+        f"leaving them out would leave {counted(n_left, 'point')} for {counted(fit.n_params, 'free parameter')}"
     )
     kept = f"the KK test flags {int(flagged.sum())} of {flagged.size} points ({runs_words(flagged, fit.frequency)}): kept in every fit, as the data's problem there, not left out: {why}"
     run = kk_valid_run(fit.frequency, flagged, fit.n_params) if share_ends > KK_MASK_MAX_FRACTION else None
@@ -1663,7 +1664,7 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
             if stalled and stalled != restarted:
                 restarted[:] = stalled
                 if say is not None:
-                    say(f"refitting {len(stalled)} candidate(s) stalled short of a candidate nested in them, from that one's optimum")
+                    say(f"refitting {counted(len(stalled), 'candidate')} stalled short of a candidate nested in them, from that one's optimum")
                 redo = fit_candidates([proposals[i][1].circuit for i, _ in stalled], spectrum, init=[[start] for _, start in stalled], **options)
                 for (i, _), again in zip(stalled, redo):
                     if again.chi2 < fits[1 + i].chi2:
@@ -1677,7 +1678,7 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
             if not poor:
                 break
             if say is not None:
-                say(f"refitting {len(poor)} leading candidate(s) whose fits are still poor, from {starts} further starts each")
+                say(f"refitting {counted(len(poor), 'leading candidate')} whose {'fit is' if len(poor) == 1 else 'fits are'} still poor, from {starts} further starts each")
             redo = fit_candidates([proposals[i][1].circuit for i in poor], spectrum, init=[[dict(fits[1 + i].values)] for i in poor], **{**options, "n_starts": starts, "seed": seed + 7919 * rung, "step_limit": None})
             for i, again in zip(poor, redo):
                 if again.chi2 < fits[1 + i].chi2:
@@ -1688,7 +1689,7 @@ def _fit_proposals(base: FitResult, spectrum: xr.Dataset, ctx: BaselineContext, 
         added = []
         if pruned:  # a pruned circuit already among the proposals keeps the better of its two fits
             if say is not None:
-                say(f"fitting {len(pruned)} candidate(s) without what their fits made negligible (a resistance at zero, an idle branch, a resistor run open)")
+                say(f"fitting {counted(len(pruned), 'candidate')} without what {'its fit' if len(pruned) == 1 else 'their fits'} made negligible (a resistance at zero, an idle branch, a resistor run open)")
             index = {str(p.circuit): i for i, (_, p) in enumerate(proposals)}
             for (effect, p), cf in zip(pruned, fit_candidates([p.circuit for _, p in pruned], spectrum, init=[list(p.starts) for _, p in pruned], **options)):
                 i = index.get(str(p.circuit))
@@ -2516,19 +2517,27 @@ def undetermined_words(fit: FitResult, names: Sequence[str]) -> str:
             f"(impedax compare DATA --model '{fit.model}' --model '<the model without {'it' if len(names) == 1 else 'them'}>' weighs both)")
 
 
+def structured_bands_words(bands: Sequence[FailingBand]) -> str:
+    """How a verdict counts the bands of the model's misfit (not those of the data's problem):
+    ``1 band``, ``2 bands`` (not "1 band(s)")."""
+    model = sum(not b.data_problem for b in bands)
+    return counted(model, "band")
+
+
 def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: float, left_out: Sequence[str] = ()) -> tuple[Verdict, str]:
     """The verdict and its reason from the ranked candidates, the bands and the noise ratio:
     ``missing_effect`` when a candidate is significant, else ``adequate`` (what is left, if
     anything, no effect of the catalog explains with determined, plausible values; ``left_out``:
     the catalog's effects not tried, which the reason then names)."""
     model_bands = [b for b in bands if not b.data_problem]
+    counted_bands = structured_bands_words(bands)
     if any(s.significant for s in cands):
         best = next(s for s in cands if s.significant)
         # (at or under the noise overall, the misfit is systematic, not large: "0.844× the noise;
         # adding …" would read as a contradiction)
         within = ratio <= 1
         reason = f"the residuals are {ratio:.3g}× the noise" + (
-            (f" overall, yet structured in {len(model_bands)} band(s)" if within else f" and structured in {len(model_bands)} band(s)") if model_bands
+            (f" overall, yet structured in {counted_bands}" if within else f" and structured in {counted_bands}") if model_bands
             else (" overall, yet not noise alone" if within else ""))
         if "+" in best.effect and any("+" not in s.effect for s in cands if s.significant):
             reason += f"; adding {best.effect.replace('+', ' and ')} together ({best.added}) lowers AIC by {-best.delta_aic:.1f}."
@@ -2543,7 +2552,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
         return Verdict.MISSING_EFFECT, reason
     if _beyond_single_effects(bands, ratio):
         return Verdict.ADEQUATE, (
-            f"the residuals are {ratio:.3g}× the noise and structured in {len(model_bands)} band(s), but no effect {'tried' if left_out else 'of the catalog'} explains them "
+            f"the residuals are {ratio:.3g}× the noise and structured in {counted_bands}, but no effect {'tried' if left_out else 'of the catalog'} explains them "
             "with determined, plausible parameters" + (f"; {untried_words(left_out)}: diagnose again with them." if left_out else
                                                         ": what is left is beyond the catalog (or the model discrepancy floor).")
         )
@@ -2634,9 +2643,9 @@ def diagnose(
         cause = ("an instrument artifact, often a phase error at the top of its band" if top_of_band(every_f, np.arange(every_f.size) >= base.frequency.size)
                  else "a measurement artifact below the top decade of the band, where an instrument's phase error seldom lies: check those points")
         notes.append(
-            f"{len(not_passive)} point(s) with {non_passive_words(NOISE_OF_SIGMA if sigma is not None else KK_RESIDUAL_NOISE if kk_noise_used else None, every_f.size)} "
+            f"{counted(len(not_passive), 'point')} with {non_passive_words(NOISE_OF_SIGMA if sigma is not None else KK_RESIDUAL_NOISE if kk_noise_used else None, every_f.size)} "
             f"({', '.join(format_frequency(f) for f in not_passive[:6])}{', …' if len(not_passive) > 6 else ''}) "
-            f"are left out of every fit and test: no passive circuit has a negative real part ({cause})"
+            f"{'is' if len(not_passive) == 1 else 'are'} left out of every fit and test: no passive circuit has a negative real part ({cause})"
         )
     if kk is None:
         say("the Kramers–Kronig test of the data")
@@ -2655,7 +2664,7 @@ def diagnose(
         cleared = int(np.sum(kk.flagged)) - int(np.sum(local.flagged))
         if cleared:
             notes.append(
-                f"the KK test flags {int(np.sum(kk.flagged))} point(s) against its one global noise estimate; {cleared} of them are within the noise "
+                f"the KK test flags {counted(int(np.sum(kk.flagged)), 'point')} against its one global noise estimate; {cleared} of them {'is' if cleared == 1 else 'are'} within the noise "
                 "where they are (the noise varies along the band) and count as data"
             )
             kk = local
@@ -2685,7 +2694,9 @@ def diagnose(
     masked_z.update(zip(masked, (complex(z) for z in base.z_data[problem.masked])))
     if masked:
         spectrum = spectrum.isel(frequency=np.nonzero(keep)[0])
-        notes.append(f"{len(masked)} point(s) " + ("behind the failed KK test (without them it passes)" if located is not None else "the KK test flags as the data's own problem") + " are masked: every fit of this diagnosis leaves them out")
+        one = len(masked) == 1
+        notes.append(f"{counted(len(masked), 'point')} " + (f"behind the failed KK test (without {'it' if one else 'them'} it passes)" if located is not None else "the KK test flags as the data's own problem")
+                     + f" {'is' if one else 'are'} masked: every fit of this diagnosis leaves {'it' if one else 'them'} out")
     elif kk is not None and not kk.valid and problem.kept is None:
         notes.append(f"the KK test flags {kk.measured_bands_text()}: misfits there may be data problems")  # (its flagged points, as the data line names them)
     sigma_rel, measurement = nm.sigma_rel[keep], nm.measurement[keep]

@@ -15,7 +15,7 @@ import xarray as xr
 from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
-from ...data import concise_repr, report_text, format_quantity
+from ...data import concise_repr, counted, report_text, format_quantity
 from ...errors import CircuitError, ParameterError
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
@@ -205,7 +205,7 @@ class Refinement(FrozenResult):
         if kept and getattr(self.steps[-1].diagnosis, "kk_valid_band", None) is not None:  # (the verdict names the band it passes, for the final model)
             kept = kept.partition(KEPT_PASSING_LEAD)[0]
         left = len(self.masked_points) - len(getattr(start, "not_passive_points", ()))
-        how = f"; {kept}" if kept else f"; the KK test flags {flagged} of {kk.frequency.size} points" + (f", {left} point(s) left out of every fit (masked, below)" if left > 0 else "")
+        how = f"; {kept}" if kept else f"; the KK test flags {flagged} of {kk.frequency.size} points" + (f", {counted(left, 'point')} left out of every fit (masked, below)" if left > 0 else "")
         at = "" if kept and f"points ({bands})" in kept else f" at {bands}"  # (the band once: the kept points' note names the same range)
         return f"data: NOT Kramers–Kronig consistent{at} (KK rms_rel {kk.rms_rel * 100:.3g} %){how}."
 
@@ -374,7 +374,7 @@ class Refinement(FrozenResult):
         if self.masked_points:
             listed = ", ".join(format_frequency(f) for f in self.masked_points[:6]) + (", …" if len(self.masked_points) > 6 else "")
             lines.append(
-                f"masked: {len(self.masked_points)} point(s) left out of every fit as the data's own problem ({listed}); impedax fit of the file keeps them, "
+                f"masked: {counted(len(self.masked_points), 'point')} left out of every fit as the data's own problem ({listed}); impedax fit of the file keeps them, "
                 f"so its values and rms_rel differ, unless told: {left_out_words(left_out_options(final.frequency, self.masked_points))}"
             )
         return lines
@@ -646,7 +646,7 @@ def _after_simplifying(steps: list[RefinementStep], limit: int, diagnosed, say, 
         added = [s.added for s in went_on[len(steps):]]
         notes.append(
             f"refine went on after simplifying ({last.change.removesuffix(' [simplified]')}): the simpler model's own diagnosis still names "
-            f"{best.effect} ({best.added}), which lowers AIC by {-best.delta_aic:.1f}, within the limit of {limit} effect(s); it added {', '.join(added)}"
+            f"{best.effect} ({best.added}), which lowers AIC by {-best.delta_aic:.1f}, within the limit of {counted(limit, 'effect')}; it added {', '.join(added)}"
         )
         steps = simplify(went_on)
     return steps
@@ -819,9 +819,9 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
         ]
         if better and b.aic > a.aic:  # (kept by parsimony: the note names the rule beside the higher AIC)
             sentences.append(f"Its AIC is {b.aic - a.aic:.1f} higher, within {DELTA_AIC_MIN:g}, where the data barely tell the two apart, "
-                             f"and it has {size_a - size_b} fewer parameter(s): the simpler is kept.")
+                             f"and it has {counted(size_a - size_b, 'fewer parameter')}: the simpler is kept.")
         if slight:
-            sentences.append(f"It fits better by AIC, but with {size_b - size_a} more parameter(s) it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more.")
+            sentences.append(f"It fits better by AIC, but with {counted(size_b - size_a, 'more parameter')} it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more.")
         if tie:
             sentences.append(f"The data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)"
                              + (f"; it keeps {', '.join(restored)}, which {holder} left out." if better else "."))
@@ -1050,7 +1050,7 @@ def _simplified(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int,
             if d.verdict != Verdict.ADEQUATE:
                 continue
             notes.append(
-                f"{last.model} without {name} ({final.model}) is adequate too, with {last.n_params - final.n_params} parameter(s) fewer "
+                f"{last.model} without {name} ({final.model}) is adequate too, with {counted(last.n_params - final.n_params, 'parameter')} fewer "
                 f"(AIC {last.aic:.1f} → {final.aic:.1f}): {name} is taken out again"
                 + (f"; {note}" if note else "")
             )
@@ -1107,7 +1107,7 @@ def _on_valid_band(ds: xr.Dataset, band: xr.Dataset, steps: list[RefinementStep]
             "so the path on every point stands"
         )
     note = (
-        f"on all {f.size} points the path {path} ended data_invalid after {len(steps) - 1} step(s): the misfit left is the data's own over much of the band "
+        f"on all {f.size} points the path {path} ended data_invalid after {counted(len(steps) - 1, 'step')}: the misfit left is the data's own over much of the band "
         f"(the KK test fails outside {format_frequency(lo)}–{format_frequency(hi)}), but {stop.fit.model} still misses the {band.sizes['frequency']} points it passes"
         + f" by {missed * 100:.3g} % rms: refine started again on those points ({trim}; the {len(outside)} outside are left out as the data's own problem)"
     )
@@ -1231,7 +1231,7 @@ def _pruned(steps: list[RefinementStep], used: xr.Dataset, *, n_starts: int, see
             change = f"{', '.join(removed)} is replaced by {added}" if added else f"{', '.join(removed)} {'is' if len(removed) == 1 else 'are'} taken out"
             notes.append(
                 why.replace("{final}", final.model) + f" {'is as good by AIC as' if by_aic else 'fits as well as'} {last.model} (rms_rel {last.rms_rel * 100:.3g} % → {final.rms_rel * 100:.3g} %, "
-                f"AIC {last.aic:.1f} → {final.aic:.1f}) with {last.n_params - final.n_params} parameter(s) fewer: {change}"
+                f"AIC {last.aic:.1f} → {final.aic:.1f}) with {counted(last.n_params - final.n_params, 'parameter')} fewer: {change}"
                 + (f"; {note}" if note else "")
             )
             steps.append(RefinementStep(final, added, None, d, removed))
@@ -1414,7 +1414,7 @@ def refine(
     last = steps[-1].diagnosis
     if last.verdict == Verdict.MISSING_EFFECT and last.best is not None and sum(effect_count(s.effect) for s in steps) + effect_count(last.best.effect) > limit:
         notes.append(
-            f"refine stopped at its limit of {limit} added effect(s) (max_effects; --max-effects of impedax refine) while the last model "
+            f"refine stopped at its limit of {counted(limit, 'added effect')} (max_effects; --max-effects of impedax refine) while the last model "
             f"still misses an effect ({last.best.effect}, see the verdict): a higher limit goes on"
         )
     elif last.verdict == Verdict.MISSING_EFFECT and last.best is not None:

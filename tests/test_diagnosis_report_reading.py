@@ -1,0 +1,51 @@
+"""The reports of ``impedax diagnose`` and ``impedax refine`` read by a researcher who does not
+know impedax's internals (docs/diagnosis.md): counts in their number, each fact said once, the
+verdict's count of bands agreeing with the bands listed, and a plain word when nothing is
+missing. Each test states the words a reading of the REAL example files or of a SYNTHETIC
+spectrum found wanting."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+import impedax as ix
+from impedax.fitting.diagnosis.diagnosis import _verdict
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+
+
+def _band(data_problem: bool) -> SimpleNamespace:
+    return SimpleNamespace(data_problem=data_problem)
+
+
+def _suggestion(delta_aic: float) -> SimpleNamespace:
+    return SimpleNamespace(significant=True, effect="series_inductance", added="L_lead", delta_aic=delta_aic, beyond_band=())
+
+
+def test_the_verdict_counts_its_bands_in_their_number():
+    """REAL ZPlot from R0 + R1 || C1: "structured in 1 band(s)" for the one band listed."""
+    verdict, reason = _verdict([_suggestion(-83.1)], [_band(False)], 8.71)
+    assert verdict == "missing_effect"
+    assert reason == "the residuals are 8.71× the noise and structured in 1 band; adding series_inductance (L_lead) lowers AIC by 83.1."
+    _, reason = _verdict([_suggestion(-20.0)], [_band(False), _band(False)], 3.0)
+    assert "structured in 2 bands;" in reason and "(s)" not in reason
+
+
+@pytest.fixture(scope="module")
+def biologic():
+    """REAL BioLogic (impedance.py's example file, MIT) diagnosed from R0 + R1 || C1: 4 lone
+    points inside the band flagged by the KK test and kept in every fit."""
+    return ix.diagnose(ix.load(REAL / "exampleDataBioLogic.mpt"), "R0 + R1 || C1", progress=False)
+
+
+@pytest.mark.slow
+def test_the_report_counts_in_the_number_of_its_counts(biologic):
+    """"the KK test flags 4 point(s) inside the band", "structured in 1 band(s)" on REAL BioLogic."""
+    report = biologic.report()
+    assert "(s)" not in report, [line for line in report.splitlines() if "(s)" in line]
+    assert "the KK test flags 4 points inside the band (5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz): kept in every fit" in report
+    (verdict,) = [line for line in report.splitlines() if line.startswith("verdict:")]
+    assert "structured in 1 band" in verdict, verdict
