@@ -34,6 +34,17 @@ def test_the_verdict_counts_its_bands_in_their_number():
     assert "structured in 2 bands;" in reason and "(s)" not in reason
 
 
+def test_the_verdict_names_the_bands_of_the_data_s_problem_it_does_not_count():
+    """REAL BioLogic from R0 + R1 || C1 lists two bands under "where the model fails", one tagged
+    "[data problem: …]", beside "structured in 1 band(s)": the verdict says what the other is."""
+    _, reason = _verdict([_suggestion(-54.1)], [_band(False), _band(True)], 1.72)
+    assert reason.startswith("the residuals are 1.72× the noise and structured in 1 band (and 1 where the KK test flags the data); adding"), reason
+    # adequate beyond the catalog says the same
+    cand = SimpleNamespace(significant=False, effect="diffusion", added="W_d", delta_aic=-3.0, beyond_band=())
+    verdict, reason = _verdict([cand], [_band(False), _band(False), _band(True)], 4.0)
+    assert verdict == "adequate" and "structured in 2 bands (and 1 where the KK test flags the data), but no effect" in reason, reason
+
+
 @pytest.fixture(scope="module")
 def biologic():
     """REAL BioLogic (impedance.py's example file, MIT) diagnosed from R0 + R1 || C1: 4 lone
@@ -48,4 +59,5 @@ def test_the_report_counts_in_the_number_of_its_counts(biologic):
     assert "(s)" not in report, [line for line in report.splitlines() if "(s)" in line]
     assert "the KK test flags 4 points inside the band (5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz): kept in every fit" in report
     (verdict,) = [line for line in report.splitlines() if line.startswith("verdict:")]
-    assert "structured in 1 band" in verdict, verdict
+    assert "structured in 1 band (and 1 where the KK test flags the data);" in verdict, verdict
+    assert sum(line.startswith("  ") and "[data problem" in line for line in report.splitlines()) == 1

@@ -2518,10 +2518,14 @@ def undetermined_words(fit: FitResult, names: Sequence[str]) -> str:
 
 
 def structured_bands_words(bands: Sequence[FailingBand]) -> str:
-    """How a verdict counts the bands of the model's misfit (not those of the data's problem):
-    ``1 band``, ``2 bands`` (not "1 band(s)")."""
+    """How a verdict counts the bands of the model's misfit: ``1 band``, ``2 bands`` (not "1
+    band(s)"), and beside them those the report lists as the data's problem: ``1 band (and 1
+    where the KK test flags the data)``. REAL BioLogic from ``R0 + R1 || C1`` listed two bands
+    under "where the model fails", one tagged as the data's problem, beside a verdict
+    "structured in 1 band"."""
     model = sum(not b.data_problem for b in bands)
-    return counted(model, "band")
+    data = len(bands) - model
+    return counted(model, "band") + (f" (and {data} where the KK test flags the data)" if data else "")
 
 
 def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: float, left_out: Sequence[str] = ()) -> tuple[Verdict, str]:
