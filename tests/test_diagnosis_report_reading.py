@@ -61,3 +61,14 @@ def test_the_report_counts_in_the_number_of_its_counts(biologic):
     (verdict,) = [line for line in report.splitlines() if line.startswith("verdict:")]
     assert "structured in 1 band (and 1 where the KK test flags the data);" in verdict, verdict
     assert sum(line.startswith("  ") and "[data problem" in line for line in report.splitlines()) == 1
+
+
+@pytest.mark.slow
+def test_the_data_line_names_the_flagged_points_once(biologic):
+    """The data line said "NOT Kramers–Kronig consistent in 5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz (…);
+    the KK test flags 4 points inside the band (5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz): …"."""
+    (data_line,) = [line for line in biologic.report().splitlines() if line.startswith("data:")]
+    listed = "5.34 Hz, 56.2 Hz, 123 Hz, 270 Hz"
+    assert data_line.count(listed) == 1, data_line
+    assert data_line.startswith("data: the data are NOT Kramers–Kronig consistent (KK rms_rel 2.81 %); "
+                                f"the KK test flags 4 points inside the band ({listed}): kept in every fit"), data_line

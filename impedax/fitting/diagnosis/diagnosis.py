@@ -514,8 +514,9 @@ class Diagnosis(FrozenResult):
             fit_command = " ".join(["impedax fit DATA", left_out_words(left_out)]).strip()
         lines = [f"model {b.model}: rms_rel {b.rms_rel * 100:.3g} %, chi2_red {b.chi2_red:.3g}{self._chi2_red_basis()}, AIC {b.aic:.1f} ({b.n_points} points, {counted(b.n_params, 'free parameter')})"]
         if self.kk is not None:
-            # (the band once: the note on the points kept names it where it names the same range)
-            named = self.kk_flagged_kept and f"points ({self.kk.measured_bands_text()})" in self.kk_flagged_kept
+            # (the band once: the note on the points kept names it where it names the same range,
+            # "flags 51 of 73 points (100 mHz–684 Hz, …)" or "flags 4 points inside the band (5.34 Hz, …)")
+            named = self.kk_flagged_kept and f"({self.kk.measured_bands_text()})" in self.kk_flagged_kept
             kk_text = "the data are Kramers–Kronig consistent" if self.kk.valid else "the data are NOT Kramers–Kronig consistent" + ("" if named else f" in {self.kk.measured_bands_text()}")
             if not self.kk.conclusive:
                 kk_text = f"{b.n_points} frequencies are too few for the Kramers–Kronig test, and for the noise it estimates"

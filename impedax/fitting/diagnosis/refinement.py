@@ -206,7 +206,7 @@ class Refinement(FrozenResult):
             kept = kept.partition(KEPT_PASSING_LEAD)[0]
         left = len(self.masked_points) - len(getattr(start, "not_passive_points", ()))
         how = f"; {kept}" if kept else f"; the KK test flags {flagged} of {kk.frequency.size} points" + (f", {counted(left, 'point')} left out of every fit (masked, below)" if left > 0 else "")
-        at = "" if kept and f"points ({bands})" in kept else f" at {bands}"  # (the band once: the kept points' note names the same range)
+        at = "" if kept and f"({bands})" in kept else f" at {bands}"  # (the band once: the kept points' note names the same range)
         return f"data: NOT Kramers–Kronig consistent{at} (KK rms_rel {kk.rms_rel * 100:.3g} %){how}."
 
     def summary(self) -> dict:
