@@ -9,6 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 import impedax as ix
@@ -72,3 +73,33 @@ def test_the_data_line_names_the_flagged_points_once(biologic):
     assert data_line.count(listed) == 1, data_line
     assert data_line.startswith("data: the data are NOT Kramers–Kronig consistent (KK rms_rel 2.81 %); "
                                 f"the KK test flags 4 points inside the band ({listed}): kept in every fit"), data_line
+
+
+@pytest.fixture(scope="module")
+def nothing_missing():
+    """SYNTHETIC R0 + R1 ∥ C1 (10 Ω, 100 Ω, 1 µF; numpy, 31 points 100 kHz–1 Hz, 0.5 % noise on
+    each component, seed 7), diagnosed and refined from the model that made it."""
+    f = np.logspace(5, 0, 31)
+    z = 10 + 100 / (1 + 2j * np.pi * f * 100 * 1e-6)
+    rng = np.random.default_rng(7)
+    z = z * (1 + 0.005 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+    data = ix.make_spectrum(f, z)
+    return ix.diagnose(data, "R0 + R1 || C1", progress=False), ix.refine(data, "R0 + R1 || C1", progress=False)
+
+
+@pytest.mark.slow
+def test_nothing_missing_is_said_plainly(nothing_missing):
+    """The verdict said "ADEQUATE — the residuals are 0.854× the noise with no structured band,
+    and no effect lowers AIC by more than 10 while explaining at least 25% of the noise variance",
+    and refine printed a one-row table under it: no line said that nothing is missing."""
+    d, r = nothing_missing
+    assert d.verdict == r.verdict == "adequate" and len(r.steps) == 1
+    lines = d.report(fit_command="impedax fit syn.csv").splitlines()
+    (plain,) = [line for line in lines if line.startswith("nothing is missing:")]
+    ratio = f"{d.noise_ratio:.3g}"
+    assert plain == (f"nothing is missing: R0 + R1 || C1 follows the data to their noise (the residuals are {ratio}× the noise), "
+                     "and no effect of the catalog improves it significantly; its parameters with their errors: impedax fit syn.csv --model 'R0 + R1 || C1'"), plain
+    assert lines.index(plain) > next(i for i, line in enumerate(lines) if line.startswith("verdict:"))
+    lines = r.report().splitlines()
+    (plain,) = [line for line in lines if line.startswith("nothing is missing:")]
+    assert plain == f"nothing is missing: R0 + R1 || C1 follows the data to their noise as given (the residuals are {ratio}× the noise); refine added no effect.", plain

@@ -381,6 +381,13 @@ class Diagnosis(FrozenResult):
         return [n for n in self.notes if not n.startswith(BOUNDS_KEPT_LEAD)] + ([self.sign_hint] if self.sign_hint else []) + beyond
 
     @property
+    def nothing_missing(self) -> bool:
+        """An ``adequate`` verdict with the residuals within `NOISE_RATIO_MAX` × the noise: the
+        model follows the data to their noise and no effect improves it, which the report says
+        in plain words ("nothing is missing: …"), beside the verdict's thresholds."""
+        return self.verdict == Verdict.ADEQUATE and not self.beyond_catalog and self.noise_ratio <= NOISE_RATIO_MAX
+
+    @property
     def verdict_heading(self) -> str:
         """The verdict as the report heads it: ``ADEQUATE WITHIN THE CATALOG`` for an adequate
         verdict `beyond_catalog` (a bare "adequate" read as "fits the data" at 10× the noise),
@@ -560,6 +567,10 @@ class Diagnosis(FrozenResult):
         elif self.candidates and self.verdict == Verdict.ADEQUATE:
             top = self.candidates[0]
             lines.append(f"no effect improves the fit significantly (best: {top.effect}, ΔAIC {top.delta_aic:+.1f}, rms_rel {top.rms_rel * 100:.3g} %{self._why_not_significant(top)}).")
+        if self.nothing_missing:
+            tried = "no effect tried" if self.effects_left_out else "no effect of the catalog"
+            lines.append(f"nothing is missing: {b.model} follows the data to their noise (the residuals are {self.noise_ratio:.3g}× the noise), and {tried} improves it "
+                         f"significantly; its parameters with their errors: {fit_command} --model '{b.model}'" + _fixed_words(b) + bound_words(b))
         rejected = [s for s in self.candidates if s.warning and s.delta_aic < -DELTA_AIC_MIN][:3]
         for s in rejected:
             lines.append(f"  not proposed: {s.model} (rms_rel {s.rms_rel * 100:.3g} %): {s.warning}")

@@ -343,6 +343,10 @@ class Refinement(FrozenResult):
             lines.append(aic_line)
         if self.diagnose_note:
             lines.append(self.diagnose_note)
+        if last_d is not None and last_d.verdict == self.verdict and last_d.nothing_missing:
+            ratio = f"the residuals are {last_d.noise_ratio:.3g}× the noise"
+            lines.append(f"nothing is missing: {first.model} follows the data to their noise as given ({ratio}); refine added no effect." if len(self.steps) == 1 else
+                         f"nothing more is missing: {self.final_model} follows the data to their noise ({ratio}).")
         lines += self._final_lines()
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
