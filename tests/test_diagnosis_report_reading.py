@@ -6,6 +6,7 @@ spectrum found wanting."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -103,3 +104,20 @@ def test_nothing_missing_is_said_plainly(nothing_missing):
     lines = r.report().splitlines()
     (plain,) = [line for line in lines if line.startswith("nothing is missing:")]
     assert plain == f"nothing is missing: R0 + R1 || C1 follows the data to their noise as given (the residuals are {ratio}× the noise); refine added no effect.", plain
+
+
+def test_the_verdict_writes_a_percentage_as_the_report_writes_every_other():
+    """"at least 25% of the noise variance" beside "rms_rel 0.583 %" on the lines above it."""
+    cand = SimpleNamespace(significant=False, effect="series_inductance", added="L_lead", delta_aic=0.6, beyond_band=())
+    verdict, reason = _verdict([cand], [], 0.854)
+    assert verdict == "adequate" and "at least 25 % of the noise variance" in reason, reason
+    assert not re.search(r"\d%", reason), reason
+
+
+@pytest.mark.slow
+def test_every_percentage_of_the_report_has_its_space(biologic):
+    """REAL BioLogic: "rms_rel 2.8 %" and "(relative error > 100%, …, or > 0.99 with a relative
+    error above 10%)" in one report."""
+    report = biologic.report()
+    assert "relative error > 100 %" in report and "a relative error above 10 %" in report
+    assert not re.findall(r".{30}\d%.{10}", report), re.findall(r".{30}\d%.{10}", report)

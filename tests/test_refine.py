@@ -686,7 +686,7 @@ def test_a_path_of_more_parameters_must_explain_a_quarter_of_the_noise_variance_
     case = es.make_case(t, t.variants[0], "dev", 1)
     r = ix.refine(ix.make_spectrum(case.frequency, case.z), case.circuit)
     assert {"series_resistance", "electrode_polarization"} <= {s.effect for s in r.steps[1:]}, r.report()
-    assert any("under 25% of the noise variance more" in n for n in r.notes), r.notes
+    assert any("under 25 % of the noise variance more" in n for n in r.notes), r.notes
 
 
 @pytest.mark.slow

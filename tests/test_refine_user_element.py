@@ -39,7 +39,7 @@ def test_why_not_significant_names_the_noise_variance_explained():
     candidate = SimpleNamespace(delta_aic=-12.0, warning=None, fit=SimpleNamespace(frequency=F, residuals=np.full(F.size, 0.009 + 0.009j)))
     diagnosis = SimpleNamespace(baseline=base, noise=np.full(F.size, 0.01))
     text = Diagnosis._why_not_significant(diagnosis, candidate)
-    assert "explains 19% of the noise variance, under the 25%" in text and "NOISE_FRACTION_MIN" in text
+    assert "explains 19 % of the noise variance, under the 25 %" in text and "NOISE_FRACTION_MIN" in text
     assert Diagnosis._why_not_significant(diagnosis, SimpleNamespace(**(candidate.__dict__ | {"delta_aic": -9.0}))) == ""
 
 
@@ -52,7 +52,7 @@ def test_adequate_names_the_noise_variance_rule_for_a_candidate_past_the_aic_thr
     assert top.fit.values["R_s"] == pytest.approx(20.0, rel=0.3)  # the candidate reached the true R0: no worse optimum
     text = d.report()
     line = next(t for t in text.splitlines() if t.startswith("no effect improves the fit significantly"))
-    assert "NOISE_FRACTION_MIN" in line and "of the noise variance, under the 25%" in line
+    assert "NOISE_FRACTION_MIN" in line and "of the noise variance, under the 25 %" in line
     assert "where the model fails" not in text and "where the residuals are structured" in text
 
 

@@ -590,7 +590,7 @@ class Diagnosis(FrozenResult):
             return ""
         explained = noise_variance_explained(self.baseline, candidate.fit, self)
         if explained < NOISE_FRACTION_MIN:
-            return (f"; past ΔAIC {-DELTA_AIC_MIN:g}, but it explains {explained:.0%} of the noise variance, under the {NOISE_FRACTION_MIN:.0%} "
+            return (f"; past ΔAIC {-DELTA_AIC_MIN:g}, but it explains {explained * 100:.0f} % of the noise variance, under the {NOISE_FRACTION_MIN * 100:.0f} % "
                     f"a significant effect must explain (NOISE_FRACTION_MIN: the fall of mean(|r_k|²/σ_k²) over 2, σ_k the noise above; "
                     f"ΔAIC is taken over the residuals divided by σ_k too, so it differs from the fits' own AICs that impedax compare gives)")
         return ""  # (held back by its parameters: the "not proposed" line below says why)
@@ -1495,7 +1495,7 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
     comparable = flagged & (dkk >= KK_COMPARABLE * np.abs(fit.residuals))
     share = float(np.mean(comparable))
     if sign_hint:  # (whatever the share: a model of the right kind misses conj(Z) by far more than the KK chain does)
-        where = (f"where the model fails (at {share * 100:.0f} % of the points the KK misfit is at least {KK_COMPARABLE:.0%} of the model's; "
+        where = (f"where the model fails (at {share * 100:.0f} % of the points the KK misfit is at least {KK_COMPARABLE * 100:.0f} % of the model's; "
                  if share >= KK_INVALID_FRACTION else "(")
         return DataProblem(
             f"the data themselves are not Kramers–Kronig consistent {where}KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %), most likely because of how the file "
@@ -1529,7 +1529,7 @@ def _data_problem(fit: FitResult, kk: KKResult | None, noise: NoiseModel, sign_h
             band_words, misses, band = "", False, None
         return DataProblem(
             f"the data themselves are not Kramers–Kronig consistent where the model fails: at {share * 100:.0f} % of the points the KK misfit is at least "
-            f"{KK_COMPARABLE:.0%} of the model's (KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %): drift, movement or a non-stationary "
+            f"{KK_COMPARABLE * 100:.0f} % of the model's (KK rms_rel {kk.rms_rel * 100:.2g} %, model {fit.rms_rel * 100:.2g} %): drift, movement or a non-stationary "
             "sample during the sweep; no circuit should be asked to fit them. Repeat or trim the measurement." + band_words,
             none, None, band, misses, run_band=run_band, misses_run_band=run_misses,
         )
@@ -2203,7 +2203,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         undetermined = tuple(sorted((undetermined_parameters(cf) | opened) - base_undetermined))
         warning = None
         if undetermined:
-            warning = "the data do not determine " + ", ".join(undetermined) + f" (relative error > {RELATIVE_ERROR_MAX:.0%}, |correlation| > {CORRELATION_SINGULAR:g}, or > {CORRELATION_MAX:g} with a relative error above {CORRELATED_ERROR_MAX:.0%}"
+            warning = "the data do not determine " + ", ".join(undetermined) + f" (relative error > {RELATIVE_ERROR_MAX * 100:.0f} %, |correlation| > {CORRELATION_SINGULAR:g}, or > {CORRELATION_MAX:g} with a relative error above {CORRELATED_ERROR_MAX * 100:.0f} %"
             warning += "".join(f"; {n} ran open, {format_quantity(float(cf.values[n]), 'Ω')}" for n in sorted(opened)) + ")"
         elif effect.plausible is not None:
             warning = effect.plausible(cf.values, p)
@@ -2574,7 +2574,7 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
         )
     reason = (
         f"the residuals are {ratio:.3g}× the noise" + ((" with no structured band but where the KK test flags the data" if bands else " with no structured band") if not model_bands else " (small structure only)")
-        + f", and no effect lowers AIC by more than {DELTA_AIC_MIN:g} while explaining at least {NOISE_FRACTION_MIN:.0%} of the noise variance."
+        + f", and no effect lowers AIC by more than {DELTA_AIC_MIN:g} while explaining at least {NOISE_FRACTION_MIN * 100:.0f} % of the noise variance."
     )
     return Verdict.ADEQUATE, reason
 

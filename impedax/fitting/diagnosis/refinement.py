@@ -825,7 +825,7 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
             sentences.append(f"Its AIC is {b.aic - a.aic:.1f} higher, within {DELTA_AIC_MIN:g}, where the data barely tell the two apart, "
                              f"and it has {counted(size_a - size_b, 'fewer parameter')}: the simpler is kept.")
         if slight:
-            sentences.append(f"It fits better by AIC, but with {counted(size_b - size_a, 'more parameter')} it explains under {NOISE_FRACTION_MIN:.0%} of the noise variance more.")
+            sentences.append(f"It fits better by AIC, but with {counted(size_b - size_a, 'more parameter')} it explains under {NOISE_FRACTION_MIN * 100:.0f} % of the noise variance more.")
         if tie:
             sentences.append(f"The data do not tell the two apart (AIC within {DELTA_AIC_MIN:g}, as many parameters)"
                              + (f"; it keeps {', '.join(restored)}, which {holder} left out." if better else "."))
