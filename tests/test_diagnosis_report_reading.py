@@ -121,3 +121,16 @@ def test_every_percentage_of_the_report_has_its_space(biologic):
     report = biologic.report()
     assert "relative error > 100 %" in report and "a relative error above 10 %" in report
     assert not re.findall(r".{30}\d%.{10}", report), re.findall(r".{30}\d%.{10}", report)
+
+
+@pytest.mark.slow
+def test_the_rule_of_an_undetermined_parameter_is_said_once(biologic):
+    """REAL BioLogic: three "not proposed" lines each ended "(relative error > 100 %, |correlation|
+    > 0.999, or > 0.99 with a relative error above 10 %)"; the JSON's warnings keep it."""
+    report = biologic.report()
+    rule = "relative error > 100 %, |correlation| > 0.999, or > 0.99 with a relative error above 10 %"
+    lines = [line for line in report.splitlines() if line.startswith("  not proposed:")]
+    assert len(lines) == 3 and all("the data do not determine" in line for line in lines), lines
+    assert report.count(rule) == 1 and rule in lines[0], lines
+    assert lines[1].endswith("the data do not determine R1, Ws_d.R"), lines[1]
+    assert all(rule in c["warning"] for c in biologic.summary()["candidates"] if (c["warning"] or "").startswith("the data do not determine"))

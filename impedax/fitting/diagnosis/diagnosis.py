@@ -572,8 +572,14 @@ class Diagnosis(FrozenResult):
             lines.append(f"nothing is missing: {b.model} follows the data to their noise (the residuals are {self.noise_ratio:.3g}× the noise), and {tried} improves it "
                          f"significantly; its parameters with their errors: {fit_command} --model '{b.model}'" + _fixed_words(b) + bound_words(b))
         rejected = [s for s in self.candidates if s.warning and s.delta_aic < -DELTA_AIC_MIN][:3]
+        said_rule = False
         for s in rejected:
-            lines.append(f"  not proposed: {s.model} (rms_rel {s.rms_rel * 100:.3g} %): {s.warning}")
+            warning = s.warning
+            if UNDETERMINED_RULE in warning:  # (the rule once, on the first line that needs it: three times on REAL BioLogic)
+                if said_rule:
+                    warning = warning.replace(f" ({UNDETERMINED_RULE})", "").replace(f"({UNDETERMINED_RULE}; ", "(")
+                said_rule = True
+            lines.append(f"  not proposed: {s.model} (rms_rel {s.rms_rel * 100:.3g} %): {warning}")
         # (why KK-flagged points were kept is said on the data line; its note, for the JSON's
         # ``notes``, is not said again as the last line: 600 characters twice on REAL Gamry)
         said = {self.kk_flagged_kept, f"{self.kk_flagged_kept}: diagnosed with every point"} if self.kk is not None and self.kk_flagged_kept else set()
@@ -667,6 +673,12 @@ class Diagnosis(FrozenResult):
 
 
 # --- the steps of a diagnosis ----------------------------------------------------------------
+
+
+# when the data do not determine a parameter of a candidate (`undetermined_parameters`): its words in a
+# candidate's warning, which the report says once
+UNDETERMINED_RULE = (f"relative error > {RELATIVE_ERROR_MAX * 100:.0f} %, |correlation| > {CORRELATION_SINGULAR:g}, "
+                     f"or > {CORRELATION_MAX:g} with a relative error above {CORRELATED_ERROR_MAX * 100:.0f} %")
 
 
 def _thresholds() -> dict[str, float]:
@@ -2203,7 +2215,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         undetermined = tuple(sorted((undetermined_parameters(cf) | opened) - base_undetermined))
         warning = None
         if undetermined:
-            warning = "the data do not determine " + ", ".join(undetermined) + f" (relative error > {RELATIVE_ERROR_MAX * 100:.0f} %, |correlation| > {CORRELATION_SINGULAR:g}, or > {CORRELATION_MAX:g} with a relative error above {CORRELATED_ERROR_MAX * 100:.0f} %"
+            warning = "the data do not determine " + ", ".join(undetermined) + f" ({UNDETERMINED_RULE}"
             warning += "".join(f"; {n} ran open, {format_quantity(float(cf.values[n]), 'Ω')}" for n in sorted(opened)) + ")"
         elif effect.plausible is not None:
             warning = effect.plausible(cf.values, p)
