@@ -134,3 +134,17 @@ def test_the_rule_of_an_undetermined_parameter_is_said_once(biologic):
     assert report.count(rule) == 1 and rule in lines[0], lines
     assert lines[1].endswith("the data do not determine R1, Ws_d.R"), lines[1]
     assert all(rule in c["warning"] for c in biologic.summary()["candidates"] if (c["warning"] or "").startswith("the data do not determine"))
+
+
+@pytest.mark.slow
+def test_refine_says_once_that_it_does_not_start_again_on_the_kk_band():
+    """REAL Gamry from R0 + R1 || C1: the verdict ends "(refine does not: the trim leaves out 72 %
+    of the points, more than the 25 % it leaves out on its own)", and a note under it said the
+    same again ("refine does not start again there: it would leave out 72 % of the points, …").
+    The JSON's notes keep it."""
+    r = ix.refine(ix.load(REAL / "exampleDataGamry.DTA"), "R0 + R1 || C1", progress=False)
+    lines = r.report().splitlines()
+    (verdict,) = [line for line in lines if line.startswith("verdict:")]
+    assert "(refine does not: the trim leaves out 72 % of the points, more than the 25 % it leaves out on its own)" in verdict, verdict
+    assert not any("refine does not start again there" in line for line in lines), lines
+    assert sum("refine does not start again there" in n for n in r.summary()["notes"]) == 1

@@ -35,6 +35,10 @@ from .vanishing import share_words, vanished_parameters, vanished_terms
 
 __all__ = ["Refinement", "RefinementStep", "refine", "capacitor_name"]
 
+# the note of a refinement that does not start again on the band the KK test passes (it would leave
+# out more than `KK_MASK_MAX_FRACTION`); the report leaves it to the verdict when that says so
+NOT_RESTARTED_WORDS = "refine does not start again there"
+
 
 @dataclass(frozen=True, eq=False)
 class RefinementStep(FrozenResult):
@@ -348,7 +352,10 @@ class Refinement(FrozenResult):
             lines.append(f"nothing is missing: {first.model} follows the data to their noise as given ({ratio}); refine added no effect." if len(self.steps) == 1 else
                          f"nothing more is missing: {self.final_model} follows the data to their noise ({ratio}).")
         lines += self._final_lines()
-        lines += [f"note: {n}" for n in self.notes]
+        # (the verdict's "(refine does not: the trim leaves out 72 % …)" says what the note on not
+        # starting again says: on REAL Gamry and CH Instruments the note came again under it; the JSON keeps it)
+        said = last_d is not None and last_d.verdict == self.verdict and "(refine does not: " in last_d.reason
+        lines += [f"note: {n}" for n in self.notes if not (said and NOT_RESTARTED_WORDS in n)]
         return "\n".join(lines)
 
     def _final_lines(self) -> list[str]:
@@ -1392,7 +1399,7 @@ def refine(
                 outside = 1 - band.sizes["frequency"] / ds.sizes["frequency"]
             notes.append(
                 f"the KK test passes only {format_frequency(lo)}–{format_frequency(hi)} ({band.sizes['frequency']} of {ds.sizes['frequency']} points), where {stop.baseline.model} "
-                f"misses the data clearly; refine does not start again there: it would leave out {outside * 100:.0f} % of the points, more than the "
+                f"misses the data clearly; {NOT_RESTARTED_WORDS}: it would leave out {outside * 100:.0f} % of the points, more than the "
                 f"{KK_MASK_MAX_FRACTION * 100:.0f} % it leaves out as not Kramers–Kronig consistent (KK_MASK_MAX_FRACTION), so every point is kept and the data's problem is "
                 "reported beside the verdict (impedax refine --fmin/--fmax judges that band alone)"
             )
