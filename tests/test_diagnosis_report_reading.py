@@ -148,3 +148,17 @@ def test_refine_says_once_that_it_does_not_start_again_on_the_kk_band():
     assert "(refine does not: the trim leaves out 72 % of the points, more than the 25 % it leaves out on its own)" in verdict, verdict
     assert not any("refine does not start again there" in line for line in lines), lines
     assert sum("refine does not start again there" in n for n in r.summary()["notes"]) == 1
+
+
+def test_an_implausible_value_is_written_in_its_unit_s_prefix():
+    """AutoEIS's REAL battery cycle 0 from R0 + R1 || C1: "not proposed: (R0 + R1 || C1) ||
+    C_stray (rms_rel 26 %): C_stray = 4.97e-05 F is not fixture capacitance (pF–nF, at most 1e-09 F)",
+    where every other value of the report reads "49.7 µF"."""
+    from impedax.fitting.diagnosis.effects import _diffusion_plausible, _lead_plausible, _stray_plausible
+
+    stray = _stray_plausible({"C_stray": 4.97e-05}, SimpleNamespace(added="C_stray"))
+    assert stray.startswith("C_stray = 49.7 µF is not fixture capacitance (pF–nF, at most 1 nF): "), stray
+    lead = _lead_plausible({"L_lead": 2.5e-3}, SimpleNamespace(added="L_lead"))
+    assert lead.startswith("L_lead = 2.5 mH is not the inductance of leads (about a µH per metre, at most 100 µH): "), lead
+    seen = _diffusion_plausible({"Ws_d.tau": 1.1e-6}, SimpleNamespace(added="Ws_d", band=(1.0, 1e5)))
+    assert seen.startswith("Ws_d.tau = 1.1 µs: its diffusion region"), seen

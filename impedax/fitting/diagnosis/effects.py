@@ -222,7 +222,7 @@ def _constant_phase(circuit: Circuit, ctx: BaselineContext) -> list[Proposal]:
             tau_peak, alpha_drt = drt_peak
             alphas = (alpha_drt,) + tuple(a for a in alphas if abs(a - alpha_drt) > 0.05)[:2]
             expected = {f"{name}.alpha": alpha_drt}
-            evidence = f"the data's DRT peak at τ ≈ {tau_peak:.2g} s is wider than an R‖C's: α ≈ {alpha_drt:.2f}"
+            evidence = f"the data's DRT peak at τ ≈ {format_quantity(tau_peak, 's')} is wider than an R‖C's: α ≈ {alpha_drt:.2f}"
         starts = []
         for alpha in alphas:
             start = {k: v for k, v in ctx.start().items() if k != e.name}
@@ -556,14 +556,14 @@ LEAD_INDUCTANCE_MAX = 1e-4
 def _stray_plausible(values, p: Proposal) -> str | None:
     c = values.get(p.added, np.nan)
     if np.isfinite(c) and c > STRAY_CAPACITANCE_MAX:
-        return f"{p.added} = {c:.3g} F is not fixture capacitance (pF–nF, at most {STRAY_CAPACITANCE_MAX:.0e} F): a capacitive path of the sample itself, which another effect should model"
+        return f"{p.added} = {format_quantity(c, 'F')} is not fixture capacitance (pF–nF, at most {format_quantity(STRAY_CAPACITANCE_MAX, 'F')}): a capacitive path of the sample itself, which another effect should model"
     return None
 
 
 def _lead_plausible(values, p: Proposal) -> str | None:
     inductance = values.get(p.added, np.nan)
     if np.isfinite(inductance) and inductance > LEAD_INDUCTANCE_MAX:
-        return f"{p.added} = {inductance:.3g} H is not the inductance of leads (about a µH per metre, at most {LEAD_INDUCTANCE_MAX:.0e} H): an inductive process of the sample, not the wiring"
+        return f"{p.added} = {format_quantity(inductance, 'H')} is not the inductance of leads (about a µH per metre, at most {format_quantity(LEAD_INDUCTANCE_MAX, 'H')}): an inductive process of the sample, not the wiring"
     return None
 
 
@@ -604,7 +604,7 @@ def _diffusion_plausible(values, p: Proposal) -> str | None:
         return None
     f_diffusion = DIFFUSION_REGION_OMEGA_TAU / (2 * np.pi * tau)
     if f_diffusion > p.band[1]:
-        return (f"{p.added}.tau = {tau:.3g} s: its diffusion region (45°, from {format_frequency(f_diffusion)}) lies above the band's top ({format_frequency(p.band[1])}); "
+        return (f"{p.added}.tau = {format_quantity(tau, 's')}: its diffusion region (45°, from {format_frequency(f_diffusion)}) lies above the band's top ({format_frequency(p.band[1])}); "
                 "the data see only its low-frequency part, which an arc or a capacitor makes as well, not diffusion")
     return None
 
