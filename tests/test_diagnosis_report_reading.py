@@ -6,7 +6,9 @@ spectrum found wanting."""
 
 from __future__ import annotations
 
+import io
 import re
+import sys
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -162,3 +164,65 @@ def test_an_implausible_value_is_written_in_its_unit_s_prefix():
     assert lead.startswith("L_lead = 2.5 mH is not the inductance of leads (about a µH per metre, at most 100 µH): "), lead
     seen = _diffusion_plausible({"Ws_d.tau": 1.1e-6}, SimpleNamespace(added="Ws_d", band=(1.0, 1e5)))
     assert seen.startswith("Ws_d.tau = 1.1 µs: its diffusion region"), seen
+
+
+REPORT = (
+    "verdict: MISSING_EFFECT — the residuals are 8.71× the noise and structured in 1 band; adding series_inductance (L_lead) lowers AIC by 83.1.\n"
+    "  1. [series_inductance] series inductance: adding L_lead in series with the whole circuit (leads) (L_lead = 2.99 µH) lowers rms_rel from 1.35 % to 0.511 % (ΔAIC -83.1, ΔBIC -81.3).\n"
+    "     model R0 + R1 || C1 + L_lead   rms_rel 0.511 %   ΔAIC -83.1   ΔBIC -81.3\n"
+    "  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): impedax fit tests/fixtures/real/exampleDataZPlot.z "
+    "--model 'R0 + R1 || C1 + L_lead' --init R0=149.231 --init R1=501.568 --init C1=3.0868e-08 --init L_lead=2.98983e-06"
+)  # (REAL ZPlot from R0 + R1 || C1, the report's lines of 139, 168 and 243 characters)
+
+
+def test_a_terminal_gets_the_report_within_its_width_and_the_commands_whole():
+    """On a terminal of 100 columns the report's lines (up to 700 characters on the REAL example
+    files) broke mid-word; the prose is wrapped at words under its own indentation, and a command
+    goes on lines of its own that a shell reads as one (each but the last ending in " \\")."""
+    import shlex
+
+    from impedax.cli.diagnose import terminal_text
+
+    text = terminal_text(REPORT, 100)
+    lines = text.splitlines()
+    assert all(len(line) <= 100 for line in lines), [len(line) for line in lines]
+    assert " ".join(text.split()).replace(" \\ ", " ") == " ".join(REPORT.split()), text  # (every word kept, in order)
+    assert lines[0].startswith("verdict: MISSING_EFFECT") and lines[1].startswith("    ")  # (a wrapped line hangs under its own)
+    assert "     model R0 + R1 || C1 + L_lead   rms_rel 0.511 %   ΔAIC -83.1   ΔBIC -81.3" in lines  # (short lines as they were)
+    at = lines.index("  to apply 1. from its fitted values (a fit from scratch may stop in another minimum):")
+    command = lines[at + 1:]
+    assert all(line.endswith(" \\") for line in command[:-1]) and not command[-1].endswith("\\"), command
+    words = shlex.split(" ".join(line.removesuffix(" \\") for line in command))
+    assert words == shlex.split(REPORT.splitlines()[-1].partition(": ")[2]), words
+    assert terminal_text(REPORT, 1000) == REPORT
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_only_a_terminal_gets_the_report_wrapped(monkeypatch):
+    """What `impedax diagnose` and `impedax refine` print goes through `to_terminal`: wrapped on a
+    terminal (COLUMNS=100), as it is into a pipe or a file, and never with --json."""
+    from impedax.cli.diagnose import to_terminal
+
+    monkeypatch.setenv("COLUMNS", "100")
+    for tty, text, wrapped in ((True, True, True), (True, False, False), (False, True, False)):
+        out = _Terminal() if tty else io.StringIO()
+        monkeypatch.setattr(sys, "stdout", out)
+        with to_terminal(text):
+            print(REPORT)
+        assert (max(map(len, out.getvalue().splitlines())) <= 100) is wrapped, out.getvalue()
+
+
+def test_a_wrapped_line_keeps_each_number_with_its_unit():
+    """REAL BioLogic on a 100-column terminal: "… up to 1.5 % below near 390" and "mHz" on the
+    next line."""
+    from impedax.cli.diagnose import terminal_text
+
+    for n in range(80, 100):
+        line = "x" * n + " near 390 mHz, 2.8 %, 41.9 Ω, 1.72× and 22° below"
+        wrapped = terminal_text(line, 100).splitlines()
+        assert not any(re.search(r"\d$", each) for each in wrapped), wrapped
+        assert " ".join(" ".join(wrapped).split()) == line

@@ -29,16 +29,17 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from .common import note_skipped_rows, print_result
-    from .diagnose import fitting_function, run_spectrum_command
+    from .diagnose import fitting_function, run_spectrum_command, to_terminal
 
     if args.max_effects < 0:
         raise ParameterError(f"--max-effects must be 0 or more, got {args.max_effects}")
     outputs, data, result, read, source, record = run_spectrum_command(args, "refine", fitting_function("refine"), max_effects=args.max_effects)
     if not outputs.uses_stdout:
-        print_result(read, args.json, source, record, command="refine")
-        line = reproduce_line(result, args, data)
-        if line and not args.json:
-            print(line)
+        with to_terminal(not args.json):
+            print_result(read, args.json, source, record, command="refine")
+            line = reproduce_line(result, args, data)
+            if line and not args.json:
+                print(line)
         if not args.json:
             note_skipped_rows(data, "refine", args.data)
     return 0
