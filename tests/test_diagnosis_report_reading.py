@@ -226,3 +226,13 @@ def test_a_wrapped_line_keeps_each_number_with_its_unit():
         wrapped = terminal_text(line, 100).splitlines()
         assert not any(re.search(r"\d$", each) for each in wrapped), wrapped
         assert " ".join(" ".join(wrapped).split()) == line
+
+
+@pytest.mark.slow
+def test_refine_says_nothing_more_is_missing_after_its_steps():
+    """REAL BioLogic from R0 + R1 || C1: refine adds CPE1 and ends ADEQUATE at 1.24× the noise."""
+    r = ix.refine(ix.load(REAL / "exampleDataBioLogic.mpt"), "R0 + R1 || C1", progress=False)
+    lines = r.report().splitlines()
+    assert r.verdict == "adequate" and len(r.steps) == 2, lines
+    at = lines.index(f"nothing more is missing: the final model follows the data to their noise (the residuals are {r.steps[-1].noise_ratio:.3g}× the noise).")
+    assert lines[at + 1].startswith(f"final fit {r.final_model}: ")

@@ -350,7 +350,7 @@ class Refinement(FrozenResult):
         if last_d is not None and last_d.verdict == self.verdict and last_d.nothing_missing:
             ratio = f"the residuals are {last_d.noise_ratio:.3g}× the noise"
             lines.append(f"nothing is missing: {first.model} follows the data to their noise as given ({ratio}); refine added no effect." if len(self.steps) == 1 else
-                         f"nothing more is missing: {self.final_model} follows the data to their noise ({ratio}).")
+                         f"nothing more is missing: the final model follows the data to their noise ({ratio}).")  # (named on the next line)
         lines += self._final_lines()
         # (the verdict's "(refine does not: the trim leaves out 72 % …)" says what the note on not
         # starting again says: on REAL Gamry and CH Instruments the note came again under it; the JSON keeps it)
