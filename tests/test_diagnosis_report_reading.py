@@ -236,3 +236,12 @@ def test_refine_says_nothing_more_is_missing_after_its_steps():
     assert r.verdict == "adequate" and len(r.steps) == 2, lines
     at = lines.index(f"nothing more is missing: the final model follows the data to their noise (the residuals are {r.steps[-1].noise_ratio:.3g}× the noise).")
     assert lines[at + 1].startswith(f"final fit {r.final_model}: ")
+
+
+@pytest.mark.slow
+def test_the_json_says_when_nothing_is_missing(nothing_missing, biologic):
+    """The JSON held the verdict ("adequate"), beyond_catalog and the noise ratio, but not the
+    report's "nothing is missing" as a fact of its own."""
+    d, r = nothing_missing
+    assert d.summary()["nothing_missing"] is True and r.summary()["nothing_missing"] is True
+    assert biologic.summary()["nothing_missing"] is False

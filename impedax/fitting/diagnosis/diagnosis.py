@@ -439,6 +439,7 @@ class Diagnosis(FrozenResult):
             "verdict": self.verdict,
             "reason": self.reason,
             "beyond_catalog": self.beyond_catalog,
+            "nothing_missing": self.nothing_missing,  # (the report's "nothing is missing: …" line)
             "suggestions": [s.as_json(self.same_fits(s)) for s in self.suggestions],
             "candidates": [
                 {"effect": s.effect, "model": s.model, "rms_rel": s.rms_rel, "aic": s.aic, "delta_aic": s.delta_aic, "delta_bic": s.delta_bic, "significant": s.significant, "undetermined": list(s.undetermined), "warning": s.warning}

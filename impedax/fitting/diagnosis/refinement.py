@@ -227,6 +227,7 @@ class Refinement(FrozenResult):
             "undetermined": sorted(undetermined_parameters(final) | vanished_parameters(final)),
             "masked_points": [float(f) for f in self.masked_points], "notes": list(self.notes),
             "beyond_catalog": last.beyond_catalog if last is not None else False, "noise_ratio": last.noise_ratio if last is not None else None,
+            "nothing_missing": self.nothing_missing,  # (the report's "nothing is missing" / "nothing more is missing" line)
             "final_from_values": self.final_from_values,
             "final_converged": bool(final.converged),  # (the final fit's, as fit --json's converged)
             # what to heed before trusting the final model, the key fit, compare and
@@ -298,6 +299,13 @@ class Refinement(FrozenResult):
                 f"between the fits' own AICs under {base.weighting} weighting, as in the table, adding {best.effect} is ΔAIC {own:.1f}: {base.aic:.1f} → {best.fit.aic:.1f})")
 
     @property
+    def nothing_missing(self) -> bool:
+        """The last diagnosis says nothing is missing (`Diagnosis.nothing_missing`) and the
+        verdict is its: the final model follows the data to their noise."""
+        last = self.steps[-1].diagnosis if self.steps else None
+        return bool(last is not None and last.verdict == self.verdict and last.nothing_missing)
+
+    @property
     def restart_line(self) -> str:
         """The report's line, under the table, that every step (step 0 too) is on the band refine
         started again on (`restart`), not on all the points `diagnose` judges; empty when it did not."""
@@ -347,7 +355,7 @@ class Refinement(FrozenResult):
             lines.append(aic_line)
         if self.diagnose_note:
             lines.append(self.diagnose_note)
-        if last_d is not None and last_d.verdict == self.verdict and last_d.nothing_missing:
+        if self.nothing_missing:
             ratio = f"the residuals are {last_d.noise_ratio:.3g}× the noise"
             lines.append(f"nothing is missing: {first.model} follows the data to their noise as given ({ratio}); refine added no effect." if len(self.steps) == 1 else
                          f"nothing more is missing: the final model follows the data to their noise ({ratio}).")  # (named on the next line)
