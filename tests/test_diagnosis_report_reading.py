@@ -245,3 +245,17 @@ def test_the_json_says_when_nothing_is_missing(nothing_missing, biologic):
     d, r = nothing_missing
     assert d.summary()["nothing_missing"] is True and r.summary()["nothing_missing"] is True
     assert biologic.summary()["nothing_missing"] is False
+
+
+def test_adequate_within_the_catalog_says_what_to_do_next():
+    """REAL Autolab's refine from R0 + R1 || C1 ended "ADEQUATE WITHIN THE CATALOG — the residuals
+    are 2.4× the noise and structured in 1 band, but no effect of the catalog explains them with
+    determined, plausible parameters: what is left is beyond the catalog (or the model discrepancy
+    floor)." and nothing after it said where to go from there."""
+    cand = SimpleNamespace(significant=False, effect="diffusion", added="W_d", delta_aic=-3.0, beyond_band=())
+    verdict, reason = _verdict([cand], [_band(False)], 2.4)
+    assert verdict == "adequate", reason
+    assert reason.endswith(": what is left is beyond the catalog (or the model discrepancy floor); to go further, impedax drt FILE reads a circuit off "
+                           "the data's DRT, and an effect of your own joins the catalog (docs/diagnosis.md, \"An effect of your own\")."), reason
+    _, reason = _verdict([cand], [_band(False)], 2.4, left_out=("constant_phase",))
+    assert reason.endswith("diagnose again with them."), reason  # (there the next step is the effects left out)

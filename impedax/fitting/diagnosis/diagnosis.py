@@ -2583,7 +2583,8 @@ def _verdict(cands: Sequence[Suggestion], bands: Sequence[FailingBand], ratio: f
         return Verdict.ADEQUATE, (
             f"the residuals are {ratio:.3g}× the noise and structured in {counted_bands}, but no effect {'tried' if left_out else 'of the catalog'} explains them "
             "with determined, plausible parameters" + (f"; {untried_words(left_out)}: diagnose again with them." if left_out else
-                                                        ": what is left is beyond the catalog (or the model discrepancy floor).")
+                                                        ": what is left is beyond the catalog (or the model discrepancy floor); to go further, impedax drt FILE reads "
+                                                        "a circuit off the data's DRT, and an effect of your own joins the catalog (docs/diagnosis.md, \"An effect of your own\").")
         )
     reason = (
         f"the residuals are {ratio:.3g}× the noise" + ((" with no structured band but where the KK test flags the data" if bands else " with no structured band") if not model_bands else " (small structure only)")
