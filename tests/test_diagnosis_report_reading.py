@@ -259,3 +259,15 @@ def test_adequate_within_the_catalog_says_what_to_do_next():
                            "the data's DRT, and an effect of your own joins the catalog (docs/diagnosis.md, \"An effect of your own\")."), reason
     _, reason = _verdict([cand], [_band(False)], 2.4, left_out=("constant_phase",))
     assert reason.endswith("diagnose again with them."), reason  # (there the next step is the effects left out)
+
+
+@pytest.mark.slow
+def test_nothing_more_is_missing_names_the_points_it_was_judged_on():
+    """REAL Parstat from R0 + R1 || C1: refine starts again on the 25 of 31 points the KK test
+    passes and ends ADEQUATE there; "nothing more is missing: … follows the data to their noise"
+    read as all 31 points, under a note that diagnose says DATA_INVALID on them."""
+    r = ix.refine(ix.load(REAL / "exampleDataParstat.txt"), "R0 + R1 || C1", progress=False)
+    assert r.verdict == "adequate" and len(r.masked_points) == 6, r.report()
+    (plain,) = [line for line in r.report().splitlines() if line.startswith("nothing more is missing:")]
+    assert plain == (f"nothing more is missing: the final model follows the data to their noise on the 25 points kept "
+                     f"(the residuals are {r.steps[-1].noise_ratio:.3g}× the noise)."), plain

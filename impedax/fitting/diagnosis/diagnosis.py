@@ -570,7 +570,8 @@ class Diagnosis(FrozenResult):
             lines.append(f"no effect improves the fit significantly (best: {top.effect}, ΔAIC {top.delta_aic:+.1f}, rms_rel {top.rms_rel * 100:.3g} %{self._why_not_significant(top)}).")
         if self.nothing_missing:
             tried = "no effect tried" if self.effects_left_out else "no effect of the catalog"
-            lines.append(f"nothing is missing: {b.model} follows the data to their noise (the residuals are {self.noise_ratio:.3g}× the noise), and {tried} improves it "
+            kept = f" on the {b.n_points} points kept" if self.masked_points else ""  # (the verdict line names them)
+            lines.append(f"nothing is missing: {b.model} follows the data to their noise{kept} (the residuals are {self.noise_ratio:.3g}× the noise), and {tried} improves it "
                          f"significantly; its parameters with their errors: {fit_command} --model '{b.model}'" + _fixed_words(b) + bound_words(b))
         rejected = [s for s in self.candidates if s.warning and s.delta_aic < -DELTA_AIC_MIN][:3]
         said_rule = False

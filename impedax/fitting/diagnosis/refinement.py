@@ -357,8 +357,9 @@ class Refinement(FrozenResult):
             lines.append(self.diagnose_note)
         if self.nothing_missing:
             ratio = f"the residuals are {last_d.noise_ratio:.3g}× the noise"
-            lines.append(f"nothing is missing: {first.model} follows the data to their noise as given ({ratio}); refine added no effect." if len(self.steps) == 1 else
-                         f"nothing more is missing: the final model follows the data to their noise ({ratio}).")  # (named on the next line)
+            kept = f" on the {last.frequency.size} points kept" if self.masked_points else ""  # (the verdict line names them)
+            lines.append(f"nothing is missing: {first.model} follows the data to their noise{kept} as given ({ratio}); refine added no effect." if len(self.steps) == 1 else
+                         f"nothing more is missing: the final model follows the data to their noise{kept} ({ratio}).")  # (named on the next line)
         lines += self._final_lines()
         # (the verdict's "(refine does not: the trim leaves out 72 % …)" says what the note on not
         # starting again says: on REAL Gamry and CH Instruments the note came again under it; the JSON keeps it)
