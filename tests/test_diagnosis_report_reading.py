@@ -271,3 +271,18 @@ def test_nothing_more_is_missing_names_the_points_it_was_judged_on():
     (plain,) = [line for line in r.report().splitlines() if line.startswith("nothing more is missing:")]
     assert plain == (f"nothing more is missing: the final model follows the data to their noise on the 25 points kept "
                      f"(the residuals are {r.steps[-1].noise_ratio:.3g}× the noise)."), plain
+
+
+@pytest.mark.slow
+def test_a_best_candidate_that_raises_aic_is_not_called_best(nothing_missing):
+    """The adequate line read "no effect improves the fit significantly (best: series_inductance,
+    ΔAIC +0.6, …)": an effect that makes AIC worse called best. Its sign decides the words."""
+    import dataclasses
+
+    d, _ = nothing_missing
+    top = d.candidates[0]
+    for delta, words in ((0.6, f"(none lowers AIC; the closest, {top.effect}, raises it by 0.6, rms_rel "),
+                         (-4.2, f"(best: {top.effect}, ΔAIC -4.2, rms_rel ")):
+        changed = dataclasses.replace(d, candidates=(dataclasses.replace(top, delta_aic=delta),) + tuple(d.candidates[1:]))
+        (line,) = [line for line in changed.report().splitlines() if line.startswith("no effect improves the fit significantly")]
+        assert line.startswith("no effect improves the fit significantly " + words), line

@@ -567,7 +567,9 @@ class Diagnosis(FrozenResult):
                 )
         elif self.candidates and self.verdict == Verdict.ADEQUATE:
             top = self.candidates[0]
-            lines.append(f"no effect improves the fit significantly (best: {top.effect}, ΔAIC {top.delta_aic:+.1f}, rms_rel {top.rms_rel * 100:.3g} %{self._why_not_significant(top)}).")
+            # (a best candidate that raises AIC is not "best" at anything the line is about: said so)
+            best_words = f"best: {top.effect}, ΔAIC {top.delta_aic:+.1f}" if top.delta_aic < 0 else f"none lowers AIC; the closest, {top.effect}, raises it by {top.delta_aic:.1f}"
+            lines.append(f"no effect improves the fit significantly ({best_words}, rms_rel {top.rms_rel * 100:.3g} %{self._why_not_significant(top)}).")
         if self.nothing_missing:
             tried = "no effect tried" if self.effects_left_out else "no effect of the catalog"
             kept = f" on the {b.n_points} points kept" if self.masked_points else ""  # (the verdict line names them)
