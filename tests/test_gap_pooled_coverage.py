@@ -9,9 +9,9 @@ Bound: with n = 10 sets and a true coverage of 0.90, P(k ≤ 6) = 1.3 %, so k �
 misses far more often than it should). A miss may not be far: none by more than 1 % of u, ten
 times the interval's half-width (≈ 0.09 % here). Measured (2026-12-07, seeds 1000–1009, steps
 2000; the same sets with the automatic chain length, 3250–6000 steps, alike): 8 of 10 covered, the
-two misses 0.014 % and 0.036 % of u above the interval's upper end. The identification rule (`gap_identified`) is not asserted: it called u undetermined in
-3 of these 10 clean sets, whose intervals held the truth in 2 (the report says so; see
-docs/models.md, "A single contact" and "The force when u is not determined")."""
+two misses 0.014 % and 0.036 % of u above the interval's upper end. The identification rule
+(`gap_identified`) is not asserted here (tests/test_gap_ep_supported_by_aic.py tests it on seed
+1002; docs/models.md, "A single contact" and "The force when u is not determined")."""
 
 import numpy as np
 import pytest

@@ -1959,6 +1959,24 @@ C + `BOUND_STDERRS` stderr, u being ∝ 1/C): the median, reported before, had h
 of the summed capacitance's gap below it."""
 
 
+EP_DELTA_AIC = 10.0
+"""u is determined all the same, though `IDENTIFIED_C_REMAINDER` comes within `MERGED_FIT_RATIO`
+of the EDL model's rms_rel, when the EDL model's AIC lies more than this below its (both fitted
+to the same points with the same weighting; 10, as a diagnosis's `DELTA_AIC_MIN`): rms_rel reads
+residuals relative to |Z|, which a remainder's uneven noise (a difference of three spectra)
+dominates at a few points, where the σ-weighted AIC weighs each point by its noise. On SYNTHETIC
+Sirin-style sets (`tests/spectra.sirin_measurements`, 8 trials, 0.5 % noise, α_EP = 0.3, seeds
+1000–1009) the ratio was 1.03–1.21, under 1.1 in three sets, which were called undetermined,
+and the AIC difference 207–266 in every set."""
+
+
+def _ep_supported(merged, edl) -> bool:
+    """The EDL fit ``edl`` beats ``merged`` (`IDENTIFIED_C_REMAINDER`) by more than `EP_DELTA_AIC`
+    on the same points and weighting: the EP element is no capacitor beside C_gap."""
+    same = merged.weighting == edl.weighting and np.array_equal(np.asarray(merged.frequency), np.asarray(edl.frequency))
+    return bool(same and merged.aic - edl.aic > EP_DELTA_AIC)
+
+
 def _merged_fit(remaining: xr.Dataset, weighting: str):
     """`IDENTIFIED_C_REMAINDER` fitted to the remainder (C_EP + C_gap, all counted as C_gap)."""
     from ..fitting import fit
@@ -2160,7 +2178,7 @@ def _identification(ep, requested, circuit, draws, edl, piled_up, notes, remaini
     ep_q = next((k for k in circuit.parameter_names() if k.endswith(".Q") and "EP" in k), None)
     reason = _gap_identification(edl, piled_up, alpha, ep_q)
     merged = _merged_fit(remaining, "sigma" if "sigma" in remaining else "modulus")
-    if reason is None and merged.rms_rel <= MERGED_FIT_RATIO * edl.rms_rel:
+    if reason is None and merged.rms_rel <= MERGED_FIT_RATIO * edl.rms_rel and not _ep_supported(merged, edl):
         reason = f"{IDENTIFIED_C_REMAINDER} fits the remainder as well as {circuit} (rms_rel {format_percent(merged.rms_rel)} against {format_percent(edl.rms_rel)}): the EP element acts as a capacitor beside C_gap"
     if reason is None:
         return None, None, None
