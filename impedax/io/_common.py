@@ -26,7 +26,7 @@ from ..errors import DataError, SweepGridsDiffer
 from .consistency import FLIPPED_PHASE_KEY
 
 __all__ = [
-    "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "number",
+    "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "lf_line_ends", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
     "check_field_count", "check_zero_tail", "CUT_AS", "CUT_BEFORE_END", "CUT_SHORT", "cut_short_note", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
     "significant_digits", "check_last_field_digits", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS", "radians_beyond_turn_note",
@@ -268,15 +268,26 @@ def read_text(path: Path) -> str:
 
 
 def head_text(head: bytes) -> str:
-    """Best-effort text of a file's first bytes for sniffing ('' for binary)."""
+    """Best-effort text of a file's first bytes for sniffing ('' for binary), every line end
+    (CR LF, LF, or CR alone as classic Mac OS wrote them) as LF, so that a sniffer's
+    ``split("\\n")`` and ``re.M`` see the file's lines."""
     if head.startswith(_UTF16_BOMS):
-        return head[: len(head) // 2 * 2].decode("utf-16", errors="replace").replace("\ufeff", "")
-    utf16 = utf16_without_bom(head)
-    if utf16 is not None:
-        return head[: len(head) // 2 * 2].decode(utf16, errors="replace")
-    if b"\x00" in head[:4096]:
+        text = head[: len(head) // 2 * 2].decode("utf-16", errors="replace").replace("\ufeff", "")
+    elif (utf16 := utf16_without_bom(head)) is not None:
+        text = head[: len(head) // 2 * 2].decode(utf16, errors="replace")
+    elif b"\x00" in head[:4096]:
         return ""
-    return head.decode("utf-8-sig", errors="replace")
+    else:
+        text = head.decode("utf-8-sig", errors="replace")
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def lf_line_ends(raw: bytes) -> bytes:
+    """``raw`` with CR LF as LF, and in a file without any LF (classic Mac OS ends each line
+    with CR alone) each CR as LF: for a reader that splits bytes at LF. A lone CR in a file with
+    LFs (a binary frame's byte) is kept, so the line numbers stay the file's."""
+    raw = raw.replace(b"\r\n", b"\n")
+    return raw if b"\n" in raw else raw.replace(b"\r", b"\n")
 
 
 def first_line(lines: Sequence[str], path: Path) -> int:

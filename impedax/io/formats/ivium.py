@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import CUT_SHORT, check_last_field_digits, cut_short_note, column_entry, finish, number, read_bytes, stack
+from .._common import CUT_SHORT, check_last_field_digits, cut_short_note, column_entry, finish, lf_line_ends, number, read_bytes, stack
 from ..registry import Reader
 
 __all__ = ["read_ivium", "READER"]
@@ -34,6 +34,7 @@ _OTHER_LINE = re.compile(rb"(?m)^(?:Technique=|Peaks=(?:true|false)\r?$|primary_
 
 
 def sniff(path: Path, head: bytes) -> str | None:
+    head = lf_line_ends(head)
     if _SOLARCELL_LINE.search(head) and _OTHER_LINE.search(head):
         return None
     return "no IviumSoft key lines ('Solarcell=true|false' and 'Technique=' at line starts)"
@@ -43,7 +44,7 @@ def read_ivium(path: str | Path) -> xr.Dataset:
     """Read the impedance table(s) of an IviumSoft ``.idf``/``.ids`` file (see module docstring)."""
     path = Path(path)
     raw = read_bytes(path)
-    lines = raw.decode("latin-1").replace("\r\n", "\n").split("\n")
+    lines = lf_line_ends(raw).decode("latin-1").split("\n")
     starts = [k for k, ln in enumerate(lines) if ln.strip() == "primary_data"]
     if not starts:
         raise DataError("no 'primary_data' table" + cut_short_note(raw), path=path)
