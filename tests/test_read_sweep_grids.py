@@ -115,13 +115,13 @@ def test_workbook_sheet_of_sweeps_on_different_grids(tmp_path, capsys):
         return path
 
     one = book(tmp_path / "one.xlsx", 1)
-    with pytest.raises(ix.SweepGridsDiffer, match=rf"sheet S0\], line {LINE_OF_DAY2}: the table holds 2 sweeps on different frequency grids"):
+    with pytest.raises(ix.SweepGridsDiffer, match=rf"sheet S0\], row {LINE_OF_DAY2}: the table holds 2 sweeps on different frequency grids"):
         ix.load(one)
     np.testing.assert_allclose(np.sort(ix.load(one, sweep="1")["frequency"].values), np.sort(F_DAY1 * 1.01), rtol=1e-15)
     two = book(tmp_path / "two.xlsx", 2)
     assert main(["inspect", str(two), "--select", "sweep=1"]) == 2
     err = capsys.readouterr().err
-    assert f"line {LINE_OF_DAY2}: the table holds 2 sweeps on different frequency grids" in err and "save each sweep to a sheet or file of its own" in err
+    assert f"row {LINE_OF_DAY2}: the table holds 2 sweeps on different frequency grids" in err and "save each sweep to a sheet or file of its own" in err
 
 
 def test_workbook_sheets_on_different_grids_are_read_one_alone(tmp_path, capsys):

@@ -427,6 +427,11 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
                 if text.startswith(prefix):
                     text = text[len(prefix):]
                     break
+            else:
+                if text.startswith(f"{path} ["):  # (a place inside the file, 'FILE [sheet S], cell B10: …', said once)
+                    placed = DataError(text.replace(str(path), STDIN_NAME))
+                    placed.path, placed.line = STDIN_NAME, exc.line
+                    raise placed from None
             text = text.replace(str(path), STDIN_NAME)
             if isinstance(exc, SweepGridsDiffer):
                 spectra = {label: _named_stdin(_sweep_of(exc, label, path), str(path)) for label in exc.labels}

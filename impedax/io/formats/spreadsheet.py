@@ -7,8 +7,9 @@ text; a units row under it is read as the columns' units), read by `impedax.io.t
 (``f``/``freq``/``frequency``, ``Z'``/``Zre``/``real``, ``Z''``/``imaginary`` or ``-Zim``,
 ``|Z|`` with ``phase`` or ``-phase``, units such as ``Frequency (mHz)`` case-sensitively). Sheets
 on the same grid become a ``sheet`` dimension; sheets whose cycle numbers carry on (1, 2 / 3, 4)
-become one ``cycle`` dimension (`impedax.io._common.stack`). Line numbers in errors are
-spreadsheet rows. A formula cell with no stored value (a file written by a program that does not
+become one ``cycle`` dimension (`impedax.io._common.stack`). Errors name the sheet and the cell
+(``data.xlsx [sheet run 1], cell B10: …``), or the row when no one column is at fault
+(`_in_cells`); ``DataError.line`` is the row. A formula cell with no stored value (a file written by a program that does not
 compute formulas) is named by sheet and cell (`_formulas_without_values`).
 
 Conventions: as named by each column header (a ``-`` prefix means the column stores the negated
@@ -18,6 +19,7 @@ quantity); numbers are taken as stored in the cells.
 from __future__ import annotations
 
 import math
+import re
 import zipfile
 from pathlib import Path
 
@@ -26,7 +28,7 @@ import xarray as xr
 from ...errors import DataError, SweepGridsDiffer
 from .._common import CUT_AS, check_file, max_file_bytes, stack
 from ..registry import Reader
-from ..table import NoLayout, find_header, header_layout, preamble_note, spectrum_from_rows, units_row_note
+from ..table import Layout, NoLayout, find_header, header_layout, preamble_note, spectrum_from_rows, units_row_note
 
 __all__ = ["read_spreadsheet", "READER"]
 
@@ -106,6 +108,47 @@ def _formulas_without_values(path: Path, sheet: str) -> list[tuple[str, str]]:
     return found
 
 
+def column_letters(index: int) -> str:
+    """The spreadsheet's name of column ``index`` (0-based): 0 → A, 25 → Z, 26 → AA."""
+    letters = ""
+    index += 1
+    while index:
+        index, rest = divmod(index - 1, 26)
+        letters = chr(ord("A") + rest) + letters
+    return letters
+
+
+#: A message about one column's cell, as `impedax.io._common.number` words it: ``column 'Z'': …``
+_NAMES_COLUMN = re.compile(r"column (['\"])(.*?)\1")
+#: Messages about the frequency (or sigma) of a row, as `finish` words them.
+_ROLE_OF_MESSAGE = (("frequency must be positive", "frequency"), ("duplicate frequency", "frequency"), ("sigma must be positive", "sigma"))
+
+
+def _in_cells(exc: DataError, layout: Layout) -> DataError:
+    """``exc`` (the table reader's, its line numbers the sheet's rows, its path ``FILE [sheet S]``)
+    as a spreadsheet's user finds the place: ``cell B10`` when the message is about one column's
+    cell (named in it, or the frequency or sigma of the row), else ``row 10``; "line N" in the
+    message as "cell A15" (that column) or "row N". ``line`` stays the row; a `SweepGridsDiffer`
+    keeps its sweeps."""
+    detail = exc.detail
+    named = _NAMES_COLUMN.match(detail)
+    names = [cell.strip() for cell in layout.header]
+    role = next((role for start, role in _ROLE_OF_MESSAGE if detail.startswith(start)), None)
+    index = names.index(named.group(2).strip()) if named and named.group(2).strip() in names else layout.columns[role][0] if role in layout.columns else None
+    letters = "" if index is None else column_letters(index)
+    if letters:
+        detail = re.sub(r"\b(?:on|in) line (\d+)", lambda m: f"in cell {letters}{m.group(1)}", detail)
+    detail = re.sub(r"\blines\b", "rows", re.sub(r"\bline\b", "row", detail))
+    place = exc.path if exc.line is None else f"{exc.path}, {'cell ' + letters if letters else 'row '}{exc.line}"
+    if isinstance(exc, SweepGridsDiffer):
+        found = re.sub(r"\blines\b", "rows", re.sub(r"\bline\b", "row", exc.found))
+        out: DataError = SweepGridsDiffer(f"{place}: {detail}", path=None, line=None, dim=exc.dim, spectra={k: exc.spectrum(k) for k in exc.labels}, found=found)
+    else:
+        out = DataError(f"{place}: {detail}")
+    out.path, out.line, out.detail = exc.path, exc.line, detail  # (the place is the sheet's cell, which DataError's "FILE, line N" cannot say)
+    return out
+
+
 def read_spreadsheet(path: str | Path) -> xr.Dataset:
     """Read every sheet of an ``.xlsx``/``.ods`` workbook (see module docstring)."""
     path = Path(path)
@@ -151,13 +194,14 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
             ds = spectrum_from_rows(where, layout, rows[2:] if units_row else rows[1:], attrs, comma=False, split_sweeps=True, position="row")
         except SweepGridsDiffer as exc:
             if len(sheets) == 1:
-                raise
+                raise _in_cells(exc, layout) from None
             # (one sweep of one sheet of several cannot be picked alone: the sheets would go)
-            raise DataError(f"{exc.found}; impedax will not merge them into one spectrum: save each sweep to a sheet or file of its own", path=exc.path, line=exc.line) from None
-        except DataError:
+            raise _in_cells(DataError(f"{exc.found}; impedax will not merge them into one spectrum: save each sweep to a sheet or file of its own",
+                                      path=exc.path, line=exc.line), layout) from None
+        except DataError as exc:
             uncomputed = _formulas_without_values(path, name) if engine == "openpyxl" else []
             if not uncomputed:
-                raise
+                raise _in_cells(exc, layout) from None
             (cell, formula), more = uncomputed[0], len(uncomputed) - 1
             raise DataError(
                 f"cell {cell} holds a formula ({formula[:40]}) with no stored value" + (f", and so do {more} more cells" if more else "")

@@ -1,0 +1,125 @@
+"""Errors in a spreadsheet name the sheet and the cell (``cell B10``), as its user finds it in
+the spreadsheet program, not a "line". The workbooks are the REAL data.xlsx and data.ods with
+one cell spoilt; the oracle is the spoilt cell's own coordinate (openpyxl's ``coordinate``,
+or the row and column the cell was written to)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import impedax as ix
+from impedax.cli import main
+from impedax.errors import DataError
+
+openpyxl = pytest.importorskip("openpyxl")
+pd = pytest.importorskip("pandas")
+pytest.importorskip("odf")
+
+REAL = Path(__file__).parent / "fixtures" / "real"
+SHEET = "header-variant-1"  # (f, Z', Z'' in columns A, B, C; the header on row 1, 29 points on rows 2–30)
+
+
+def _spoilt_xlsx(tmp_path: Path, cells: dict) -> Path:
+    wb = openpyxl.load_workbook(REAL / "data.xlsx")
+    for coordinate, value in cells.items():
+        wb[SHEET][coordinate] = value
+    out = tmp_path / "spoilt.xlsx"
+    wb.save(out)
+    return out
+
+
+def _spoilt_ods(tmp_path: Path, cells: dict) -> Path:
+    """The REAL data.ods's sheets, as pandas reads them, written again with ``cells`` (A1 style) set."""
+    sheets = pd.read_excel(REAL / "data.ods", sheet_name=None, header=None, dtype=object, engine="odf")
+    for coordinate, value in cells.items():
+        col, row = openpyxl.utils.cell.coordinate_from_string(coordinate)
+        sheets[SHEET].iloc[row - 1, openpyxl.utils.cell.column_index_from_string(col) - 1] = value
+    out = tmp_path / "spoilt.ods"
+    with pd.ExcelWriter(out, engine="odf") as writer:
+        for name, frame in sheets.items():
+            frame.to_excel(writer, sheet_name=name, header=False, index=False)
+    return out
+
+
+SPOIL = {"xlsx": _spoilt_xlsx, "ods": _spoilt_ods}
+
+
+@pytest.mark.parametrize("kind", SPOIL)
+@pytest.mark.parametrize(
+    ("cells", "where", "says"),
+    [
+        ({"B10": "abc"}, "cell B10", "column \"Z'\": 'abc' is not a number"),
+        ({"C12": None}, "cell C12", "column \"Z''\" is empty (missing value)"),
+        ({"B17": "inf"}, "cell B17", "column \"Z'\" is 'inf' (NaN/Inf are not accepted)"),
+        ({"A15": -5}, "cell A15", "frequency must be positive, got -5"),
+    ],
+)
+def test_a_bad_cell_is_named_by_sheet_and_cell(tmp_path, kind, cells, where, says):
+    path = SPOIL[kind](tmp_path, cells)
+    with pytest.raises(DataError) as err:
+        ix.load(path)
+    text = str(err.value)
+    assert text.startswith(f"{path} [sheet {SHEET}], {where}: {says}"), text
+    assert "line" not in text
+    assert err.value.line == int(where[len("cell ") + 1:])  # (the row, for a program that reads it)
+
+
+@pytest.mark.parametrize("kind", SPOIL)
+def test_a_duplicate_frequency_names_both_cells(tmp_path, kind):
+    """A16 set to A15's frequency (138.95 Hz in the REAL file): both cells are named, and the
+    remedy speaks of rows."""
+    a15 = openpyxl.load_workbook(REAL / "data.xlsx")[SHEET]["A15"].value
+    path = SPOIL[kind](tmp_path, {"A16": a15})
+    with pytest.raises(DataError) as err:
+        ix.load(path)
+    text = str(err.value)
+    assert f"[sheet {SHEET}], cell A16: duplicate frequency {a15:g} Hz (also in cell A15)" in text, text
+    assert "delete one of the two rows" in text and "line" not in text
+
+
+def test_a_table_placed_away_from_a1_is_named_by_its_own_cells(tmp_path):
+    """The REAL sheet copied to start at C5 (rows and columns left empty before it): a bad Z' is
+    named at the cell it was written to, D14 (the REAL B10, moved by 2 columns and 4 rows)."""
+    source = openpyxl.load_workbook(REAL / "data.xlsx")[SHEET]
+    wb = openpyxl.Workbook()
+    ws = wb.active
+    ws.title = "moved"
+    for r, row in enumerate(source.iter_rows(values_only=True)):
+        for c, value in enumerate(row):
+            ws.cell(row=r + 5, column=c + 3, value=value)
+    target = ws.cell(row=10 + 4, column=2 + 2)
+    target.value = "abc"
+    path = tmp_path / "moved.xlsx"
+    wb.save(path)
+    with pytest.raises(DataError) as err:
+        ix.load(path)
+    assert target.coordinate == "D14"
+    assert f"[sheet moved], cell {target.coordinate}: column \"Z'\": 'abc' is not a number" in str(err.value)
+
+
+def test_an_error_on_another_sheet_names_that_sheet(tmp_path):
+    wb = openpyxl.load_workbook(REAL / "data.xlsx")
+    wb["header-variant-3"]["B7"] = "x1"
+    path = tmp_path / "third.xlsx"
+    wb.save(path)
+    with pytest.raises(DataError, match=r"\[sheet header-variant-3\], cell B7: column 'real': 'x1' is not a number"):
+        ix.load(path)
+
+
+def test_cli_names_the_cell_with_exit_code_2(tmp_path, capsys):
+    path = _spoilt_xlsx(tmp_path, {"B10": "abc"})
+    assert main(["inspect", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"[sheet {SHEET}], cell B10: column \"Z'\"" in err and "line" not in err and "Traceback" not in err
+
+
+def test_stdin_names_the_cell_once(tmp_path):
+    """A spreadsheet piped in: '<stdin> [sheet S], cell B10: …', the place said once."""
+    path = _spoilt_xlsx(tmp_path, {"B10": "abc"})
+    with open(path, "rb") as stdin:
+        run = subprocess.run([sys.executable, "-m", "impedax", "inspect", "-"], stdin=stdin, capture_output=True, text=True)
+    assert run.returncode == 2
+    assert f"error: <stdin> [sheet {SHEET}], cell B10: column \"Z'\": 'abc' is not a number" in run.stderr, run.stderr
+    assert run.stderr.count("<stdin>") == 1 and "line" not in run.stderr
