@@ -321,21 +321,48 @@ def _labels(values: list) -> str:
 
 def _check_grid(f: np.ndarray, f0: np.ndarray, path, first_path: str) -> None:
     """`DataError` naming ``path`` unless its sorted frequencies ``f`` [Hz] are the first file's
-    ``f0`` within `SWEEP_RTOL`."""
+    ``f0`` within `SWEEP_RTOL`: each grid's points and range, how many frequencies match, and
+    those one file has and the other lacks (a point skipped in one sweep is named as such)."""
     if f.shape == f0.shape and np.all(np.abs(f / f0 - 1) <= SWEEP_RTOL):
         return
-    n = min(f.size, f0.size)
-    bad = np.flatnonzero(np.abs(f[:n] / f0[:n] - 1) > SWEEP_RTOL)
-    if bad.size:
-        where = f"first differing at {f[bad[0]]:.6g} Hz where {Path(first_path).name} has {f0[bad[0]]:.6g} Hz"
-    else:
-        where = f"the first {n} frequencies agree, then {'this file' if f.size > f0.size else Path(first_path).name} goes on"
+    from ..data import format_band, format_frequency
+
+    name0 = Path(first_path).name
+    lacking = f0[_nearest_match(f, f0) < 0]  # (the first file's frequencies this one lacks)
+    extra = f[_nearest_match(f0, f) < 0]
+
+    def listed(values: np.ndarray) -> str:
+        shown = ", ".join(format_frequency(v) for v in values[:4])
+        return shown + (", …" if values.size > 4 else "")
+
+    shared = f0.size - lacking.size
+    told = [f"{shared} frequenc{'y matches' if shared == 1 else 'ies match'} within {SWEEP_RTOL:.1%}"]
+    if lacking.size:
+        told.append(f"{name0} has {lacking.size} this file lacks ({listed(lacking)})")
+    if extra.size:
+        told.append(f"this file has {extra.size} {name0} lacks ({listed(extra)})")
+    if not (lacking.size or extra.size):  # (every point near one of the other's, but not one for one: points within 0.1 % of each other)
+        told = [f"each frequency is near one of {name0}'s, but not one for one"]
+    remedy = ("keep the frequencies every file has (impedax stack --common-frequencies; common_frequencies=True), or fit the files one by one"
+              if shared >= COMMON_SHARE_MIN * max(f.size, f0.size) else
+              "they share under half their points, too few to keep only the shared ones (--common-frequencies): fit the files one by one")
     raise DataError(
-        f"its frequency grid differs from {first_path}'s ({f.size} vs {f0.size} points, {where}); "
-        f"spectra stack only on one grid (within {SWEEP_RTOL:.1%}): measure them so, keep the frequencies every file has "
-        f"(impedax stack --common-frequencies; common_frequencies=True), or fit the files one by one",
+        f"its frequency grid differs from {first_path}'s ({f.size} vs {f0.size} points: {format_band(f.min(), f.max())} vs "
+        f"{format_band(f0.min(), f0.max())}; {'; '.join(told)}); "
+        f"spectra stack only on one grid (within {SWEEP_RTOL:.1%}): measure them so, {remedy}",
         path=path,
     )
+
+
+def _nearest_match(f: np.ndarray, f0: np.ndarray) -> np.ndarray:
+    """For each of ``f0``'s frequencies [Hz], the index of the nearest of ``f``'s on a log scale
+    when it is within `SWEEP_RTOL`, else -1."""
+    order = np.argsort(f)
+    log_f, target = np.log(f[order]), np.log(f0)
+    above = np.clip(np.searchsorted(log_f, target), 0, f.size - 1)  # (the neighbours of each target in the sorted grid)
+    below = np.clip(above - 1, 0, f.size - 1)
+    index = order[np.where(np.abs(log_f[below] - target) <= np.abs(log_f[above] - target), below, above)]
+    return np.where(np.abs(f[index] / f0 - 1) <= SWEEP_RTOL, index, -1)
 
 
 COMMON_SHARE_MIN = 0.5
@@ -353,16 +380,11 @@ def _on_common_frequencies(spectra: list[xr.Dataset], paths: Sequence, first_pat
     f0 = spectra[0]["frequency"].values
     matches = []  # per file: for each of the first file's points, the index of its match here (-1: none)
     for ds, path in zip(spectra, paths):
-        f = ds["frequency"].values
-        order = np.argsort(f)
-        log_f, target = np.log(f[order]), np.log(f0)
-        above = np.clip(np.searchsorted(log_f, target), 0, f.size - 1)  # (the neighbours of each target in the sorted grid)
-        below = np.clip(above - 1, 0, f.size - 1)
-        index = order[np.where(np.abs(log_f[below] - target) <= np.abs(log_f[above] - target), below, above)]
-        matched = np.abs(f[index] / f0 - 1) <= SWEEP_RTOL
-        if np.unique(index[matched]).size != np.count_nonzero(matched):
+        match = _nearest_match(ds["frequency"].values, f0)
+        matched = match >= 0
+        if np.unique(match[matched]).size != np.count_nonzero(matched):
             raise DataError(f"two of {first_path}'s frequencies match one of this file's within {SWEEP_RTOL:.1%}: the grids cannot be lined up point by point", path=path)
-        matches.append(np.where(matched, index, -1))
+        matches.append(match)
     kept = np.all(np.array(matches) >= 0, axis=0)
     left_out: dict[str, list[float]] = {}
     cut = []
