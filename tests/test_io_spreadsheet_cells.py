@@ -123,3 +123,28 @@ def test_stdin_names_the_cell_once(tmp_path):
     assert run.returncode == 2
     assert f"error: <stdin> [sheet {SHEET}], cell B10: column \"Z'\": 'abc' is not a number" in run.stderr, run.stderr
     assert run.stderr.count("<stdin>") == 1 and "line" not in run.stderr
+
+
+def test_skipped_rows_and_sweeps_of_a_sheet_are_rows(tmp_path, capsys):
+    """A DC row (f = 0) inserted as row 2 of the REAL sheet: skipped, reported as 'row 2', as
+    inspect prints it; a sheet of two sweeps of one grid (the REAL rows twice) says where the
+    second starts as a row."""
+    wb = openpyxl.load_workbook(REAL / "data.xlsx")
+    ws = wb[SHEET]
+    for other in [s for s in wb.worksheets if s.title != SHEET]:
+        wb.remove(other)
+    ws.insert_rows(2)
+    ws["A2"], ws["B2"], ws["C2"] = 0, 5.0, 0.0
+    path = tmp_path / "dc.xlsx"
+    wb.save(path)
+    assert ix.load(path).attrs["skipped_rows"] == ["row 2: f = 0 (DC row, not an impedance point)"]
+    assert main(["inspect", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "    row 2: f = 0 (DC row, not an impedance point)" in out and "line 2" not in out
+    ws.delete_rows(2)
+    rows = [[c.value for c in row] for row in ws.iter_rows(min_row=2)]
+    for row in rows:
+        ws.append(row)
+    wb.save(path)
+    sweeps = ix.load(path).attrs["sweeps"]
+    assert f"restarts on row {2 + len(rows)}" in sweeps and "line" not in sweeps, sweeps

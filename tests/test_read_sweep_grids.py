@@ -117,7 +117,9 @@ def test_workbook_sheet_of_sweeps_on_different_grids(tmp_path, capsys):
     one = book(tmp_path / "one.xlsx", 1)
     with pytest.raises(ix.SweepGridsDiffer, match=rf"sheet S0\], row {LINE_OF_DAY2}: the table holds 2 sweeps on different frequency grids"):
         ix.load(one)
-    np.testing.assert_allclose(np.sort(ix.load(one, sweep="1")["frequency"].values), np.sort(F_DAY1 * 1.01), rtol=1e-15)
+    alone = ix.load(one, sweep="1")
+    np.testing.assert_allclose(np.sort(alone["frequency"].values), np.sort(F_DAY1 * 1.01), rtol=1e-15)
+    assert f"read alone (rows {LINE_OF_DAY2}–" in alone.attrs["sweeps"], alone.attrs["sweeps"]  # (a sheet's rows, as its errors say)
     two = book(tmp_path / "two.xlsx", 2)
     assert main(["inspect", str(two), "--select", "sweep=1"]) == 2
     err = capsys.readouterr().err

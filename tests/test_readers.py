@@ -412,7 +412,7 @@ def test_a_spreadsheet_sheet_of_sweeps_becomes_a_dimension(tmp_path):
     for sheet in range(2):
         for k in range(3):
             np.testing.assert_allclose(ds["Z"].values[sheet, k], oracle(F_HZ) + 10 * sheet + k, rtol=1e-15)
-    assert ds.attrs["sweeps"] == "3 sweeps of 4 points (the frequency list restarts on lines 6, 10)"
+    assert ds.attrs["sweeps"] == "3 sweeps of 4 points (the frequency list restarts on rows 6, 10)"
     with pytest.raises(ix.DataError, match=r"sheet 'S1' holds one spectrum where sheet 'S0' holds 2 sweeps \(0, 1\)"):
         ix.load(book(tmp_path / "uneven.xlsx", [2, 1]))
 

@@ -124,6 +124,21 @@ _NAMES_COLUMN = re.compile(r"column (['\"])(.*?)\1")
 _ROLE_OF_MESSAGE = (("frequency must be positive", "frequency"), ("duplicate frequency", "frequency"), ("sigma must be positive", "sigma"))
 
 
+def _as_rows(text: str) -> str:
+    """The table reader's "line 5", "lines 2–9" as a sheet's "row 5", "rows 2–9"."""
+    return re.sub(r"\blines\b", "rows", re.sub(r"\bline\b", "row", text))
+
+
+def _reports_in_rows(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with the table reader's reports (``skipped_rows``, ``sweeps``) in a sheet's rows."""
+    ds = ds.copy()
+    if "skipped_rows" in ds.attrs:
+        ds.attrs["skipped_rows"] = [_as_rows(text) for text in ds.attrs["skipped_rows"]]
+    if "sweeps" in ds.attrs:
+        ds.attrs["sweeps"] = _as_rows(ds.attrs["sweeps"])
+    return ds
+
+
 def _in_cells(exc: DataError, layout: Layout) -> DataError:
     """``exc`` (the table reader's, its line numbers the sheet's rows, its path ``FILE [sheet S]``)
     as a spreadsheet's user finds the place: ``cell B10`` when the message is about one column's
@@ -138,11 +153,12 @@ def _in_cells(exc: DataError, layout: Layout) -> DataError:
     letters = "" if index is None else column_letters(index)
     if letters:
         detail = re.sub(r"\b(?:on|in) line (\d+)", lambda m: f"in cell {letters}{m.group(1)}", detail)
-    detail = re.sub(r"\blines\b", "rows", re.sub(r"\bline\b", "row", detail))
+    detail = _as_rows(detail)
     place = exc.path if exc.line is None else f"{exc.path}, {'cell ' + letters if letters else 'row '}{exc.line}"
     if isinstance(exc, SweepGridsDiffer):
-        found = re.sub(r"\blines\b", "rows", re.sub(r"\bline\b", "row", exc.found))
-        out: DataError = SweepGridsDiffer(f"{place}: {detail}", path=None, line=None, dim=exc.dim, spectra={k: exc.spectrum(k) for k in exc.labels}, found=found)
+        found = _as_rows(exc.found)
+        spectra = {k: _reports_in_rows(exc.spectrum(k)) for k in exc.labels}
+        out: DataError = SweepGridsDiffer(f"{place}: {detail}", path=None, line=None, dim=exc.dim, spectra=spectra, found=found)
     else:
         out = DataError(f"{place}: {detail}")
     out.path, out.line, out.detail = exc.path, exc.line, detail  # (the place is the sheet's cell, which DataError's "FILE, line N" cannot say)
@@ -209,6 +225,7 @@ def read_spreadsheet(path: str | Path) -> xr.Dataset:
                 "program (Excel, LibreOffice) and save it, so that their values are stored, or export the sheet as CSV",
                 path=where,
             ) from None
+        ds = _reports_in_rows(ds)
         ds.attrs["path"] = str(path)
         spectra.append((str(name), ds))
     if not spectra:
