@@ -87,6 +87,10 @@ def run(args) -> int:
         "labels": {d: dimension_labels(ds, d) for d in extra},
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
         "sign_hint": _sign_hint(ds, extra),
+        # points with Re Z < 0 beyond 5 % of |Z| (or the data's sigma), which no passive cell
+        # gives, in any spectrum (`fitting.statistics.non_passive`); the note as a fit words it,
+        # null when none (or when the sign hint says Z' < 0 nearly everywhere)
+        **_non_passive(ds, extra),
         # the first and last rows as read, in the file's order (of the first spectrum of several):
         # the values themselves, to set beside the file
         "first_point": _point(ds, extra, 0),
@@ -133,6 +137,8 @@ def run(args) -> int:
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
         if key not in ("format", "data_format", "source", "path", *_HOW_KEYS, *_SAID_IN_ANOTHER_LINE) and not (key in extra and _repeats_labels(str(value), key, summary["labels"][key])):
             print(f"  {key}: {_provenance_text(value) if key == 'provenance' else _SAVED_IN_SESSION if key == 'saved_from' and value == IN_MEMORY else str(value).splitlines()[0] if str(value) else ''}")
+    if summary["non_passive_note"]:
+        print(f"  Re Z < 0: {summary['non_passive_note']}")
     if summary["sign_hint"]:
         print(f"  hint: {summary['sign_hint']}")
     if not kind and args.file != "-":
@@ -322,6 +328,31 @@ def _sign_hint(ds, extra) -> str | None:
         return negative_real_hint(counted([e for e, _ in real]), imaginary_too=imaginary_flipped_too(freq, first_z), swapped=swapped_evidence(freq, first_z))
     found = [e for e in (positive_imaginary_evidence(freq, z) for z in spectra) if e]
     return opposite_sign_hint(counted(found), ds.attrs) if found else None
+
+
+def _non_passive(ds, extra) -> dict:
+    """``non_passive_frequencies_hz`` (sorted, of every spectrum) and ``non_passive_note``: the
+    points with Re Z < 0 beyond the noise (`fitting.statistics.non_passive`: 5 % of |Z|, or the
+    data's sigma), in a fit's words (`non_passive_notes`); in how many spectra for several. None
+    and [] when there are none, or when Z' < 0 nearly everywhere (the sign hint says that)."""
+    import numpy as np
+
+    from ..fitting.least_squares.result import non_passive_notes
+    from ..fitting.statistics import non_passive
+    from .common import dimension_labels
+
+    freq = ds["frequency"].values
+    z = ds["Z"].transpose(*extra, "frequency").values.reshape(-1, freq.size)
+    sigma = ds["sigma"].transpose(*extra, "frequency").values.reshape(-1, freq.size) if "sigma" in ds else None
+    bad = non_passive(z, sigma)
+    if not bad.any() or _sign_hint(ds, extra):
+        return {"non_passive_frequencies_hz": [], "non_passive_note": None}
+    first = int(np.flatnonzero(bad.any(axis=1))[0])
+    note = non_passive_notes(freq, z[first], None if sigma is None else sigma[first])[0]
+    if len(z) > 1:
+        labels = [f"{d} {dimension_labels(ds, d)[i]}" for d, i in zip(extra, np.unravel_index(first, [ds.sizes[d] for d in extra]))]
+        note = f"in {int(bad.any(axis=1).sum())} of {len(z)} spectra; {', '.join(labels)}: {note}"
+    return {"non_passive_frequencies_hz": sorted(float(f) for f in freq[bad.any(axis=0)]), "non_passive_note": note}
 
 
 def _per_spectrum(text: str, ds, extra) -> str:
