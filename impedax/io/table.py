@@ -266,7 +266,25 @@ class Layout:
                 units.append(f"{self.header[index]!r} as angular frequency ω in rad/s, converted to Hz: f = ω/2π")
                 continue
             units.append(f"{self.header[index]!r}" + ("" if scale == 1 else f" ×{scale:g}"))
-        return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units), "columns": self.record(parts)}
+        return {"sign_convention": sign, "units": "columns used (scaled to Hz, Ω, degrees): " + ", ".join(units) + self._unnamed_units(parts),
+                "columns": self.record(parts)}
+
+    def _unnamed_units(self, parts: Sequence[str]) -> str:
+        """``; no unit in the header of 'f' (read as Hz), "Z'" and "Z''" (read as Ω)``: the
+        columns used whose header names no unit, grouped by the unit impedax read them in; ""
+        when every header names its unit, or there is no header (its ``interpretation`` says what the columns were read as)."""
+        if self.headerless:
+            return ""
+        groups: dict[str, list[str]] = {}
+        for role in ["frequency", *parts]:
+            index, scale = self.columns[role]
+            if scale == 1 and not _unit_of(self.header[index]):
+                unit = {"frequency": "Hz", "phase": "degrees", "neg_phase": "degrees"}.get(role, "Ω")
+                groups.setdefault(unit, []).append(repr(self.header[index].strip()))
+        if not groups:
+            return ""
+        said = [f"{', '.join(names[:-1])} and {names[-1]}" if len(names) > 1 else names[0] for names in groups.values()]
+        return "; no unit in the header of " + ", ".join(f"{names} (read as {unit})" for names, unit in zip(said, groups))
 
     def record(self, parts: Sequence[str]) -> dict[str, dict]:
         """``attrs["columns"]``: each column used (frequency, ``parts``, sigma) by its role, with
