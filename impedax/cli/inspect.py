@@ -91,6 +91,9 @@ def run(args) -> int:
         # gives, in any spectrum (`fitting.statistics.non_passive`); the note as a fit words it,
         # null when none (or when the sign hint says Z' < 0 nearly everywhere)
         **_non_passive(ds, extra),
+        # [low, high] Hz of each step of the sorted frequencies at least GAP_RATIO times both
+        # steps beside it (log scale): a point skipped; [] when none
+        "frequency_gaps_hz": [[lo, hi] for lo, hi, _ in _gaps(freq)],
         # the first and last rows as read, in the file's order (of the first spectrum of several):
         # the values themselves, to set beside the file
         "first_point": _point(ds, extra, 0),
@@ -137,6 +140,9 @@ def run(args) -> int:
         # (a dimension's labels are listed above: the reader's text of them would repeat it)
         if key not in ("format", "data_format", "source", "path", *_HOW_KEYS, *_SAID_IN_ANOTHER_LINE) and not (key in extra and _repeats_labels(str(value), key, summary["labels"][key])):
             print(f"  {key}: {_provenance_text(value) if key == 'provenance' else _SAVED_IN_SESSION if key == 'saved_from' and value == IN_MEMORY else str(value).splitlines()[0] if str(value) else ''}")
+    gaps = _gaps(freq)
+    if gaps:
+        print("  frequency gaps: " + "; ".join(f"{format_frequency(lo)}–{format_frequency(hi)} ({text})" for lo, hi, text in gaps))
     if summary["non_passive_note"]:
         print(f"  Re Z < 0: {summary['non_passive_note']}")
     if summary["sign_hint"]:
@@ -328,6 +334,31 @@ def _sign_hint(ds, extra) -> str | None:
         return negative_real_hint(counted([e for e, _ in real]), imaginary_too=imaginary_flipped_too(freq, first_z), swapped=swapped_evidence(freq, first_z))
     found = [e for e in (positive_imaginary_evidence(freq, z) for z in spectra) if e]
     return opposite_sign_hint(counted(found), ds.attrs) if found else None
+
+
+#: A step between two neighbouring frequencies (log scale) at least this many times both steps
+#: beside it is a gap (`_gaps`): a skipped point doubles a step; a sweep whose density changes has
+#: no step larger than both of its neighbours.
+GAP_RATIO = 1.8
+
+
+def _gaps(freq) -> list[tuple[float, float, str]]:
+    """(low, high, words) of each gap of the sorted frequencies ``freq`` [Hz] (`GAP_RATIO`), in
+    rising order; words: ``0.20 decade, where the steps beside it are 0.10: a point skipped?``.
+    None below 5 frequencies."""
+    import numpy as np
+
+    grid = np.unique(np.asarray(freq, float))
+    if grid.size < 5:
+        return []
+    steps = np.diff(np.log10(grid))
+    beside = np.maximum(np.r_[steps[1], steps[:-1]], np.r_[steps[1:], steps[-2]])  # (the larger neighbour; at an end, the one)
+    found = []
+    for i in np.flatnonzero(steps >= GAP_RATIO * beside):
+        skipped = max(1, round(steps[i] / beside[i]) - 1)
+        found.append((float(grid[i]), float(grid[i + 1]), f"{steps[i]:.2f} decade, where the steps beside it are {beside[i]:.2f}: "
+                                                          f"{'a point' if skipped == 1 else f'{skipped} points'} skipped?"))
+    return found
 
 
 def _non_passive(ds, extra) -> dict:
