@@ -28,6 +28,10 @@ from ..table import NUMBER_CELL
 __all__ = ["read_gamry", "READER"]
 
 CONVENTIONS = "Freq [Hz]; Z = Zreal + j·Zimag [Ω] as stored (Z'' < 0 capacitive)"
+#: The 4th field of a ``POTEN`` line: its potential is set against the open-circuit potential
+#: (T) or the reference electrode (F). The REAL exampleDataGamry.DTA's ``VDC -0.05 T`` and its
+#: measured ``Vdc`` column (about ``EOC`` − 0.05 V) show which is which.
+_POTEN_VS = {"T": "open circuit (Eoc)", "F": "reference electrode"}
 _ATTR_KEYS = {"TITLE": "title", "DATE": "date", "TIME": "time", "PSTAT": "instrument_serial", "AREA": "area_cm2",
               "VDC": "dc_voltage_v", "VAC": "ac_voltage_mv_rms", "FREQINIT": "initial_frequency_hz", "FREQFINAL": "final_frequency_hz"}
 
@@ -77,6 +81,13 @@ def read_gamry(path: str | Path) -> xr.Dataset:
                 except ValueError:
                     pass
             attrs[_ATTR_KEYS[key]] = value
+            if key == "VDC" and cells[1].strip() == "POTEN" and len(cells) > 3 and cells[3].strip() in _POTEN_VS:
+                attrs["dc_voltage_vs"] = _POTEN_VS[cells[3].strip()]
+        elif len(cells) >= 3 and key == "EOC" and cells[1].strip() == "QUANT":
+            try:
+                attrs["ocp_v"] = float(cells[2].strip())
+            except ValueError:
+                pass
         i += 1
     if not tables:
         raise DataError("no ZCURVE table (is this an impedance experiment?)" + cut_short_note(text), path=path)
