@@ -33,3 +33,14 @@ def test_info_on_circuit_text_is_unchanged(capsys):
     assert main(["info", "R0 + R1 ||"]) == 2
     err = capsys.readouterr().err
     assert "^" in err and "impedax inspect" not in err
+
+
+def test_info_on_standard_input_points_to_inspect(capsys):
+    """`cat run.z | impedax info -`: '-' is standard input, which the model command does not
+    read; it is told so and pointed at inspect, not shown a caret under '-' with a hint that
+    series is written '+'."""
+    assert main(["info", "-"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("error:") == 1 and "^" not in err and "series is written" not in err
+    assert "'-' is standard input, not a circuit: impedax info takes a model there (impedax info 'R0 + R1 || C1')" in err
+    assert "what impedax reads from a spectrum piped in, and how: impedax inspect -" in err

@@ -595,6 +595,10 @@ def refuse_a_file_name(model: str, command: str) -> None:
     from ..io import READERS
     from ..io.loader import SPECTRUM_SUFFIXES
 
+    example = "impedax info 'R0 + R1 || C1'" if command == "info" else "--model 'R0 + R1 || C1'"
+    if model.strip() == "-":  # (cat run.z | impedax info -: standard input, which only the file arguments read)
+        raise ParameterError(f"'-' is standard input, not a circuit: impedax {command} takes a model there ({example}); "
+                             "what impedax reads from a spectrum piped in, and how: impedax inspect -")
     path = Path(model)
     suffixes = {s.lower() for s in SPECTRUM_SUFFIXES if s} | {e.lower() for reader in READERS for e in reader.extensions}
     try:
@@ -607,7 +611,6 @@ def refuse_a_file_name(model: str, command: str) -> None:
         what = "looks like a spectrum file's name (no such file)"
     else:
         return
-    example = "impedax info 'R0 + R1 || C1'" if command == "info" else "--model 'R0 + R1 || C1'"
     raise ParameterError(f"{model!r} {what}, not a circuit: impedax {command} takes a model there ({example}); "
                          f"what impedax reads from a spectrum file, and how: impedax inspect {shlex.quote(model)}")
 
