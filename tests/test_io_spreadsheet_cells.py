@@ -148,3 +148,27 @@ def test_skipped_rows_and_sweeps_of_a_sheet_are_rows(tmp_path, capsys):
     wb.save(path)
     sweeps = ix.load(path).attrs["sweeps"]
     assert f"restarts on row {2 + len(rows)}" in sweeps and "line" not in sweeps, sweeps
+
+
+def test_stdin_sheet_of_sweeps_on_two_grids_is_said_once_and_keeps_its_sweeps(tmp_path):
+    """The REAL sheet, then its rows again with each frequency ×1.01 (a second sweep on another
+    grid), piped in: the refusal names '<stdin> [sheet S], row 31' once, and load(sweep=...) of
+    standard input is still offered (a SweepGridsDiffer carrying both sweeps)."""
+    wb = openpyxl.load_workbook(REAL / "data.xlsx")
+    ws = wb[SHEET]
+    for other in [s for s in wb.worksheets if s.title != SHEET]:
+        wb.remove(other)
+    rows = [[c.value for c in row] for row in ws.iter_rows(min_row=2)]
+    for f, re_, im in rows:
+        ws.append([f * 1.01, re_, im])
+    path = tmp_path / "two.xlsx"
+    wb.save(path)
+    with open(path, "rb") as stdin:
+        run = subprocess.run([sys.executable, "-m", "impedax", "inspect", "-"], stdin=stdin, capture_output=True, text=True)
+    assert run.returncode == 2
+    assert f"error: <stdin> [sheet {SHEET}], row {2 + len(rows)}: the table holds 2 sweeps on different frequency grids" in run.stderr, run.stderr
+    assert run.stderr.count("<stdin>") == 1 and "line" not in run.stderr
+    with open(path, "rb") as stdin:
+        run = subprocess.run([sys.executable, "-m", "impedax", "inspect", "-", "--select", "sweep=1", "--json"], stdin=stdin, capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert '"points": 29' in run.stdout

@@ -423,20 +423,20 @@ def _load_stdin(readers: Sequence[Reader] | None, sweep: str | None = None) -> x
             ds = _load_file(path, readers, sweep, identified)
         except DataError as exc:
             text = str(exc)
+            placed = text.startswith(f"{path} [")  # (a place inside the file, 'FILE [sheet S], cell B10: …': said once, as it is)
             for prefix in (f"{path}, line {exc.line}: ", f"{path}: "):
                 if text.startswith(prefix):
                     text = text[len(prefix):]
                     break
-            else:
-                if text.startswith(f"{path} ["):  # (a place inside the file, 'FILE [sheet S], cell B10: …', said once)
-                    placed = DataError(text.replace(str(path), STDIN_NAME))
-                    placed.path, placed.line = STDIN_NAME, exc.line
-                    raise placed from None
             text = text.replace(str(path), STDIN_NAME)
+            where = {"path": None, "line": None} if placed else {"path": STDIN_NAME, "line": exc.line}
             if isinstance(exc, SweepGridsDiffer):
                 spectra = {label: _named_stdin(_sweep_of(exc, label, path), str(path)) for label in exc.labels}
-                raise SweepGridsDiffer(text, path=STDIN_NAME, line=exc.line, dim=exc.dim, spectra=spectra, found=exc.found.replace(str(path), STDIN_NAME)) from None
-            raise DataError(text, path=STDIN_NAME, line=exc.line) from None
+                out: DataError = SweepGridsDiffer(text, **where, dim=exc.dim, spectra=spectra, found=exc.found.replace(str(path), STDIN_NAME))
+            else:
+                out = DataError(text, **where)
+            out.path, out.line = STDIN_NAME, exc.line
+            raise out from None
         if note:
             ds.attrs["stdin_note"] = f"standard input read as {ds.attrs.get('format', 'delimited text')}: {note}"
     return _named_stdin(ds, str(path))
