@@ -10,7 +10,8 @@ from __future__ import annotations
 # otherwise show "saved_from: memory")
 _SAVED_IN_SESSION = "data built in a Python session (impedax.make_spectrum), not read from a file"
 
-_HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit_note", "polar_columns_note", "decimal_mark", "point_count_note")
+_HOW_KEYS = ("sign_convention", "units", "sweeps", "interpretation", "phase_unit_note", "polar_columns_note", "decimal_mark", "point_count_note",
+             "frequency_plan_note")
 # attrs that repeat a line printed under another key (the flipped phase column is named in the
 # polar-columns note): kept in the JSON's "attrs", not listed again in the text
 _SAID_IN_ANOTHER_LINE = ("polar_columns_flipped_phase",)

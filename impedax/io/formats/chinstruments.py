@@ -45,11 +45,49 @@ def read_chinstruments(path: str | Path) -> xr.Dataset:
         key, sep, value = ln.partition(":")
         if sep and key.strip() == "Instrument Model":
             attrs["instrument"] = f"CH Instruments {value.strip()}"
+        key, sep, value = ln.partition("=")
+        if sep and key.strip() in _SETTINGS:
+            name, scale = _SETTINGS[key.strip()]
+            try:
+                attrs[name] = float(value.strip()) * scale
+            except ValueError:
+                pass
     if lines and lines[0].strip():
         record_date(attrs, [" ".join(lines[0].split())])  # ('Feb. 20, 2020 15:55:08' as 2020-02-20T15:55:08)
     layout = detect_layout(lines[k].split(","), path, k + 1)
     rows = [(j + 1, lines[j].split(",")) for j in range(k + 1, len(lines)) if lines[j].strip()]
-    return spectrum_from_rows(path, layout, rows, attrs, delimiter=",", header_line=k + 1, cut_line=cut_last_line(text, lines))
+    ds = spectrum_from_rows(path, layout, rows, attrs, delimiter=",", header_line=k + 1, cut_line=cut_last_line(text, lines))
+    note = _plan_note(ds["frequency"].values, attrs.get("initial_frequency_hz"), attrs.get("final_frequency_hz"))
+    if note:
+        ds.attrs["frequency_plan_note"] = note
+    return ds
+
+
+#: The settings kept (``Key = value`` lines above the table), as numbers: (attribute, scale). The
+#: names say DC and mV, so that the gap analysis takes neither for a drive voltage
+#: (`impedax.models.gap_inputs.is_voltage_name`).
+_SETTINGS = {"High Frequency (Hz)": ("initial_frequency_hz", 1.0), "Low Frequency (Hz)": ("final_frequency_hz", 1.0),
+             "Init E (V)": ("dc_voltage_v", 1.0), "Amplitude (V)": ("ac_amplitude_mv", 1e3)}
+#: How far (a factor) the points may stop inside the planned band before the file is told short of it.
+PLAN_SHORT_FACTOR = 1.5
+
+
+def _plan_note(freq, initial, final) -> str | None:
+    """``the settings plan a sweep from 2 MHz to 100 mHz; the file's points span 99.6 kHz–100 mHz
+    (none above 99.6 kHz)`` when the points stop short of the planned band's top or bottom by
+    more than `PLAN_SHORT_FACTOR`; None otherwise, or without a plan."""
+    if not isinstance(initial, float) or not isinstance(final, float) or min(initial, final) <= 0:
+        return None
+    from ...data import format_frequency
+
+    low, high = float(freq.min()), float(freq.max())
+    short = [f"none above {format_frequency(high)}" if high * PLAN_SHORT_FACTOR < max(initial, final) else "",
+             f"none below {format_frequency(low)}" if low > PLAN_SHORT_FACTOR * min(initial, final) else ""]
+    if not any(short):
+        return None
+    span = (high, low) if initial > final else (low, high)
+    return (f"the settings plan a sweep from {format_frequency(initial)} to {format_frequency(final)}; the file's points span "
+            f"{format_frequency(span[0])}–{format_frequency(span[1])} ({'; '.join(s for s in short if s)})")
 
 
 READER = Reader("CH Instruments text", (".txt",), sniff, read_chinstruments, CONVENTIONS)
