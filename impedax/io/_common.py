@@ -21,7 +21,7 @@ from typing import Mapping, Sequence
 import numpy as np
 import xarray as xr
 
-from ..data import make_spectrum
+from ..data import format_frequency, make_spectrum
 from ..errors import DataError, SweepGridsDiffer
 from .consistency import FLIPPED_PHASE_KEY
 
@@ -29,7 +29,7 @@ __all__ = [
     "UNIT_CELL", "MAX_FILE_BYTES", "MAX_FILE_BYTES_ENV", "max_file_bytes", "check_file", "read_bytes", "read_text", "decode_text", "head_text", "lf_line_ends", "number",
     "Skipped", "finish", "first_line", "stack", "merged_attrs", "unit_scale", "split_header_cell", "decimal_comma",
     "check_field_count", "check_zero_tail", "CUT_AS", "CUT_BEFORE_END", "CUT_SHORT", "cut_short_note", "cut_last_line", "column_entry", "COLUMN_ROLES", "SI_UNITS",
-    "significant_digits", "check_last_field_digits", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS", "radians_beyond_turn_note",
+    "significant_digits", "check_last_field_digits", "frequency_plan_note", "PLAN_SHORT_FACTOR", "LAST_FIELD_SAMPLE", "LAST_FIELD_MIN_ROWS", "radians_beyond_turn_note",
 ]
 
 #: Largest file a reader reads whole (checked before reading). Instrument exports are
@@ -744,3 +744,26 @@ def _safe_scale(unit: str, quantity: str):
         return unit_scale(unit, quantity)
     except DataError:
         return 1.0  # recognisably a unit, if an ambiguous one: the caller reports it
+
+
+#: How far (a factor) the points may stop inside the planned band before the file is told short of it.
+PLAN_SHORT_FACTOR = 1.5
+
+
+def frequency_plan_note(freq, initial, final) -> str | None:
+    """An instrument's ``frequency_plan_note``: ``the settings plan a sweep from 2 MHz to 100 mHz;
+    the file's points span 99.6 kHz–100 mHz (none above 99.6 kHz)`` when the points ``freq`` [Hz]
+    stop short of the band the settings plan (``initial`` to ``final`` [Hz], numbers) at its top
+    or bottom by more than `PLAN_SHORT_FACTOR` (a sweep stopped early, an export cut); None
+    otherwise, or without a plan."""
+    if not isinstance(initial, float) or not isinstance(final, float) or min(initial, final) <= 0:
+        return None
+    low, high = float(freq.min()), float(freq.max())
+    short = [f"none above {format_frequency(high)}" if high * PLAN_SHORT_FACTOR < max(initial, final) else "",
+             f"none below {format_frequency(low)}" if low > PLAN_SHORT_FACTOR * min(initial, final) else ""]
+    if not any(short):
+        return None
+    span = (high, low) if initial > final else (low, high)
+    return (f"the settings plan a sweep from {format_frequency(initial)} to {format_frequency(final)}; the file's points span "
+            f"{format_frequency(span[0])}–{format_frequency(span[1])} ({'; '.join(s for s in short if s)})")
+

@@ -15,7 +15,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import cut_last_line, head_text, read_text
+from .._common import cut_last_line, frequency_plan_note, head_text, read_text
 from ..dates import record_date
 from ..registry import Reader
 from ..table import detect_layout, spectrum_from_rows
@@ -57,7 +57,7 @@ def read_chinstruments(path: str | Path) -> xr.Dataset:
     layout = detect_layout(lines[k].split(","), path, k + 1)
     rows = [(j + 1, lines[j].split(",")) for j in range(k + 1, len(lines)) if lines[j].strip()]
     ds = spectrum_from_rows(path, layout, rows, attrs, delimiter=",", header_line=k + 1, cut_line=cut_last_line(text, lines))
-    note = _plan_note(ds["frequency"].values, attrs.get("initial_frequency_hz"), attrs.get("final_frequency_hz"))
+    note = frequency_plan_note(ds["frequency"].values, attrs.get("initial_frequency_hz"), attrs.get("final_frequency_hz"))
     if note:
         ds.attrs["frequency_plan_note"] = note
     return ds
@@ -68,26 +68,6 @@ def read_chinstruments(path: str | Path) -> xr.Dataset:
 #: (`impedax.models.gap_inputs.is_voltage_name`).
 _SETTINGS = {"High Frequency (Hz)": ("initial_frequency_hz", 1.0), "Low Frequency (Hz)": ("final_frequency_hz", 1.0),
              "Init E (V)": ("dc_voltage_v", 1.0), "Amplitude (V)": ("ac_amplitude_mv", 1e3)}
-#: How far (a factor) the points may stop inside the planned band before the file is told short of it.
-PLAN_SHORT_FACTOR = 1.5
-
-
-def _plan_note(freq, initial, final) -> str | None:
-    """``the settings plan a sweep from 2 MHz to 100 mHz; the file's points span 99.6 kHz–100 mHz
-    (none above 99.6 kHz)`` when the points stop short of the planned band's top or bottom by
-    more than `PLAN_SHORT_FACTOR`; None otherwise, or without a plan."""
-    if not isinstance(initial, float) or not isinstance(final, float) or min(initial, final) <= 0:
-        return None
-    from ...data import format_frequency
-
-    low, high = float(freq.min()), float(freq.max())
-    short = [f"none above {format_frequency(high)}" if high * PLAN_SHORT_FACTOR < max(initial, final) else "",
-             f"none below {format_frequency(low)}" if low > PLAN_SHORT_FACTOR * min(initial, final) else ""]
-    if not any(short):
-        return None
-    span = (high, low) if initial > final else (low, high)
-    return (f"the settings plan a sweep from {format_frequency(initial)} to {format_frequency(final)}; the file's points span "
-            f"{format_frequency(span[0])}–{format_frequency(span[1])} ({'; '.join(s for s in short if s)})")
 
 
 READER = Reader("CH Instruments text", (".txt",), sniff, read_chinstruments, CONVENTIONS)
