@@ -18,7 +18,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import cut_last_line, cut_short_note, head_text, read_text
+from .._common import cut_last_line, cut_short_note, frequency_plan_note, head_text, read_text, unit_scale
 from ..dates import record_date
 from ..registry import Reader
 from ..table import NoLayout, RowBlock, detect_layout, spectrum_from_rows
@@ -81,8 +81,54 @@ def read_biologic(path: str | Path) -> xr.Dataset:
             attrs["channel"] = value.strip()
     if dates:
         record_date(attrs, dates)  # (ISO 8601 when the file establishes the order of day and month, else as written)
+    attrs.update(_settings(lines[2 : n_header - 1]))
     _check_header_count(path, lines, n_header)
-    return _columns(path, lines, n_header - 1, attrs, cut_line=cut_last_line(text, lines))
+    ds = _columns(path, lines, n_header - 1, attrs, cut_line=cut_last_line(text, lines))
+    note = frequency_plan_note(ds["frequency"].values, attrs.get("initial_frequency_hz"), attrs.get("final_frequency_hz"))
+    if note:
+        ds.attrs["frequency_plan_note"] = note
+    return ds
+
+
+#: A technique's setting line: its name, two or more spaces, one value (linked techniques write
+#: a column of values per technique: those lines are not kept, which one is this spectrum's being untold).
+_SETTING_LINE = re.compile(r"(\S.*?)\s{2,}(\S+)\s*")
+#: What ``vs.`` under ``E (V)`` sets the DC potential against, in the words Gamry's reader uses.
+_VERSUS = {"Ref": "reference electrode", "Eoc": "open circuit (Eoc)"}
+
+
+def _settings(header: list[str]) -> dict[str, float | str]:
+    """The PEIS/GEIS settings of the header lines ``header``: ``fi``/``ff`` with their ``unit``
+    lines as ``initial_frequency_hz``/``final_frequency_hz``, ``E (V)`` as ``dc_voltage_v`` and
+    the ``vs.`` after it as ``dc_voltage_vs``, ``Va (mV)`` as ``ac_amplitude_mv``; a line that holds
+    several values (linked techniques), or a unit impedax does not know, is left out."""
+    values: dict[str, str] = {}
+    versus = None
+    for line in header:
+        m = _SETTING_LINE.fullmatch(line)
+        if not m:
+            continue
+        key, value = m.group(1), m.group(2)
+        if key == "vs." and "E (V)" in values and versus is None:
+            versus = value
+        values.setdefault(key, value)
+    out: dict[str, float | str] = {}
+    for key, name in (("fi", "initial_frequency_hz"), ("ff", "final_frequency_hz")):
+        try:
+            scale = unit_scale(values[f"unit {key}"], "frequency")
+            if scale:
+                out[name] = float(values[key]) * scale
+        except (KeyError, ValueError):  # (no such line, no number; DataError: a unit such as 'MHZ', milli or mega)
+            pass
+    for key, name in (("E (V)", "dc_voltage_v"), ("Va (mV)", "ac_amplitude_mv")):
+        try:
+            if key in values:
+                out[name] = float(values[key])
+        except ValueError:
+            pass
+    if "dc_voltage_v" in out and versus in _VERSUS:
+        out["dc_voltage_vs"] = _VERSUS[versus]
+    return out
 
 
 #: The column names an EC-Lab impedance export holds (`_columns`).
