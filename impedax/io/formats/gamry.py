@@ -19,7 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ...errors import DataError
-from .._common import Skipped, check_field_count, check_last_field_digits, column_entry, cut_short_note, decimal_comma, finish, head_text, number, read_text, stack, unit_scale
+from .._common import Skipped, check_field_count, check_last_field_digits, column_entry, cut_short_note, decimal_comma, finish, frequency_plan_note, head_text, number, read_text, stack, unit_scale
 from ..dates import record_date
 from ..registry import Reader
 from ..consistency import polar_columns_attrs
@@ -103,7 +103,11 @@ def read_gamry(path: str | Path) -> xr.Dataset:
     labels = [n if names.count(n) == 1 else f"{n} #{k + 1}" for k, n in enumerate(names)]
     ends_cut = not text.endswith(("\n", "\r"))
     spectra = [(label, _table(path, lines, start, dict(attrs), ends_cut=ends_cut)) for label, start in zip(labels, tables)]
-    return stack(path, spectra, "curve")
+    ds = stack(path, spectra, "curve")
+    note = frequency_plan_note(ds["frequency"].values, attrs.get("initial_frequency_hz"), attrs.get("final_frequency_hz"))
+    if note:
+        ds.attrs["frequency_plan_note"] = note
+    return ds
 
 
 def _table(path: Path, lines: list[str], start: int, attrs: dict, *, ends_cut: bool = False) -> xr.Dataset:
