@@ -208,12 +208,12 @@ def _heading_anchors(path: Path) -> set[str]:
 
 
 def test_every_link_of_the_docs_leads_somewhere():
-    """Each relative link of README.md, docs/*.md and benchmarks/README.md names a file of the
+    """Each relative link of README.md, docs/*.md and benchmarks/*.md names a file of the
     repository and, into a Markdown file, a heading it has (a renamed section leaves no link
     that lands at the top of the page)."""
     root = DOCS.parent
     broken = []
-    for page in [root / "README.md", root / "benchmarks" / "README.md", *sorted(DOCS.glob("*.md"))]:
+    for page in [root / "README.md", *sorted((root / "benchmarks").glob("*.md")), *sorted(DOCS.glob("*.md"))]:
         text = re.sub(r"```.*?```", "", page.read_text(encoding="utf-8"), flags=re.S)
         for target in re.findall(r"\]\(([^)\s]+)\)", text):
             if re.match(r"[a-z]+:", target):
