@@ -1012,7 +1012,7 @@ def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True) 
     return f"{x / scale:g}{prefix}"
 
 
-def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True) -> None:
+def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bool = False) -> None:
     """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40,
     10k, 1M) instead of 2×10⁻¹ or 1e+06 (`_plain_number`): percentages read as they are
     printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
@@ -1028,8 +1028,15 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True) -> None:
     mΩ beside |Z| in Ω ticked 0.02, 0.03, 0.04.
 
     ``prefixes`` False: no SI prefix on any tick (``1e-5``, ``1e5``), for a dimensionless
-    quantity, which a prefix misreads: a corner plot's CPE exponent α would read "10µ"."""
+    quantity, which a prefix misreads: a corner plot's CPE exponent α would read "10µ".
+
+    ``own_prefix``: with no Nyquist panel (the Z-HIT figure), the axis counts in the prefix of
+    its own view (`view_prefix` of the axis alone), the same rule as ``nyquist``'s: a battery's
+    |Z| of 15 – 45 mΩ reads ``|Z| [mΩ]``, ticks 20, 30, 40, as the fit and KK figures of the
+    same spectrum read it, not 0.02, 0.03, 0.04 Ω."""
     from matplotlib.ticker import LogFormatter
+
+    prefix_of = (nyquist.xaxis, nyquist.yaxis) if nyquist is not None else (axis,) if own_prefix else None
 
     def scaled(formatter, x, prefix_from=1e4):
         scale = getattr(axis.get_major_formatter(), "scale", 1.0)
@@ -1042,8 +1049,8 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True) -> None:
 
         def set_locs(self, locs=None):
             super().set_locs(locs)
-            if nyquist is not None and _prefixable_label(self.axis.label, self.written):
-                self.scale, prefix = view_prefix(nyquist.xaxis, nyquist.yaxis)
+            if prefix_of is not None and _prefixable_label(self.axis.label, self.written):
+                self.scale, prefix = view_prefix(*prefix_of)
                 _prefix_labels([self.axis.label], prefix, self.written)
 
         def __call__(self, x, pos=None):
@@ -1118,7 +1125,7 @@ SPAN_STEPS = 12
 END_MANTISSAS = (1.2, 1.5, 2.5)
 
 
-def magnitude_axis(axis, *, nyquist=None) -> None:
+def magnitude_axis(axis, *, nyquist=None, own_prefix: bool = False) -> None:
     """A log axis of impedance magnitude (``ax.yaxis`` of a Bode |Z| panel): plain tick labels,
     in the prefix of the ``nyquist`` panel when given (`plain_log_ticks`); short axes ticked
     linearly (`MagnitudeMinorLocator`); and a range that reaches a labelled tick at or below the
@@ -1126,8 +1133,9 @@ def magnitude_axis(axis, *, nyquist=None) -> None:
     at every draw, on the figure as laid out): |Z| from 150 to 450 Ω was labelled 200, 300, 400,
     none at or below the lowest point, and on a small figure one label alone. Range set by hand
     after this (a zoom) is left as it is. Every |Z| panel of impedax's figures is made so (fit,
-    KK, DRT, diagnosis, comparison, posterior bands, Z-HIT, the gap analysis' |Z_R|)."""
-    plain_log_ticks(axis, nyquist=nyquist)
+    KK, DRT, diagnosis, comparison, posterior bands, Z-HIT, the gap analysis' |Z_R|).
+    ``own_prefix``: no Nyquist panel, the prefix of the axis' own view (`plain_log_ticks`)."""
+    plain_log_ticks(axis, nyquist=nyquist, own_prefix=own_prefix)
     axis.set_minor_locator(MagnitudeMinorLocator())
     # (minor labels up to two decade ticks in view, thinned to fit: a range widened to 1 – 10 kΩ
     # reads 1, 2, 3, 4, 6, 10, where matplotlib's threshold of one labelled the decades alone)

@@ -284,7 +284,7 @@ def plot_zhit(result, *, title: str | None = None):
     ax_mod.loglog(f, np.abs(result.impedance[order]), "o", ms=3.5, mfc="none", label="|Z| data")
     ax_mod.loglog(f, result.modulus[order], "-", lw=1.5, label="|Z| from the phase (Z-HIT)")
     ax_mod.set_ylabel("|Z| [Ω]")
-    magnitude_axis(ax_mod.yaxis)
+    magnitude_axis(ax_mod.yaxis, own_prefix=True)  # (in an SI prefix, as the fit and KK figures of the spectrum: mΩ for a battery)
     ax_ph.semilogx(f, np.degrees(np.angle(result.impedance[order])), "o", ms=3.5, mfc="none")
     ax_ph.set_ylabel("phase [deg]")
     ax_res.semilogx(f, result.residuals[order] * 100, "o-", ms=3, lw=0.8)

@@ -1,0 +1,118 @@
+"""The axes of the validity and DRT figures, as a reader meets them: the Z-HIT figure counts |Z|
+in the prefix the KK and fit figures of the same spectrum count it in (mΩ for a battery's tens
+of mΩ, where it read 0.02, 0.03 Ω beside 20, 30 mΩ); a |Z| axis ends no more than about half a
+decade past its data and model curves (the demo's naive C_gap fit of |Z| 166 Ω – 166 MΩ read to
+10000 MΩ, 1.8 decades above its highest point); the KK figure's title gives µ to the digits of
+the report (0.847 read "µ 0.85", equal to the cut-off c = 0.85 the report said it lies below).
+Oracles: SYNTHETIC spectra written here with numpy (R0 + R1 || C1, closed form) and the tick
+labels of the drawn figure read back as numbers."""
+
+import math
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+
+import impedax as ix  # noqa: E402
+from impedax.plotting import plot_spectrum  # noqa: E402
+
+PREFIXES = {"": 1.0, "k": 1e3, "M": 1e6, "G": 1e9, "m": 1e-3, "µ": 1e-6}
+F = np.geomspace(0.01, 1e4, 61)
+HALF_DECADE = 10**0.5
+
+
+def _rc(r0: float, r1: float, c1: float, f=F):
+    return r0 + r1 / (1 + 2j * np.pi * f * r1 * c1)
+
+
+def _noisy(z, level=0.002, seed=3):
+    rng = np.random.default_rng(seed)
+    return z + level * np.abs(z) * (rng.standard_normal(z.size) + 1j * rng.standard_normal(z.size))
+
+
+def _magnitude_panel(fig):
+    return next(ax for ax in fig.axes if ax.get_yscale() == "log" and "|Z|" in ax.get_ylabel() and "%" not in ax.get_ylabel())
+
+
+def _tick_values(ax):
+    """The labelled ticks of ``ax``'s y axis in view, read from their texts in the label's unit
+    and checked against their positions; [Ω]."""
+    fig = ax.get_figure()
+    fig.draw_without_rendering()
+    unit = re.search(r"\[(.?)Ω\]", ax.get_ylabel()).group(1)
+    lo, hi = sorted(ax.get_ylim())
+    values = []
+    for locs, ticks in ((ax.yaxis.get_majorticklocs(), ax.yaxis.get_major_ticks), (ax.yaxis.get_minorticklocs(), ax.yaxis.get_minor_ticks)):
+        for loc, tick in zip(locs, ticks(len(locs))):
+            text = tick.label1.get_text().replace("\N{MINUS SIGN}", "-")
+            if not text or not lo * (1 - 1e-9) <= loc <= hi * (1 + 1e-9):
+                continue
+            own = text[-1] if text[-1] in PREFIXES else ""
+            value = float(text[: len(text) - len(own)]) * PREFIXES[own] * PREFIXES[unit]
+            assert value == pytest.approx(loc, rel=1e-6), (text, loc, ax.get_ylabel())
+            values.append(value)
+    return sorted(values)
+
+
+def test_the_zhit_figure_counts_the_modulus_in_the_prefix_of_the_kk_figure():
+    """A SYNTHETIC battery-like spectrum, 15 mΩ + 30 mΩ ∥ 1 F (|Z| 15 – 45 mΩ): the KK figure's
+    |Z| panel reads mΩ (its Nyquist panel's prefix); the Z-HIT figure's reads mΩ as well, its
+    tick labels the values in mΩ (20, 30, 40), not 0.02, 0.03, 0.04 Ω."""
+    z = _noisy(_rc(0.015, 0.030, 1.0), level=0.001)
+    kk_fig = ix.kk_test((F, z)).plot()
+    zhit_fig = ix.zhit((F, z)).plot()
+    kk_panel, zhit_panel = _magnitude_panel(kk_fig), _magnitude_panel(zhit_fig)
+    kk_fig.draw_without_rendering()
+    zhit_fig.draw_without_rendering()
+    assert kk_panel.get_ylabel() == "|Z| [mΩ]"
+    assert zhit_panel.get_ylabel() == "|Z| [mΩ]"
+    shown = _tick_values(zhit_panel)
+    assert len(shown) >= 2 and all(0.01 <= v <= 0.06 for v in shown), shown
+    plt.close(kk_fig)
+    plt.close(zhit_fig)
+
+
+def test_the_zhit_figure_counts_kiloohm_and_ohm_spectra_in_their_prefix():
+    """|Z| of 1.2 – 86 kΩ (a SYNTHETIC skin-like R ∥ C) reads kΩ on the Z-HIT figure; 12 – 42 Ω
+    reads Ω, with no prefix."""
+    for (r0, r1, c1), label in (((1.2e3, 85e3, 22e-9), "|Z| [kΩ]"), ((12.0, 30.0, 1e-3), "|Z| [Ω]")):
+        fig = ix.zhit((F, _noisy(_rc(r0, r1, c1)))).plot()
+        panel = _magnitude_panel(fig)
+        fig.draw_without_rendering()
+        assert panel.get_ylabel() == label
+        assert len(_tick_values(panel)) >= 2
+        plt.close(fig)
+
+
+def _drawn_range(ax):
+    """The smallest and largest |Z| of the lines drawn on ``ax`` [Ω]."""
+    values = np.concatenate([np.asarray(line.get_ydata(), float) for line in ax.get_lines()])
+    values = values[np.isfinite(values) & (values > 0)]
+    return float(values.min()), float(values.max())
+
+
+@pytest.mark.parametrize("scale", [166.0, 1.0e3, 2.6e3])
+def test_a_modulus_axis_ends_within_half_a_decade_of_its_curves(scale):
+    """A capacitor's |Z| = 1/(ωC) over six decades of frequency and a model a factor 2 above it,
+    as the demo's naive fit draws them (SYNTHETIC; from ``scale`` Ω up six decades): the axis
+    reaches no further than half a decade beyond the lowest and the highest curve (it read to
+    10000 MΩ above a highest point of 166 MΩ), and its labelled ticks lie in view, at least two,
+    at every decade or every other one."""
+    f = np.geomspace(1.0, 1e6, 61)
+    data = scale * 1e6 / f * (1 - 1j) / math.sqrt(2)
+    model = -2j * scale * 1e6 / f
+    fig = plot_spectrum((f, data), (f, model))
+    ax = _magnitude_panel(fig)
+    shown = _tick_values(ax)
+    lo, hi = sorted(ax.get_ylim())
+    low, high = _drawn_range(ax)
+    assert hi <= high * HALF_DECADE * (1 + 1e-9), (hi, high)
+    assert lo >= low / HALF_DECADE * (1 - 1e-9), (lo, low)
+    assert len(shown) >= 2
+    ratios = np.diff(np.log10(shown))
+    assert np.allclose(ratios, np.round(ratios)) and set(np.round(ratios)) <= {1.0, 2.0}, shown
+    plt.close(fig)
