@@ -48,11 +48,23 @@ def _labels(ax):
     return sorted(values)
 
 
+# the farthest an axis reaches beyond its data: half a decade (the demo's naive fit read to
+# 10000 MΩ above a highest point of 166 MΩ, 1.8 decades)
+REACH = 10**0.5
+
+
 def _assert_spans(ax, magnitudes):
+    """Labelled ticks at or beyond the lowest and the highest of ``magnitudes``, two at least;
+    on an axis labelled at decades (or every other decade) whose next label lies more than half a
+    decade past the data, that end stays within half a decade of the data instead."""
     shown = _labels(ax)
     assert len(shown) >= 2, shown
-    assert min(shown) <= min(magnitudes) * (1 + 1e-9), (shown, min(magnitudes))
-    assert max(shown) >= max(magnitudes) * (1 - 1e-9), (shown, max(magnitudes))
+    low, high = min(magnitudes), max(magnitudes)
+    lo, hi = sorted(ax.get_ylim())
+    assert lo >= low / REACH * (1 - 1e-9) and hi <= high * REACH * (1 + 1e-9), ((lo, hi), (low, high))
+    stride = shown[-1] / shown[-2] if shown[-1] / shown[-2] >= 10 * (1 - 1e-9) else None  # (labels at decades: the next one lies a stride on)
+    assert min(shown) <= low * (1 + 1e-9) or (stride and min(shown) / stride < low / REACH), (shown, low)
+    assert max(shown) >= high * (1 - 1e-9) or (stride and max(shown) * stride > high * REACH), (shown, high)
     return shown
 
 
@@ -92,7 +104,9 @@ def test_a_zoom_is_left_as_set():
 def test_the_gap_figures_remaining_impedance_spans_its_data():
     """The gap analysis' |Z_R| panel (its range set from the data, a runaway model cut): a
     SYNTHETIC R_EP ∥ C_gap of 3 repeats, 4.5 kΩ to 50 MΩ (`test_gap_outputs`' stub, as the
-    figure draws it): labelled from at or below the lowest point to at or above the highest."""
+    figure draws it): labelled up to at or above the highest point; at its bottom, where the
+    decade below 4.5 kΩ lies 0.65 decades down, the axis ends within half a decade of it and
+    10k is the lowest label."""
     from test_gap_outputs import _stub
 
     gap = _stub(rhat_max=1.001)
@@ -118,14 +132,22 @@ def test_a_range_just_past_a_decade_ends_near_its_data():
 
 
 def test_a_wide_axis_ends_at_a_decade_and_a_skipped_value_at_an_end_is_labelled():
-    """|Z| over three decades (R0 + R1 || C1: 1 kΩ + 1 MΩ ∥ 1 nF, 2.6 kΩ to 1.0 MΩ; its labels
-    are decades) ends at a decade, 10 MΩ, not at 1.2 or 2 MΩ beside decade labels; over 1.4
-    decades (20 to 520 Ω, labels 20, 50, 100, 200, 500) its top, 800, is labelled though the
-    axis' minor labels skip 8."""
-    wide = 1e3 + 1e6 / (1 + 2j * np.pi * F * 1e6 * 1e-9)
-    for z, top in ((wide, 1e7), (_rc(20, 520), 800)):
+    """|Z| over two and a half decades (SYNTHETIC R0 + R1 || C1: 1 kΩ + 500 kΩ ∥ 2 nF, 2.6 to
+    501 kΩ; its labels are decades) ends at a decade, 1 MΩ, labelled, not at 1.2 or 2 MΩ beside
+    decade labels; over 1.4 decades (20 to 520 Ω, labels 20, 50, 100, 200, 500) its top, 800,
+    is labelled though the axis' minor labels skip 8. 1 kΩ + 1 MΩ ∥ 1 nF reaches 1.00098 MΩ, a
+    decade below the next label, 10 MΩ: its top stays within half a decade of the data, the
+    last label 1 MΩ (it read to 10 MΩ)."""
+    wide = 1e3 + 0.5e6 / (1 + 2j * np.pi * F * 0.5e6 * 2e-9)
+    for z, top in ((wide, 1e6), (_rc(20, 520), 800)):
         fig = plot_spectrum((F, z), (F, z))
         ax = fig.axes[1]
         shown = _assert_spans(ax, np.abs(z))
         assert ax.get_ylim()[1] == pytest.approx(top) and max(shown) == pytest.approx(top), shown
         plt.close(fig)
+    over = 1e3 + 1e6 / (1 + 2j * np.pi * F * 1e6 * 1e-9)  # (1.00098 MΩ at 1 Hz: 1 MΩ just below it, 10 MΩ a decade above)
+    fig = plot_spectrum((F, over), (F, over))
+    ax = fig.axes[1]
+    shown = _assert_spans(ax, np.abs(over))
+    assert ax.get_ylim()[1] <= 1.00098e6 * REACH and max(shown) == pytest.approx(1e6), shown
+    plt.close(fig)

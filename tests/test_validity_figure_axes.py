@@ -116,3 +116,4 @@ def test_a_modulus_axis_ends_within_half_a_decade_of_its_curves(scale):
     ratios = np.diff(np.log10(shown))
     assert np.allclose(ratios, np.round(ratios)) and set(np.round(ratios)) <= {1.0, 2.0}, shown
     plt.close(fig)
+

@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -1129,8 +1129,8 @@ def magnitude_axis(axis, *, nyquist=None, own_prefix: bool = False) -> None:
     """A log axis of impedance magnitude (``ax.yaxis`` of a Bode |Z| panel): plain tick labels,
     in the prefix of the ``nyquist`` panel when given (`plain_log_ticks`); short axes ticked
     linearly (`MagnitudeMinorLocator`); and a range that reaches a labelled tick at or below the
-    lowest point drawn and one at or above the highest, two labels at least (`_span_labels`,
-    at every draw, on the figure as laid out): |Z| from 150 to 450 Ω was labelled 200, 300, 400,
+    lowest point drawn and one at or above the highest, two labels at least, no further than
+    `SPAN_MAX_DECADES` beyond the points (`_span_labels`, at every draw, on the figure as laid out): |Z| from 150 to 450 Ω was labelled 200, 300, 400,
     none at or below the lowest point, and on a small figure one label alone. Range set by hand
     after this (a zoom) is left as it is. Every |Z| panel of impedax's figures is made so (fit,
     KK, DRT, diagnosis, comparison, posterior bands, Z-HIT, the gap analysis' |Z_R|).
@@ -1209,11 +1209,20 @@ def _crowded(axis, value: float, others) -> bool:
     return bool(np.min(np.abs(np.log10(others / value))) * per_decade < (1 + LABEL_GAP_EM) * tick_label_size(axis))
 
 
+# the farthest a |Z| axis' range reaches beyond its lowest and highest point drawn [decades]
+# (`_span_labels`): the demo's naive C_gap fit, |Z| 166 Ω – 166 MΩ labelled every other decade,
+# was widened to the next label, 10000 MΩ, 1.8 decades above its highest point
+SPAN_MAX_DECADES = 0.5
+
+
 def _span_labels(ax, state) -> None:
     """Widen the log y range of ``ax``, a tick at a time (`_tick_beyond`, at most `SPAN_STEPS`
     each way), until a labelled tick (`_labelled_ticks`) lies at or below the lowest point drawn
     in the range matplotlib chose and one at or above the highest, and two are labelled; as it
-    was if none does. Not on a range set by hand (``state["ours"]``: the range the figure set)."""
+    was if none does. An end goes no further than `SPAN_MAX_DECADES` beyond the points drawn
+    (matplotlib's margin is cut to it too): where the next label lies beyond, that end stays, and
+    the labels nearest the extreme point lie inside the range. Not on a range set by hand
+    (``state["ours"]``: the range the figure set)."""
     axis = ax.yaxis
     if ax.get_yscale() != "log":
         return
@@ -1226,7 +1235,11 @@ def _span_labels(ax, state) -> None:
         return
     minor = axis.get_minor_locator()
     ends = minor.ends if isinstance(minor, MagnitudeMinorLocator) else set()
-    lo, hi = low, high
+    reach = 10.0**SPAN_MAX_DECADES
+    floor, ceiling = d_lo / reach, d_hi * reach
+    lo, hi = max(low, floor), min(high, ceiling)
+    if (lo, hi) != (low, high):
+        ax.set_ybound(lo, hi)
     for _ in range(2 * SPAN_STEPS + 1):
         # (the ends it set, those still ends of the range whose labels clear their neighbours': an
         # end whose label would run into its neighbour's is not labelled, and the range moves on)
@@ -1239,12 +1252,15 @@ def _span_labels(ax, state) -> None:
         above = any(v >= d_hi * (1 - 1e-9) for v in shown)
         if below and above and len(shown) >= 2:
             break
-        if not below or len(shown) < 2:
-            lo = _tick_beyond(axis, lo, -1)
+        moved = False
+        if (not below or len(shown) < 2) and (step := _tick_beyond(axis, lo, -1)) >= floor * (1 - 1e-9):
+            lo, moved = step, True
             ends.add(lo)
-        if not above or len(shown) < 2:
-            hi = _tick_beyond(axis, hi, +1)
+        if (not above or len(shown) < 2) and (step := _tick_beyond(axis, hi, +1)) <= ceiling * (1 + 1e-9):
+            hi, moved = step, True
             ends.add(hi)
+        if not moved:  # (the next label lies beyond `SPAN_MAX_DECADES`: the range as it is)
+            break
         ax.set_ybound(lo, hi)
     else:
         ends.clear()
