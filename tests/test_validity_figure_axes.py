@@ -117,3 +117,17 @@ def test_a_modulus_axis_ends_within_half_a_decade_of_its_curves(scale):
     assert np.allclose(ratios, np.round(ratios)) and set(np.round(ratios)) <= {1.0, 2.0}, shown
     plt.close(fig)
 
+
+def test_the_kk_title_gives_mu_to_the_digits_of_the_report():
+    """The KK figure's title writes µ as the report does, to 3 decimals (µ = 0.847 read "µ 0.85"
+    in the title of REAL exampleData.csv, equal to the cut-off c = 0.85 the report says it lies
+    below). Oracle: the result's own µ formatted to 3 decimals, and the report's line."""
+    from pathlib import Path
+
+    result = ix.kk_test(Path(__file__).parent / "fixtures" / "real" / "exampleData.csv")
+    fig = result.plot()
+    title = fig._suptitle.get_text()
+    assert f"µ = {result.mu:.3f}" in result.report()
+    assert f"µ {result.mu:.3f}" in title, title
+    assert result.mu < 0.85 and "µ 0.85," not in title
+    plt.close(fig)

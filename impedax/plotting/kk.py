@@ -31,7 +31,7 @@ def plot_kk(result, *, title: str | None = None):
     # (judged by the data's σ: each point's own levels, t·σ/|Z|)
     per_point = None if getattr(result, "point_scale", None) is None else (result.frequency[order], result.point_scale[order] * t["point"], result.point_scale[order] * t["run"])
     verdict = "valid" if result.valid else "not valid"
-    fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {format_percent(result.rms_rel)}, µ {result.mu:.2f}")  # (before the legend is placed off the labels on the final layout)
+    fig.suptitle(title or f"linear KK test: {verdict}, rms_rel {format_percent(result.rms_rel)}, µ {result.mu:.3f}")  # (µ to the report's 3 decimals: 0.847 read "0.85", the cut-off c it lies below; before the legend is placed off the labels on the final layout)
     # (last: it places the figure's legends off the data, `legends_off_data`)
     add_rule_levels(ax_res, point=levels["point"], run=levels["run"], run_length=int(t["run_length"]), bands=result.bad_bands, band_rules=result.band_rules, per_point=per_point)
     return fig
