@@ -131,3 +131,24 @@ def test_the_kk_title_gives_mu_to_the_digits_of_the_report():
     assert f"µ {result.mu:.3f}" in title, title
     assert result.mu < 0.85 and "µ 0.85," not in title
     plt.close(fig)
+
+
+def test_the_drt_legend_above_the_gamma_panel_stays_within_its_width():
+    """REAL exampleData.csv (impedance.py, MIT) has a Nyquist shape that puts its DRT figure's
+    Nyquist panel in the middle column: the γ panel's legend above it, two columns of 5.6 in,
+    was wider than the panel's column (4.8 in), so the layout shrank the γ panel to 3 in and
+    left 2.6 in of blank figure beside it. The legend lies within the γ panel's width, and the
+    panel keeps most of its column (12 in × 1.4/3.5, less its labels)."""
+    from pathlib import Path
+
+    result = ix.drt(ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleData.csv"))
+    fig = result.plot()
+    ax = next(a for a in fig.axes if a.get_xlabel() == "τ [s]")
+    assert len(ax.get_subplotspec().colspan) == 1 and ax.get_subplotspec().get_gridspec().ncols == 3  # (the case: the middle-column layout)
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    legend, panel = ax.get_legend().get_window_extent(renderer), ax.get_window_extent(renderer)
+    assert legend.y0 >= panel.y1 - 1  # (above the panel)
+    assert legend.x0 >= panel.x0 - 1 and legend.x1 <= panel.x1 + 1, (legend, panel)
+    assert panel.width / fig.dpi >= 3.8, panel.width / fig.dpi
+    plt.close(fig)

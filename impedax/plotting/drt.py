@@ -33,7 +33,9 @@ def band_label(result) -> str:
 def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None, legend_above=False) -> None:
     """γ(τ) [Ω] on log τ with the 90 % band, peaks marked (τ and R), the measured τ range
     outside shaded, and ``overlay`` (an `AnalyticDRT` or a `DRTResult`) on top; the legend
-    inside, or above the panel with ``legend_above`` (where no title is). The γ range is
+    inside, or above the panel with ``legend_above`` (where no title is; in two columns where
+    they fit the panel's width, else one: REAL exampleData.csv's two columns, 5.6 in, stood over
+    a γ panel of a 4.8 in column, which the layout shrank to 3 in beside blank figure). The γ range is
     `gamma_top`'s: the band outside the measured window may run off the top."""
     before = ax.dataLim.frozen()  # (what was drawn on ``ax`` before keeps its range)
     ax.fill_between(result.tau, result.gamma_q05, result.gamma_q95, color="tab:blue", alpha=0.2, lw=0, label=band_label(result))
@@ -76,9 +78,34 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
     ax.dataLim.intervaly = (min(before.y0, low), max(before.y1, ceiling))
     ax.autoscale_view()
     if legend_above:  # (inside, the legend covered the labels of the peaks it stood over)
-        ax.legend(fontsize=font_size("legend", 7), ncol=2, loc="lower left", bbox_to_anchor=(0.0, 1.01), borderaxespad=0.0, frameon=False)
+        above = dict(fontsize=font_size("legend", 7), loc="lower left", bbox_to_anchor=(0.0, 1.01), borderaxespad=0.0, frameon=False)
+        legend = ax.legend(ncol=2, **above)
+        if _legend_width_in(legend) > _panel_width_in(ax):
+            ax.legend(ncol=1, **above)
     else:
         ax.legend(fontsize=font_size("legend", 7))
+
+
+# the room a panel's y label and tick labels take of its column's width [in] (`_panel_width_in`)
+Y_LABELS_IN = 0.9
+
+
+def _panel_width_in(ax) -> float:
+    """The width [in] ``ax`` will have: its column's share of the figure (its grid's width
+    ratios) less `Y_LABELS_IN`; its present width on axes not of a grid."""
+    fig = ax.get_figure()
+    spec = ax.get_subplotspec() if hasattr(ax, "get_subplotspec") else None
+    if spec is None:
+        return ax.get_position().width * fig.get_figwidth()
+    grid = spec.get_gridspec()
+    ratios = grid.get_width_ratios() or [1.0] * grid.ncols
+    return fig.get_figwidth() * sum(ratios[c] for c in spec.colspan) / sum(ratios) - Y_LABELS_IN
+
+
+def _legend_width_in(legend) -> float:
+    """The width [in] of ``legend`` as drawn (its text measured by the figure's renderer)."""
+    fig = legend.get_figure()
+    return legend.get_window_extent(fig.canvas.get_renderer()).width / fig.dpi
 
 
 # the γ panel's range above its highest curve, as a multiple of it (the peak labels' room)
