@@ -152,3 +152,24 @@ def test_the_drt_legend_above_the_gamma_panel_stays_within_its_width():
     assert legend.x0 >= panel.x0 - 1 and legend.x1 <= panel.x1 + 1, (legend, panel)
     assert panel.width / fig.dpi >= 3.8, panel.width / fig.dpi
     plt.close(fig)
+
+
+def test_the_comparison_legend_says_by_how_much_each_model_trails():
+    """`impedax compare --plot`: each model's legend entry gives its ΔAIC as the table prints it
+    (2 decimals), so the figure says by how much the best leads, not only which one it is.
+    SYNTHETIC R ∥ C skin (1.2 kΩ + 85 kΩ ∥ 22 nF) with 0.5 % noise; the oracle is the table's
+    own ΔAIC column, read from the report's text."""
+    f = np.geomspace(1e5, 0.1, 41)
+    z = _noisy(_rc(1.2e3, 85e3, 22e-9, f), level=0.005 / math.sqrt(2), seed=7)
+    comparison = ix.compare([ix.fit("R0 + R1 || C1", (f, z)), ix.fit("R0 + R1 || CPE1", (f, z))])
+    table = {}
+    for line in str(comparison.report()).splitlines():
+        parts = line.split()
+        if line.startswith("R0 + R1 ||") and len(parts) >= 13 and parts[5].isdigit():  # (a table row: k after the model)
+            table[" ".join(parts[:5])] = parts[11]  # (model, k, rms_rel, chi2_red, AIC, AICc, BIC, ΔAIC, weight)
+    fig = comparison.plot()
+    texts = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+    assert len(table) == 2, table
+    for model, delta in table.items():
+        assert any(t.startswith(f"{model} (rms_rel") and f"ΔAIC {delta}" in t for t in texts), (model, delta, texts)
+    plt.close(fig)

@@ -11,7 +11,7 @@ from . import drawn_label, font_size, label_spectra_axis
 
 def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
-    for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`, which
+    each named with its rms_rel and ΔAIC, for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`, which
     ``figsize`` (width, height) [in] sizes). Figure."""
     from . import legends_off_data, magnitude_axis, model_curve, nyquist_frame, nyquist_shape, nyquist_view, plain_log_ticks, residual_axis, spectrum_layout
 
@@ -29,7 +29,11 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     curves = []
     rows = getattr(comparison, "rows", None) or [{}] * len(comparison.fits)
     for k, (r, row) in enumerate(zip(comparison.fits, rows)):
-        label = f"{row.get('label', r.model)} (rms_rel {r.rms_rel * 100:.3g} %)"  # (a fit with fixed values named by them)
+        # (a fit with fixed values named by them; its ΔAIC to the table's 2 decimals: the figure
+        # says by how much the best leads, where the title named it alone)
+        delta = row.get("delta_aic")
+        lead = f", ΔAIC {delta:.2f}" if delta is not None and np.isfinite(delta) else ""
+        label = f"{row.get('label', r.model)} (rms_rel {r.rms_rel * 100:.3g} %{lead})"
         ls, colour = styles[k % len(styles)], f"C{k % 9 + 1}"
         f_model, z_model = model_curve(r)
         curves.append(z_model)
