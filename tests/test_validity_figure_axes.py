@@ -173,3 +173,31 @@ def test_the_comparison_legend_says_by_how_much_each_model_trails():
     for model, delta in table.items():
         assert any(t.startswith(f"{model} (rms_rel") and f"ΔAIC {delta}" in t for t in texts), (model, delta, texts)
     plt.close(fig)
+
+
+def _labelled_in_view(ax):
+    ax.get_figure().draw_without_rendering()
+    lo, hi = sorted(ax.get_ylim())
+    texts = ax.get_yticklabels(minor=False) + ax.get_yticklabels(minor=True)
+    return sorted(float(t.get_position()[1]) for t in texts if t.get_text() and lo * (1 - 1e-9) <= t.get_position()[1] <= hi * (1 + 1e-9))
+
+
+def test_a_short_rms_panel_of_a_validity_batch_is_labelled_through_its_range():
+    """The rms_rel and noise panel of the KK batch figure of the REAL battery cycles (0, 64,
+    129: rms_rel 0.25–0.31 %, noise 0.117–0.176 %) spans under half a decade: it
+    read 0.2 and 0.3 alone, no label below the noise curve from 0.11 to 0.2. Ticked at evenly
+    spaced round values there, each labelled: at least three labels, one below the lowest
+    point's level of a tenth of the range's log span above it."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parents[1] / "examples" / "data" / "autoeis_battery_cycles.nc")
+    batch = ix.kk_test_batch(data)
+    fig = batch.plot()
+    ax = next(a for a in fig.axes if a.get_ylabel().startswith("rms_rel"))
+    values = [float(v) * 100 for r in batch.results for v in (r.rms_rel, r.noise_estimate)]
+    shown = _labelled_in_view(ax)
+    lo, hi = sorted(ax.get_ylim())
+    assert math.log10(hi / lo) < 0.7  # (the case: a short log axis)
+    assert len(shown) >= 3, shown
+    assert min(shown) <= min(values) * (max(values) / min(values)) ** 0.35, (shown, min(values))
+    plt.close(fig)
