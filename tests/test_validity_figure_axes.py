@@ -201,3 +201,20 @@ def test_a_short_rms_panel_of_a_validity_batch_is_labelled_through_its_range():
     assert len(shown) >= 3, shown
     assert min(shown) <= min(values) * (max(values) / min(values)) ** 0.35, (shown, min(values))
     plt.close(fig)
+
+
+def test_the_comparison_title_says_when_the_best_leaves_a_parameter_undetermined():
+    """REAL exampleData.csv compared as R0 + R1 || C1 against R0 + R1 || CPE1: the report says
+    the best by AIC, R0 + R1 || CPE1, "leaves R1 undetermined: the data hold R0 + CPE1"; the
+    figure's title crowned it with no word of that. Its title names the undetermined parameter
+    and the reduced model the report names. Oracle: the report's own sentence."""
+    from pathlib import Path
+
+    data = ix.load(Path(__file__).parent / "fixtures" / "real" / "exampleData.csv")
+    comparison = ix.compare([ix.fit("R0 + R1 || C1", data), ix.fit("R0 + R1 || CPE1", data)])
+    assert "R0 + R1 || CPE1 leaves R1 undetermined: the data hold R0 + CPE1" in str(comparison.report())  # (the case)
+    fig = comparison.plot()
+    title = fig._suptitle.get_text()
+    assert "best by AIC: R0 + R1 || CPE1" in title
+    assert "R1 undetermined" in title and "the data hold R0 + CPE1" in title, title
+    plt.close(fig)

@@ -53,7 +53,14 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
     ax_res.legend(fontsize=font_size("legend", 7))
-    fig.suptitle(f"model comparison — best by AIC: {getattr(comparison, 'best_label_with_ties', comparison.best)} ({comparison.fits[0].weighting} weighting)")  # ("X (tied with Y)": `Comparison.best_label_with_ties`)
+    title = f"model comparison — best by AIC: {getattr(comparison, 'best_label_with_ties', comparison.best)} ({comparison.fits[0].weighting} weighting)"  # ("X (tied with Y)": `Comparison.best_label_with_ties`)
+    undetermined = comparison.undetermined_best() if hasattr(comparison, "undetermined_best") else None
+    if undetermined:  # (as the report says it: REAL exampleData.csv's best, R0 + R1 || CPE1, leaves R1 undetermined, the data hold R0 + CPE1)
+        title += f"\n{', '.join(undetermined['undetermined'])} undetermined in it: " + (
+            f"the data hold {' or '.join(undetermined['reduced'])}" if undetermined["reduced"] else "its warnings say which term to drop")
+        if undetermined["best_determined"] is not None and not undetermined["far_worse"]:
+            title += f"; with every parameter determined: {undetermined['best_determined']} (ΔAIC {undetermined['delta_aic']:.2f})"
+    fig.suptitle(title)
     legends_off_data(fig)  # (a legend of long model names wider than its panel spread over the axis and its tick labels)
     return fig
 
