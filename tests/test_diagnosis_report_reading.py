@@ -168,11 +168,11 @@ def test_an_implausible_value_is_written_in_its_unit_s_prefix():
 
 REPORT = (
     "verdict: MISSING_EFFECT — the residuals are 8.71× the noise and structured in 1 band; adding series_inductance (L_lead) lowers AIC by 83.1.\n"
-    "  1. [series_inductance] series inductance: adding L_lead in series with the whole circuit (leads) (L_lead = 2.99 µH) lowers rms_rel from 1.35 % to 0.511 % (ΔAIC -83.1, ΔBIC -81.3).\n"
+    "  1. [series_inductance] series inductance: adding L_lead in series with the whole circuit (leads) (L_lead = 2.99 µH) lowers rms_rel from 1.35 % to 0.511 %.\n"
     "     model R0 + R1 || C1 + L_lead   rms_rel 0.511 %   ΔAIC -83.1   ΔBIC -81.3\n"
     "  to apply 1. from its fitted values (a fit from scratch may stop in another minimum): impedax fit tests/fixtures/real/exampleDataZPlot.z "
     "--model 'R0 + R1 || C1 + L_lead' --init R0=149.231 --init R1=501.568 --init C1=3.0868e-08 --init L_lead=2.98983e-06"
-)  # (REAL ZPlot from R0 + R1 || C1, the report's lines of 139, 168 and 243 characters)
+)  # (REAL ZPlot from R0 + R1 || C1, the report's lines of 139, 156 and 253 characters)
 
 
 def test_a_terminal_gets_the_report_within_its_width_and_the_commands_whole():

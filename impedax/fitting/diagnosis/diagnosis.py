@@ -1007,10 +1007,11 @@ def _evidence_words(p: Proposal, cand: FitResult) -> str:
             "several processes or a tail, not the peak's width alone)")
 
 
-def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float, d_bic: float, fixed, lowered=()) -> str:
+def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, fixed, lowered=()) -> str:
     """The suggestion in the terms of the user's circuit and data: what is added where, its
     fitted values with units, the error it removes, the bands it fixes and those where it at
-    least halves the misfit (`_lowered_bands`)."""
+    least halves the misfit (`_lowered_bands`). Its ΔAIC and ΔBIC are the report's model line's
+    (`Diagnosis.report`), given once."""
     band_text = ""
     if fixed:
         band_text = "; it removes the misfit at " + ", ".join(format_band(lo, hi) for lo, hi in fixed)
@@ -1021,7 +1022,7 @@ def _explain(effect, p: Proposal, base: FitResult, cand: FitResult, d_aic: float
     what += _evidence_words(p, cand)
     return (
         f"{effect.title}: adding {what}" + (f" ({values})" if values else "")
-        + f" lowers rms_rel from {base.rms_rel * 100:.3g} % to {cand.rms_rel * 100:.3g} % (ΔAIC {d_aic:+.1f}, ΔBIC {d_bic:+.1f}){band_text}."
+        + f" lowers rms_rel from {base.rms_rel * 100:.3g} % to {cand.rms_rel * 100:.3g} %{band_text}."
     )
 
 
@@ -2228,7 +2229,7 @@ def _suggestions(base: FitResult, proposals: list[tuple[Effect, Proposal]], fits
         fixed_bands = tuple((b.f_min, b.f_max) for b in bands if not any(a.f_min < b.f_max and a.f_max > b.f_min for a in after))
         lowered = _lowered_bands(base, cf, bands, fixed_bands)
         p = dataclasses.replace(p, where=cited_where(effect.id, p, cf.values, cf.registry, evidence, cf.frequency))
-        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, d_aic, d_bic, fixed_bands, lowered), fixed_bands, undetermined, warning, p.removed, p.vanished))
+        out.append(Suggestion(effect.id, p.added, p.where, cf, d_aic, d_bic, significant, _explain(effect, p, base, cf, fixed_bands, lowered), fixed_bands, undetermined, warning, p.removed, p.vanished))
     return out
 
 
