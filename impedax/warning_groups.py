@@ -9,7 +9,7 @@ from __future__ import annotations
 import re
 from typing import Mapping, Sequence
 
-__all__ = ["grouped_warnings", "warning_kinds", "MORE_KINDS", "labels_text", "label_shown", "key_shown", "scope_key", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
+__all__ = ["grouped_warnings", "grouped_warning_tags", "warning_kinds", "MORE_KINDS", "labels_text", "label_shown", "key_shown", "scope_key", "WARNING_GROUPS_SHOWN", "LABELS_SHOWN"]
 
 WARNING_GROUPS_SHOWN = 12  # kinds of warning a batch's text lists
 LABELS_SHOWN = 8  # labels of a dimension shown in messages
@@ -356,3 +356,20 @@ def grouped_warnings(warnings: Mapping[str, Sequence[str]], n_spectra: int, *, h
     if len(ordered) > WARNING_GROUPS_SHOWN:
         lines.append(more.format(n=len(ordered) - WARNING_GROUPS_SHOWN))
     return lines
+
+
+def grouped_warning_tags(warnings: Mapping[str, Sequence[str]], tags: Mapping[str, Sequence[Sequence[str]]]) -> list[tuple[str, ...]]:
+    """The tags of each line of `grouped_warnings` (same ``warnings``, in the same order; ``tags``:
+    each spectrum's tags of its warnings, parallel to them): a kind's line carries the tags of the
+    warnings it stands for, each once, in their order; the line past the kinds shown, those of
+    the kinds it counts. A joint posterior's ``warning_tags`` (`SharedPosterior.summary`)."""
+    of = {(place, text): tuple(t) for place, texts in warnings.items() for text, t in zip(texts, tags.get(place, ()))}
+
+    def union(members) -> tuple[str, ...]:
+        return tuple(dict.fromkeys(t for member in members for t in of.get(member, ())))
+
+    ordered = _kinds(warnings)
+    out = [union(members) for members in ordered[:WARNING_GROUPS_SHOWN]]
+    if len(ordered) > WARNING_GROUPS_SHOWN:
+        out.append(union(m for members in ordered[WARNING_GROUPS_SHOWN:] for m in members))
+    return out

@@ -33,7 +33,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
 from ...data import checked_frequencies, column_width, counted, exact_number, report_text, unit_text
-from ...warning_groups import grouped_warnings
+from ...warning_groups import grouped_warning_tags, grouped_warnings
 from ..derived import draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
 from ..least_squares.batch import stored_batch_tags
@@ -268,6 +268,7 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
             "ess": dict(self.ess),
             "warnings": list(self.warnings),
             "chain_converged": self.chain_converged,  # (as `Posterior.summary`'s)
+            "warning_tags": self._warning_tags(),  # (as `Posterior.summary`'s: none for the sampling's own, the start fit's for its lines)
             "undetermined": list(self.undetermined),  # (as `Posterior.summary`'s)
             "at_prior_edge": self.at_prior_edge,  # (as `Posterior.summary`'s)
             "piled_up": self.piled_up,
@@ -285,6 +286,13 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
             "fixed": self.fixed,
             "start_fit": self._start_fit_summary(),  # (as `Posterior.summary`'s)
         }
+
+    def _warning_tags(self) -> list[list[str]]:
+        """Each of ``warnings``' tags, in their order, as `Posterior.summary`'s ``warning_tags``:
+        none for the sampling's own and the notes, the start fit's for the lines of its warnings
+        (`_start_fit_tags`), which end ``warnings``."""
+        start = _start_fit_tags(self.fit)
+        return [[] for _ in range(len(self.warnings) - len(start))] + start
 
     def _start_fit_summary(self) -> dict:
         """The global least-squares fit the walkers started around, by sampled name (``R1[cycle=0]``,
@@ -603,8 +611,19 @@ def _start_fit_warnings(warnings: Mapping[str, tuple[str, ...]], n_spectra: int)
     ``least-squares start (2 of 3 spectra: trial 0, 2): …``, ``(all 3 spectra)``, a global fit's
     own notes ``(shared over trial)`` — and, past the kinds a report lists, how many more (every
     text is in the start fit's warnings)."""
-    warnings = {k: tuple(without_sample_advice(w) for w in v) for k, v in warnings.items()}  # (this is the sample the advice asks for)
-    return grouped_warnings(warnings, n_spectra, head="least-squares start", more="least-squares start: {n} more kinds of warning (every text: the posterior's fit.warnings)")
+    return grouped_warnings(_start_fit_texts(warnings), n_spectra, head="least-squares start", more="least-squares start: {n} more kinds of warning (every text: the posterior's fit.warnings)")
+
+
+def _start_fit_texts(warnings: Mapping[str, tuple[str, ...]]) -> dict[str, tuple[str, ...]]:
+    """The start fit's warnings by spectrum without their advice to sample (this is the sample the advice asks for)."""
+    return {k: tuple(without_sample_advice(w) for w in v) for k, v in warnings.items()}
+
+
+def _start_fit_tags(fit: SharedFitResult) -> list[list[str]]:
+    """The tags of each line of `_start_fit_warnings` (`grouped_warning_tags`): those of the
+    start fit's warnings (`BatchFitResult.spectrum_warning_tags`) that the line stands for."""
+    tags = {k: fit.spectrum_warning_tags(k) for k in fit.warnings}
+    return [list(t) for t in grouped_warning_tags(_start_fit_texts(fit.warnings), tags)]
 
 
 class _Start(NamedTuple):
