@@ -154,7 +154,7 @@ def test_posterior_csv_holds_the_quantiles_of_the_draws(rc_fit, tmp_path):
     post = ix.sample("R0 + R1 || C1", _rc_data(), steps=120, burn=40, walkers=16, seed=0, progress=False)
     ix.write_result(post, tmp_path / "post.csv")
     rows = _read_csv(tmp_path / "post.csv")
-    assert list(rows[0]) == ["name", "median", "q05", "q16", "q84", "q95", "unit", "autocorr", "ess", "undetermined", "fixed", "at_prior_edge"]  # (undetermined, fixed and at_prior_edge: added 2026-12-06)
+    assert list(rows[0]) == ["name", "median", "q05", "q16", "q84", "q95", "unit", "autocorr", "ess", "undetermined", "fixed", "at_prior_edge", "chain_converged", "warnings"]  # (undetermined, fixed and at_prior_edge: added 2026-12-06; chain_converged and warnings 2026-12-07)
     # τ and ESS as the JSON's keys: emcee's own estimator on the kept draws in the sampled
     # space (c = 5, tol = 0; log for a log-sampled parameter), ESS = walkers × draws / τ
     import emcee

@@ -61,7 +61,7 @@ def test_a_row_at_its_prior_edge_is_marked_so_not_undetermined(posterior, tmp_pa
     table = {r["name"]: r for r in post.to_table()}
     assert table["R0"]["at_prior_edge"] and not table["R0"]["undetermined"]
     assert not any(table[n]["at_prior_edge"] or table[n]["undetermined"] for n in ("R1", "C1", "sigma_rel"))
-    assert list(table["R0"])[-3:] == ["undetermined", "fixed", "at_prior_edge"]  # (added last: the columns before keep their places)
+    assert list(table["R0"])[-5:] == ["undetermined", "fixed", "at_prior_edge", "chain_converged", "warnings"]  # (each added last: the columns before keep their places)
     ix.write_result(post, tmp_path / "post.csv")
     with open(tmp_path / "post.csv", newline="") as handle:
         written = {r["name"]: r for r in csv.DictReader(line for line in handle if not line.startswith("#"))}

@@ -67,3 +67,12 @@ def test_grouped_tags_follow_the_grouped_lines():
     lines, got = grouped_warnings(many, 15), grouped_warning_tags(many, many_tags)
     assert len(lines) == len(got) == 13  # (12 kinds shown, then "3 more kinds")
     assert sorted(got[-1]) == sorted(set(t for i in range(15) for t in many_tags[f"trial={i}"][0]) - {t for g in got[:-1] for t in g})
+
+
+def test_shared_table_ends_with_the_run_s_warnings(shared):
+    """The joint posterior's CSV rows (`to_table`) end as a single spectrum's: ``chain_converged``
+    and ``warnings`` joined by "; ", the same on every row (20 steps: too short)."""
+    summary, rows = shared.summary(), shared.to_table()
+    assert all(list(r)[-2:] == ["chain_converged", "warnings"] for r in rows)
+    assert all(r["chain_converged"] is False and r["warnings"] == "; ".join(summary["warnings"]) for r in rows)
+    assert "chain_converged" not in shared._repr_html_() and "misses structure" in rows[0]["warnings"]

@@ -123,14 +123,27 @@ def last_at_prior_edge(rows: Sequence[Mapping[str, object]]) -> list[dict[str, o
     return [{**{k: v for k, v in row.items() if k != "at_prior_edge"}, "at_prior_edge": bool(row.get("at_prior_edge", False))} for row in rows]
 
 
+def with_warning_columns(rows: Sequence[Mapping[str, object]], chain_converged: bool, warnings: Sequence[str]) -> list[dict[str, object]]:
+    """``rows`` (a posterior's table) with the columns ``chain_converged`` (the JSON's key) and
+    ``warnings`` (joined by "; ", "" if none, as `FitResult.to_table`'s) last, the same on every
+    row: a CSV of a short or stuck chain says so (the JSON and netCDF hold the warnings)."""
+    warned = "; ".join(warnings)
+    return [{**row, "chain_converged": bool(chain_converged), "warnings": warned} for row in rows]
+
+
+_RUN_COLUMNS = ("at_prior_edge", "chain_converged", "warnings")
+"""The table's columns a notebook view leaves out: the mark folded into ``undetermined``, the
+run's warnings printed under the table."""
+
+
 def html_rows(table: Sequence[Mapping[str, object]]) -> list[dict[str, object]]:
     """A notebook view's rows of ``table`` (`Posterior.to_table`'s): the unit as the report writes
     it (Ω) and, in the column ``undetermined``, the report's mark on that row (``at_prior_edge``'s
-    folded in)."""
+    folded in); not the run's columns (`with_warning_columns`: the view lists the warnings)."""
     def mark(row) -> str:
         return UNDETERMINED_MARK if row["undetermined"] else EDGE_SET_MARK if row.get("at_prior_edge") else ""
 
-    return [{**{k: v for k, v in row.items() if k != "at_prior_edge"}, "unit": unit_text(row["unit"]), "undetermined": mark(row)} for row in table]
+    return [{**{k: v for k, v in row.items() if k not in _RUN_COLUMNS}, "unit": unit_text(row["unit"]), "undetermined": mark(row)} for row in table]
 
 
 DERIVED_FROM_UNDETERMINED = "its interval shows where the priors take over, not a measurement; fix one of them at a value you know"
@@ -443,8 +456,9 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
         not the rows piled up at a prior's edge); a replaced parameter's by the
         one that replaces it. Then (as `FitResult.to_table`'s rows and column) a
         row per fixed parameter, its value in every quantile column, and the column ``fixed``
-        (true on those rows), as the report lists them. Last
-        ``at_prior_edge``: the row the report marks AT PRIOR EDGE (`at_prior_edge`)."""
+        (true on those rows), as the report lists them. Then
+        ``at_prior_edge``: the row the report marks AT PRIOR EDGE (`at_prior_edge`); last, the
+        same on every row, ``chain_converged`` and ``warnings`` (`with_warning_columns`)."""
         q = self.quantiles()
         marks, _ = marked_rows(self.undetermined, self.set_by_prior_edge)
         rows = [
@@ -464,7 +478,7 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             rows += [{"name": n, **{k: float(cq[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": specs[n].unit, "autocorr": None, "ess": None,
                       **_mark_columns(mark_of(n))} for n in rp.replaces]
         rows = [{**row, "fixed": False} for row in rows] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry))
-        return last_at_prior_edge(rows)
+        return with_warning_columns(last_at_prior_edge(rows), self.chain_converged, self.warnings)
 
     def _evidence_line(self) -> str:
         """The report's line of Laplace ln Z and WAIC, "undefined" for a figure that is not

@@ -47,7 +47,7 @@ from .diagnostics import NO_STRAGGLERS, PiledUp, WalkerDraws, circuit_name, Stra
 from ..stored import StoredProgram
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting, walkers_log_prob
 from .chain import AUTO_STEPS, auto_step_cap, ball_scales, capped_at, length_settings, length_text, run_emcee, start_walkers, support_in_sampled_space, undetermined_span
-from .posterior import PREDICTIVE_COPIES, Posterior, fixed_rows, html_rows, last_at_prior_edge, marked_rows, chain_figures, checked_copies, sigma_between, with_noise
+from .posterior import PREDICTIVE_COPIES, Posterior, fixed_rows, html_rows, last_at_prior_edge, marked_rows, chain_figures, checked_copies, sigma_between, with_noise, with_warning_columns
 from .priors import SIGMA_REL_PRIOR, Prior, check_prior_inside, coerce_priors, data_scale_range, default_prior, prior_log_density
 
 __all__ = ["SharedPosterior", "sample_shared", "spectrum_labels", "MAX_JOINT_PARAMETERS"]
@@ -473,15 +473,16 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
         """One row per sampled parameter: name, the summary quantiles, unit, and (as the
         JSON's keys) ``autocorr`` (τ [steps]) and ``ess``, None where unknown, and
         ``undetermined``, as `Posterior.to_table`: the rows the report marks NOT DETERMINED; then
-        the fixed parameters' rows and the column ``fixed`` (`fixed_rows`); last
-        ``at_prior_edge``: the rows it marks AT PRIOR EDGE."""
+        the fixed parameters' rows and the column ``fixed`` (`fixed_rows`); then
+        ``at_prior_edge``: the rows it marks AT PRIOR EDGE; last, on every row,
+        ``chain_converged`` and ``warnings`` (`with_warning_columns`)."""
         q = self.quantiles()
         marks, _ = marked_rows(self.undetermined, self.set_by_prior_edge)
-        return last_at_prior_edge([
+        return with_warning_columns(last_at_prior_edge([
             {"name": n, **{k: float(q[k].sel(param=n)) for k in SUMMARY_QUANTILES}, "unit": u, **chain_figures(self.autocorr, self.ess, n), "undetermined": n in marks and n in self.undetermined,
              "fixed": False, "at_prior_edge": n in marks and n not in self.undetermined}
             for n, u in zip(self.names, self.units)
-        ] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry)))
+        ] + fixed_rows(self.fixed, self.circuit.parameter_specs(self.registry))), self.chain_converged, self.warnings)
 
     def derive(self, fn: Callable, freq=None, *, draws: bool = False, max_draws: int | None = None) -> xr.Dataset:
         """`Posterior.derive` over the joint draws: ``fn(params[, freq])`` gets every sampled
