@@ -748,7 +748,7 @@ def test_a_chain_too_short_for_tau_says_so(rc_csv, capsys):
     assert all(math.isnan(t) for t in post.autocorr.values()) and all(math.isnan(e) for e in post.ess.values())
     assert any("too short to estimate τ (2 draws per walker after burn-in; emcee needs ≳ 50 τ" in w for w in post.warnings), post.warnings
     assert "nan" not in post.report() and "—" in post.report()
-    code = main(["sample", str(rc_csv), "--model", "R0 + R1 || C1", "--steps", "2", "--json"])
+    code = main(["sample", str(rc_csv), "--model", "R0 + R1 || C1", "--steps", "20", "--json"])  # (the command line's least: 15 draws per walker, too few for τ)
     out, err = capsys.readouterr()
     doc = json.loads(out)
     assert code == 0 and "RuntimeWarning" not in err

@@ -220,7 +220,7 @@ BAD_OPTIONS = [  # (id, argv template with {good} a valid spectrum file and {tmp
     ("compare-unknown-weighting", ["compare", "{good}", "--model", "R1", "--model", "C1", "--weighting", "x"], "invalid choice: 'x'"),
     ("compare-max-steps-negative", ["compare", "{good}", "--model", "R1", "--model", "C1", "--max-steps", "-1"], "--max-steps must be at least 1"),
     ("compare-fmin-above-fmax", ["compare", "{good}", "--model", "R1", "--model", "C1", "--fmin", "5", "--fmax", "2"], "--fmax (2 Hz) is below --fmin (5 Hz)"),
-    ("sample-steps-zero", ["sample", "{good}", "--model", "R1", "--steps", "0"], "steps must be at least 1"),
+    ("sample-steps-zero", ["sample", "{good}", "--model", "R1", "--steps", "0"], "--steps must be at least 20"),
     ("sample-steps-not-a-number", ["sample", "{good}", "--model", "R1", "--steps", "many"], "invalid int value: 'many'"),
     ("sample-burn-beyond-steps", ["sample", "{good}", "--model", "R1", "--steps", "20", "--burn", "30"], "burn must be an integer from 0 to steps"),
     ("sample-one-walker", ["sample", "{good}", "--model", "R1", "--steps", "20", "--walkers", "1"], "walkers must be at least 2"),

@@ -163,10 +163,10 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
-    from ..arguments import GAP_MIN_STEPS
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
     from ..models.gap_inputs import check_not_a_remainder, condition_notes, drive_voltage
     from ..models.sirin import SIRIN_CUTOFF_HZ
+    from .sample import check_steps
     from .common import check_band_options, shown_path, check_distinct_paths, contact_paths, check_memory, command_provenance, figure_options, figure_writer, load_selected_files, plan_outputs, print_result, remainder_with_paths, result_writer, spectrum_writer
 
     if args.pooled and args.method == "hierarchical":  # (argparse's exclusive groups let a default-valued --method through)
@@ -184,8 +184,7 @@ def run(args) -> int:
         raise ParameterError(f"--fmax {args.fmax:g} Hz leaves no frequency above {SIRIN_CUTOFF_HZ:g} Hz, where the paper's method reads C_gap = |Y_R|/ω "
                              f"(Sirin §2.3: the remainder is the gap's capacitance there) and the EDL model's C_gap shows; keep --fmax above {SIRIN_CUTOFF_HZ:g} Hz")
     steps = args.steps
-    if steps != AUTO_STEPS and steps < GAP_MIN_STEPS:
-        raise ParameterError(f"--steps must be at least {GAP_MIN_STEPS}")
+    check_steps(steps)  # (as impedax sample's --steps)
     outputs = plan_outputs(
         [("--out", args.out, "result"), ("--plot", args.plot, "figure"), ("--remaining", args.remaining, "spectrum")],
         inputs=list(paths.values()), stdout="--json" if args.json else None,

@@ -6,7 +6,7 @@ import sys
 
 
 def register(sub) -> None:
-    from ..arguments import AUTO_MAX_STEPS, CHAIN_TAU_MULTIPLE, NOISE_MODELS, PRIOR_KINDS  # (the sampler's vocabulary, below JAX: --help imports no JAX)
+    from ..arguments import AUTO_MAX_STEPS, CHAIN_TAU_MULTIPLE, MIN_SAMPLER_STEPS, NOISE_MODELS, PRIOR_KINDS  # (the sampler's vocabulary, below JAX: --help imports no JAX)
     from .common import add_model_argument, add_output_options, add_plot_option, add_quiet_option, add_select_option, data_help, number_option, result_out_help
     from .fit import add_bound_option, add_exclude_option, add_shared_options
 
@@ -19,7 +19,7 @@ def register(sub) -> None:
     add_select_option(p, several="with --shared")
     add_model_argument(p)
     p.add_argument("--walkers", type=int, metavar="N", help="number of walkers (even, at least 2 × parameters; default max(64, 4 × parameters))")
-    p.add_argument("--steps", type=steps_option, default="auto", metavar="N|auto", help=f"steps per walker, or auto: until the chain after burn-in is {CHAIN_TAU_MULTIPLE} autocorrelation times long and τ has settled, at most {AUTO_MAX_STEPS} (default auto)")
+    p.add_argument("--steps", type=steps_option, default="auto", metavar="N|auto", help=f"steps per walker, at least {MIN_SAMPLER_STEPS}, or auto: until the chain after burn-in is {CHAIN_TAU_MULTIPLE} autocorrelation times long and τ has settled, at most {AUTO_MAX_STEPS} (default auto)")
     p.add_argument("--burn", type=int, metavar="N", help="steps discarded at the start (default a quarter of the steps run)")
     p.add_argument("--thin", type=int, default=1, metavar="N", help="keep every N-th step (default 1)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
@@ -60,6 +60,17 @@ def steps_option(text: str) -> int | str:
         raise argparse.ArgumentTypeError(f"invalid int value: {text!r} (give a number of steps, or auto)") from None
 
 
+def check_steps(steps: int | str) -> None:
+    """``--steps`` of ``impedax sample`` and ``impedax gap``: ``auto`` or at least
+    `MIN_SAMPLER_STEPS`, else a `ParameterError` that says why, before any file is read."""
+    from ..arguments import CHAIN_TAU_MULTIPLE, MIN_SAMPLER_STEPS
+    from ..errors import ParameterError
+
+    if steps != "auto" and steps is not None and steps < MIN_SAMPLER_STEPS:
+        raise ParameterError(f"--steps must be at least {MIN_SAMPLER_STEPS} (got {steps}): a shorter chain keeps a few draws per walker near their start, "
+                             f"too few for its quantiles and for τ and ESS; --steps auto runs until the chain is {CHAIN_TAU_MULTIPLE} τ long")
+
+
 def noise_model_option(text: str) -> str:
     """``--noise``: the name of a noise model (argparse checks it against the choices). A level
     (``1%``, ``0.01``) is refused with where it belongs: the sampler samples the level."""
@@ -89,8 +100,7 @@ def check_sample_size(circuit, walkers, steps, priors, registry=None) -> None:
     from ..fitting.bayes.sampler import auto_step_cap
     from .common import check_memory
 
-    if steps != "auto" and steps is not None and steps < 1:
-        raise ParameterError(f"--steps must be at least 1, got {steps}")
+    check_steps(steps)
     if walkers is not None and walkers < 2:
         raise ParameterError(f"--walkers must be at least 2 (an even number, at least 2 × the sampled parameters), got {walkers}")
     dims = len(circuit.parameter_names(*(() if registry is None else (registry,)))) + 2  # + the noise parameter, + the log-probability
