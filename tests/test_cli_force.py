@@ -140,7 +140,7 @@ def test_meyer_peak_is_refined_to_the_dense_grid_maximum(capsys):
     low = grid[grid >= knee][0]
     out_v = _json(capsys, "vezzoli")
     assert out_v["peak"]["plateau_hz"] == [pytest.approx(low, rel=1e-12), 1e6]
-    assert (f"the force is largest at --fmax, {plateau * 1e3:.4g} mN at 1 MHz, on a plateau: within 1% of it over {low / 1e3:.3g} kHz–1 MHz, "
+    assert (f"the force is largest at --fmax, {plateau * 1e3:.4g} mN at 1 MHz, on a plateau: within 1 % of it over {low / 1e3:.3g} kHz–1 MHz, "
             "where it levels off (it may still rise above --fmax)") in _stderr_line(capsys, "vezzoli")
     assert out["peak"]["plateau_hz"] is not None  # (meyer's flat top: within 1 % over 5.6–251 kHz; its refined peak is said as before)
 
@@ -467,7 +467,7 @@ def test_a_band_reaching_1_ghz_is_written_in_ghz(capsys):
     """Meyer's default band ends at 1 GHz; a frequency there was written "1e+03 MHz" (2026-12-06).
     Vezzoli's eq 10 is within 1 % of its limit over the whole 1 MHz–1 GHz (ωτ ≥ 3900 there)."""
     err = _stderr_line(capsys, "vezzoli", "--fmin", "1M", "--fmax", "1G")
-    assert "at 1 GHz, on a plateau: within 1% of it over 1 MHz–1 GHz" in err and "e+03" not in err
+    assert "at 1 GHz, on a plateau: within 1 % of it over 1 MHz–1 GHz" in err and "e+03" not in err
     from impedax.data import format_band, format_frequency
 
     assert [format_frequency(f) for f in (1e9, 2.5e9, 999e6)] == ["1 GHz", "2.5 GHz", "999 MHz"] and format_band(10.0, 1e9) == "10 Hz–1 GHz"

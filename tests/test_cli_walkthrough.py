@@ -175,7 +175,7 @@ def test_an_auto_runs_progress_says_when_it_waits_for_tau_to_settle():
     assert _length_goal(length, 2000) == (3798, "50 τ")
     length.long, length.tau_change = True, 0.034
     steps, note = _length_goal(length, 9075)
-    assert steps is None and note == "50 τ reached; waiting for τ to settle (changed 3.4% at the last check, < 1% stops)"
+    assert steps is None and note == "50 τ reached; waiting for τ to settle (changed 3.4 % at the last check, < 1 % stops)"
     bar = ProgressLine(20000, True, label="sampling", interactive=False, open_ended=True)
     bar.first = (0.0, 0)
     bar.set_target(steps, note)

@@ -63,14 +63,14 @@ def test_upper_end_of_the_interval_above_breakdown_is_warned():
     notes, (median, low, high) = notes_for(v0)
     assert median < AIR_BREAKDOWN_V < high
     assert len(notes) == 1
-    assert f"carries {median:.3g} V (90% interval {low:.3g}–{high:.3g} V)" in notes[0]
-    assert f"upper end of the 90% interval ({high:.3g} V) is above it" in notes[0] and "may spark" in notes[0]
+    assert f"carries {median:.3g} V (90 % interval {low:.3g}–{high:.3g} V)" in notes[0]
+    assert f"upper end of the 90 % interval ({high:.3g} V) is above it" in notes[0] and "may spark" in notes[0]
 
 
 def test_median_above_breakdown_is_warned_with_its_interval():
     _, (m1, _, _) = at_force_peak(1.0)
     notes, (median, low, high) = notes_for(1.2 * AIR_BREAKDOWN_V / m1)
-    assert len(notes) == 1 and f"carries {median:.3g} V (90% interval {low:.3g}–{high:.3g} V)" in notes[0]
+    assert len(notes) == 1 and f"carries {median:.3g} V (90 % interval {low:.3g}–{high:.3g} V)" in notes[0]
     assert "above the ~330 V at which air breaks down" in notes[0] and "would spark" in notes[0]
 
 

@@ -136,10 +136,10 @@ def test_units_attributes_and_labels_that_cannot_serve(gripper):
 
 
 def test_gap_voltages_have_no_false_precision():
-    """The walkthrough's report line "without EP: 99.999927 V (90%: 99.999925–99.999928 V)"."""
-    assert _volts_with_interval({"value": 99.999927, "q05": 99.999925, "q95": 99.999928}) == "100.0 V (90%: ≈ 100.0 V)"
-    assert _volts_with_interval({"value": 99.300, "q05": 99.294, "q95": 99.334}) == "99.30 V (90%: 99.29–99.33 V)"
-    assert _volts_with_interval({"value": 71.0, "q05": 50.2, "q95": 90.4}) == "71 V (90%: 50.2–90.4 V)"
+    """The walkthrough's report line "without EP: 99.999927 V (90 %: 99.999925–99.999928 V)"."""
+    assert _volts_with_interval({"value": 99.999927, "q05": 99.999925, "q95": 99.999928}) == "100.0 V (90 %: ≈ 100.0 V)"
+    assert _volts_with_interval({"value": 99.300, "q05": 99.294, "q95": 99.334}) == "99.30 V (90 %: 99.29–99.33 V)"
+    assert _volts_with_interval({"value": 71.0, "q05": 50.2, "q95": 90.4}) == "71 V (90 %: 50.2–90.4 V)"
 
 
 def test_the_area_error_speaks_of_a_contact_not_a_fingertip():

@@ -28,7 +28,7 @@ def test_the_report_gives_the_force_s_90_percent_band_at_each_maximum():
     # = 8.859 N, × 0.93 and × 1.08 (with EP), × 0.8 of those without EP
     assert (round(lo, 2), round(hi, 2), f, f2) == (8.24, 9.57, 1000.0, 1000.0)
     assert (round(lo2, 2), round(hi2, 2)) == (6.59, 7.65)
-    assert interval == (f"force 90%       credible band of the peak force at each maximum: with EP {lo:.3g}–{hi:.3g} N at 1 kHz; "
+    assert interval == (f"force 90 %      credible band of the peak force at each maximum: with EP {lo:.3g}–{hi:.3g} N at 1 kHz; "
                         f"without EP {lo2:.3g}–{hi2:.3g} N at 1 kHz"), interval
 
 
@@ -37,6 +37,6 @@ def test_a_force_of_an_undetermined_gap_is_no_credible_band():
     from dataclasses import replace
 
     lines = replace(_stub(rhat_max=1.01, warnings=()), gap_lower_bound=4e-6).report().splitlines()
-    (line,) = [x for x in lines if x.startswith("force 90%")]
-    assert line.startswith("force 90%       interval of the draws' peak force (no estimate: see the force line) at each maximum: with EP ")
+    (line,) = [x for x in lines if x.startswith("force 90 %")]
+    assert line.startswith("force 90 %      interval of the draws' peak force (no estimate: see the force line) at each maximum: with EP ")
     assert "credible" not in line

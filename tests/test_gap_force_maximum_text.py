@@ -33,7 +33,7 @@ def test_a_plateau_at_the_band_end_is_named_as_one():
     assert shape["band_edge"] == "fmin" and low == 1.0
     assert 2e3 <= high <= fc * np.sqrt(1 / 0.99 - 1)  # (the last grid point with F ≥ 0.99 F0: fc·√(1/0.99 − 1) = 3.0 kHz)
     text = force_maximum_text(_median(force))
-    assert text.startswith("407 mN on a plateau over 1 Hz–") and text.endswith("(within 1%; largest at 1 Hz, the band's lower end)")
+    assert text.startswith("407 mN on a plateau over 1 Hz–") and text.endswith("(within 1 %; largest at 1 Hz, the band's lower end)")
 
 
 def test_a_force_rising_past_the_band_says_so():

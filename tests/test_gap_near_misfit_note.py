@@ -50,7 +50,7 @@ def test_the_gamry_figures_get_the_note():
     assert NEAR_MISFIT_RATIO == 2.5
     note = _near_misfit_note(_fit(0.238, stderr_rel=8.3e8), REMAINDER, _KK(0.048))
     assert note.startswith("R_EP || CPE_EP || C_gap misses the spectrum by 23.8 % (rms_rel), 4.96× the 4.8 % a Kramers–Kronig-consistent model reaches"), note
-    assert "accounts for only 4% of the misfit's square, and the fit leaves R_EP undetermined" in note and "no alarm" in note
+    assert "accounts for only 4 % of the misfit's square, and the fit leaves R_EP undetermined" in note and "no alarm" in note
 
 
 @pytest.mark.parametrize("rms, kk", [(0.11, 0.048), (0.04, 0.01), (0.25, 0.048)])

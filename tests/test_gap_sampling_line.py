@@ -27,12 +27,12 @@ def test_a_hierarchical_run_that_passed_says_its_figures():
     assert max(rhat.values()) < 1.05 and min(ess.values()) > 100  # (the case: it passes the checks)
     assert _line(result) == (f"sampling        hierarchical NUTS, 1600 draws: 0 divergent, R-hat up to {max(rhat.values()):.3f}, "
                              f"ESS down to {min(ess.values()):.0f} (of every sampled quantity), mean acceptance 0.85: passed its checks "
-                             "(R-hat < 1.05, at most 1% divergent)")
+                             "(R-hat < 1.05, at most 1 % divergent)")
 
 
 def test_an_unreliable_hierarchical_run_s_line_says_so():
     line = _line(_analysis(_posterior(alpha_apart=0.2)))
-    assert line.endswith(": FAILED its checks (R-hat < 1.05, at most 1% divergent): see SAMPLING UNRELIABLE above")
+    assert line.endswith(": FAILED its checks (R-hat < 1.05, at most 1 % divergent): see SAMPLING UNRELIABLE above")
 
 
 def _pooled(base, *, tau, steps, burn, converged, stopped):

@@ -174,10 +174,10 @@ def _force_with_gap_voltage(median, q05, q95):
 @pytest.mark.parametrize(
     "band, shown",
     [
-        ((941.0, 940.6, 941.3), "carries 941.0 V (90% interval 940.6–941.3 V)"),  # 3 digits print 941–941: 4 do not
-        ((940.8, 940.6, 941.0), "carries 940.8 V (90% interval 940.6–941.0 V)"),  # the walkthrough's: trailing zero kept
-        ((941.0, 941.01, 941.04), "carries 941.0 V (90% interval ≈ 941.0 V)"),  # alike to 4 digits: once
-        ((941.0, 900.0, 980.0), "carries 941 V (90% interval 900–980 V)"),  # 3 digits suffice
+        ((941.0, 940.6, 941.3), "carries 941.0 V (90 % interval 940.6–941.3 V)"),  # 3 digits print 941–941: 4 do not
+        ((940.8, 940.6, 941.0), "carries 940.8 V (90 % interval 940.6–941.0 V)"),  # the walkthrough's: trailing zero kept
+        ((941.0, 941.01, 941.04), "carries 941.0 V (90 % interval ≈ 941.0 V)"),  # alike to 4 digits: once
+        ((941.0, 900.0, 980.0), "carries 941 V (90 % interval 900–980 V)"),  # 3 digits suffice
     ],
 )
 def test_breakdown_interval_shows_its_ends_apart(band, shown):
@@ -225,7 +225,7 @@ def test_a_u_that_is_no_air_gap_is_an_alarm_and_not_identified(u_median, verdict
 def test_the_walkthrough_s_u_of_a_metre_is_no_air_gap_and_its_capacitances_have_their_prefix():
     """The walkthrough's run (`impedax gap FILE --area 130e-6 --pooled --steps 50`, a single
     BioLogic spectrum): u = 1.15 m piled up at the prior's upper bound (C_gap = 1 fF) was
-    reported as "gap thickness u = 1150016.575 µm", "C_gap = 0.0 pF (90%: 0.0–0.0 pF)", the
+    reported as "gap thickness u = 1150016.575 µm", "C_gap = 0.0 pF (90 %: 0.0–0.0 pF)", the
     paper's u as "0.000 µm", and the JSON said gap_identified true, alarms []. The paper's C_gap
     in numpy (Sirin §2.3: the mean |Y|/ω above 30 Hz) is 22.8 µF, its u 0.05 nm."""
     path = "tests/fixtures/real/exampleDataBioLogic.mpt"
@@ -244,10 +244,10 @@ def test_the_walkthrough_s_u_of_a_metre_is_no_air_gap_and_its_capacitances_have_
     assert [a.split(":")[0] for a in s["alarms"]] == ["NO AIR GAP", "PAPER METHOD"]
     lines = gap.report().splitlines()
     assert lines[0].startswith("NO AIR GAP: u = 1.15 m") and "check the area's unit first" in lines[0] and lines[1].startswith("PAPER METHOD: NO AIR GAP")
-    assert lines[2].startswith("sampled u (prior-set) = 1.15 m  (90% interval of the draws: ")
+    assert lines[2].startswith("sampled u (prior-set) = 1.15 m  (90 % interval of the draws: ")
     assert any(x.startswith(f"paper method    u = {format_quantity(u_paper, 'm')} (NO AIR GAP)") for x in lines)
     (c_line,) = [x for x in lines if x.startswith("C_gap")]
-    assert c_line.startswith("C_gap (prior-set) = 1.00") and " fF (90%: 1" in c_line and f"paper method {c_paper * 1e6:.4g} µF" in c_line and "pF" not in c_line
+    assert c_line.startswith("C_gap (prior-set) = 1.00") and " fF (90 %: 1" in c_line and f"paper method {c_paper * 1e6:.4g} µF" in c_line and "pF" not in c_line
 
 
 def test_the_correlation_advice_call_fits_with_the_weighting_its_sampling_needs():

@@ -327,7 +327,7 @@ def test_gap_voltage_is_output_beside_the_force_from_the_same_draws(stationary, 
     at_max = result.gap_voltage_at_force_max()
     assert at_max["frequency_hz"] == f[i] and at_max["value"] == s["gap_voltage_v"]["median"][i] and at_max["q05"] < at_max["value"] < at_max["q95"]
     line = next(x for x in result.report().splitlines() if x.startswith("gap voltage"))
-    printed = re.search(r"with EP: ([\d.]+) V \(90%: ([\d.]+)–([\d.]+) V\) at (\S+ \S+);", line)
+    printed = re.search(r"with EP: ([\d.]+) V \(90 %: ([\d.]+)–([\d.]+) V\) at (\S+ \S+);", line)
     assert printed and printed[4] == format_frequency(f[i]) and printed[2] != printed[3], line  # (the ends told apart)
     for text, key in zip(printed.groups()[:3], ("value", "q05", "q95")):
         decimals = len(text.partition(".")[2])  # (3 or 4 significant digits since 2026-12-02: "71 V" has none)
@@ -435,5 +435,5 @@ def test_undetermined_gap_line_does_not_read_as_the_gap_range(stationary):
     u = result.posterior.parameter_draws()["u"] * 1e6
     low, high = np.quantile(u, [0.05, 0.95])
     first = next(x for x in result.report().splitlines() if x.startswith("sampled u (prior-set)"))
-    assert f"(90% interval of the draws: {low:.3f}–{high:.3f} µm, set by the priors, not a range of the gap, " in first, first
+    assert f"(90 % interval of the draws: {low:.3f}–{high:.3f} µm, set by the priors, not a range of the gap, " in first, first
     assert "not of the gap" not in first

@@ -319,7 +319,7 @@ def _peak_text(peak: dict) -> str:
         plateau = peak.get("plateau_hz")
         if plateau:  # (a high-pass's limit, as Vezzoli's eq 10: "still rises" alone read as still growing)
             band = format_band(*plateau)
-            return (f"no peak in the band: the force is largest at {option}, {where}, on a plateau: within {FORCE_PLATEAU_REL:.0%} of it over {band}, "
+            return (f"no peak in the band: the force is largest at {option}, {where}, on a plateau: within {FORCE_PLATEAU_REL * 100:.0f} % of it over {band}, "
                     f"where it levels off (it may still rise {side} {option})")
         # (what the band's end shows, 2026-12-06: over 10–50 kHz Vezzoli's eq 10 changes by 0.012 % per decade at 50 kHz, and
         # "and still rises above it" was said as of a force that grows; no plateau is judged on less than a decade)

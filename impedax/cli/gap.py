@@ -124,7 +124,7 @@ def register(sub) -> None:
         help="air-gap thickness, gap voltage and force from three spectra (Sirin et al.), or one of a single contact",
         description="Subtract skin and touchscreen from the total impedance (given the total alone: a single contact, "
         "e.g. an electroadhesive gripper pad, whose total is the contact's impedance and takes the whole drive), fit the EDL parallel model, "
-        "sample the gap thickness u and print it with its 90% credible interval next to the paper's method. "
+        "sample the gap thickness u and print it with its 90 % credible interval next to the paper's method. "
         "Default (--method hierarchical): every total trial gets its own u and EP branch drawn from a population, "
         "with noise from the trial scatter and a sampled discrepancy floor; u is the population median, "
         "reported with the spread between trials and a new trial's interval. --pooled: one model on the trial means (their SEM only). "

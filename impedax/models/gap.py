@@ -337,12 +337,12 @@ class GapAnalysis(FrozenResult):
 
     @property
     def c_gap(self) -> dict[str, float]:
-        """Posterior median and 90% interval of C_gap [F]."""
+        """Posterior median and 90 % interval of C_gap [F]."""
         return self._quantiles("C_gap")
 
     @property
     def gap(self) -> dict[str, float]:
-        """Posterior median and 90% interval of the gap thickness u [m]."""
+        """Posterior median and 90 % interval of the gap thickness u [m]."""
         return self._quantiles("u")
 
     @property
@@ -528,7 +528,7 @@ class GapAnalysis(FrozenResult):
 
     def to_table(self) -> list[dict[str, object]]:
         """The table of ``--out FILE.csv``: one row per ``method``, bayes (C_gap and u their
-        posterior medians, low/high the 90% credible interval) and paper (the paper's method:
+        posterior medians, low/high the 90 % credible interval) and paper (the paper's method:
         u's low/high its bounds from the lowest/highest impedances, None with one trial of each;
         C_gap none). Every column name carries its SI unit (`GAP_TABLE_COLUMNS`: ``_f`` farad,
         ``_m`` metre; the JSON's ``gap_um`` are the same u in µm); ``gap_identified`` and
@@ -573,17 +573,17 @@ class GapAnalysis(FrozenResult):
         bare = self.force.sel(branch="without_ep")["median"]  # (C_gap alone: the JSON's force_without_ep_n)
         band = _gap_range(g["q05"], g["q95"])
         if self.gap_identified:
-            head, interval = "gap thickness u", f"90% credible interval {band}"
+            head, interval = "gap thickness u", f"90 % credible interval {band}"
         elif self._prior_set:  # (the range first, then what it is not: after "not of the gap" it read as the gap's)
-            head, interval = "sampled u (prior-set)", f"90% interval of the draws: {band}, set by the priors, not a range of the gap"
+            head, interval = "sampled u (prior-set)", f"90 % interval of the draws: {band}, set by the priors, not a range of the gap"
         else:
-            head, interval = "sampled u (NO AIR GAP)" if self.gap_implausible is not None else "sampled u", f"90% interval of the draws: {band}, not a range of the gap"
+            head, interval = "sampled u (NO AIR GAP)" if self.gap_implausible is not None else "sampled u", f"90 % interval of the draws: {band}, not a range of the gap"
         if self.hierarchical is not None:
             spread, new = self.gap_spread, self.gap_new_trial
             lines = [
                 f"{head} = {_gap_length(g['value'])}  (population median of the trials; {interval}, hierarchical Bayesian, {self.edl_fit.model})",
-                f"between trials  u varies by {spread['relative']['value']:.1%} (sd of ln u; 90%: {spread['relative']['q05']:.1%}–{spread['relative']['q95']:.1%}), ≈ {spread['sd_m'] * 1e6:.3f} µm",
-                f"a new trial     u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90% predictive interval)",
+                f"between trials  u varies by {spread['relative']['value'] * 100:.1f} % (sd of ln u; 90 %: {spread['relative']['q05'] * 100:.1f}–{spread['relative']['q95'] * 100:.1f} %), ≈ {spread['sd_m'] * 1e6:.3f} µm",
+                f"a new trial     u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90 % predictive interval)",
             ]
         else:
             lines = [f"{head} = {_gap_length(g['value'])}  ({interval}, {self._pooled_noise_text()}; {self.edl_fit.model})"]
@@ -676,8 +676,8 @@ class GapAnalysis(FrozenResult):
         head = "sampling        "
         if self.hierarchical is not None:
             d = self._sampling_summary()
-            verdict = (f"FAILED its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX:.0%} divergent): see SAMPLING UNRELIABLE above"
-                       if self._sampling_unreliable() else f"passed its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX:.0%} divergent)")
+            verdict = (f"FAILED its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX * 100:.0f} % divergent): see SAMPLING UNRELIABLE above"
+                       if self._sampling_unreliable() else f"passed its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX * 100:.0f} % divergent)")
             return (f"{head}hierarchical NUTS, {d['draws']} draws: {d['divergences']} divergent, R-hat up to {d['rhat_max']:.3f}, ESS down to {d['ess_min']:.0f} "
                     f"(of every sampled quantity), mean acceptance {self.hierarchical.mean_acceptance:.2f}: {verdict}")
         c = self._pooled_chain_summary()
@@ -708,7 +708,7 @@ class GapAnalysis(FrozenResult):
                 "chain_tau": (steps - burn) / float(np.max(tau)) if known else None, "chain_converged": bool(post.chain_converged)}
 
     def _force_interval_line(self) -> str:
-        """The report's ``force 90%`` line: the 90 % band of the PEAK force at each branch's
+        """The report's ``force 90 %`` line: the 90 % band of the PEAK force at each branch's
         maximum (`force_at_max`, the CSV's ``force_max_low_n``/``force_max_high_n``), in the SI
         prefix of its median: ``with EP 337–369 mN at 31.6 Hz; without EP …``; "of the draws, no
         estimate" when u is not determined (the force line's NO ESTIMATE)."""
@@ -718,7 +718,7 @@ class GapAnalysis(FrozenResult):
             scale, prefix = si_prefix(abs(q["value"])) if q["value"] else (1.0, "")
             parts.append(f"{what} {q['q05'] / scale:.3g}–{q['q95'] / scale:.3g} {prefix}N at {format_frequency(q['frequency_hz'])}")
         what = "credible band of the peak force" if self.gap_identified else "interval of the draws' peak force (no estimate: see the force line)"
-        return f"force 90%       {what} at each maximum: " + "; ".join(parts)
+        return f"force 90 %      {what} at each maximum: " + "; ".join(parts)
 
     def _force_bound_line(self) -> str | None:
         """The report's ``force bound`` line when u is not determined: the largest force the data
@@ -879,28 +879,28 @@ def _gap_range(low: float, high: float, digits: int | None = None) -> str:
 
 
 CAPACITANCE_DIGITS = 4
-"""Significant digits of C_gap in the report: 221.3 pF (90%: 220.9–221.8 pF), as the 0.1 pF it had."""
+"""Significant digits of C_gap in the report: 221.3 pF (90 %: 220.9–221.8 pF), as the 0.1 pF it had."""
 
 
 def _capacitance_with_interval(q: Mapping[str, float]) -> str:
-    """``221.3 pF (90%: 220.9–221.8 pF)``, ``1.001 fF (90%: 1–1.008 fF)``: C_gap [F] and its
+    """``221.3 pF (90 %: 220.9–221.8 pF)``, ``1.001 fF (90 %: 1–1.008 fF)``: C_gap [F] and its
     interval in the SI prefix of its median (`si_prefix`), `CAPACITANCE_DIGITS` significant
-    (not "0.0 pF (90%: 0.0–0.0 pF)" for 1 fF)."""
+    (not "0.0 pF (90 %: 0.0–0.0 pF)" for 1 fF)."""
     scale, prefix = si_prefix(abs(q["value"])) if q["value"] else (1e-12, "p")
     n = CAPACITANCE_DIGITS
-    return f"{q['value'] / scale:.{n}g} {prefix}F (90%: {q['q05'] / scale:.{n}g}–{q['q95'] / scale:.{n}g} {prefix}F)"
+    return f"{q['value'] / scale:.{n}g} {prefix}F (90 %: {q['q05'] / scale:.{n}g}–{q['q95'] / scale:.{n}g} {prefix}F)"
 
 
 def _volts_with_interval(q: Mapping[str, float]) -> str:
-    """``71.00 V (90%: 70.95–71.05 V)``: a voltage and its interval to the fewest significant
+    """``71.00 V (90 %: 70.95–71.05 V)``: a voltage and its interval to the fewest significant
     digits, 3 or 4 (`VOLTAGE_DIGITS_MAX`), that tell the interval's ends apart; ends alike to 4
-    digits are printed once, ``100.0 V (90%: ≈ 100.0 V)`` (not "99.999927 V (90%:
+    digits are printed once, ``100.0 V (90 %: ≈ 100.0 V)`` (not "99.999927 V (90 %:
     99.999925–99.999928 V)", a precision no measured V0 has)."""
     apart = _distinct_digits(q["q05"], q["q95"])
     digits = apart or VOLTAGE_DIGITS_MAX
     if not apart:
-        return f"{_volts(q['value'], digits)} V (90%: ≈ {_volts(q['q95'], digits)} V)"
-    return f"{_volts(q['value'], digits)} V (90%: {_volts(q['q05'], digits)}–{_volts(q['q95'], digits)} V)"
+        return f"{_volts(q['value'], digits)} V (90 %: ≈ {_volts(q['q95'], digits)} V)"
+    return f"{_volts(q['value'], digits)} V (90 %: {_volts(q['q05'], digits)}–{_volts(q['q95'], digits)} V)"
 
 
 FLAT_FORCE_REL = 1e-3
@@ -937,7 +937,7 @@ def force_maximum_text(median: xr.DataArray) -> str:
     """``max 408 mN at 31.6 Hz`` of a median force over frequency; a flat one (`FLAT_FORCE_REL`)
     ``2.835 N at every frequency (1 Hz–100 kHz)``: its maximum's frequency is rounding's choice
     (a single contact's force without EP, not "max 2.835 N at 1 Hz"); one on a
-    plateau (`force_maximum_shape`) ``412 mN on a plateau over 1 Hz–22.4 Hz (within 1%;
+    plateau (`force_maximum_shape`) ``412 mN on a plateau over 1 Hz–22.4 Hz (within 1 %;
     largest at 1 Hz, the band's lower end)``; one at an end of the band says what the grid's last
     step there shows (`band_end_words`, as `impedax force` does): ``max 56.2 N at 1 Hz, the band's
     lower end, and still rises below it (∝ f^-0.41 there)``, or ``…, where it has levelled off: it
@@ -954,7 +954,7 @@ def force_maximum_text(median: xr.DataArray) -> str:
     end = {"fmin": "the band's lower end", "fmax": "the band's upper end"}.get(shape["band_edge"])
     if shape["plateau_hz"] is not None:
         low, high = shape["plateau_hz"]
-        return (f"{format_quantity(float(values[i]), 'N')} on a plateau over {format_band(low, high)} (within {FORCE_PLATEAU_REL:.0%}; "
+        return (f"{format_quantity(float(values[i]), 'N')} on a plateau over {format_band(low, high)} (within {FORCE_PLATEAU_REL * 100:.0f} %; "
                 f"largest at {format_frequency(float(freq[i]))}{', ' + end if end else ''})")
     if end:
         side = "below" if shape["band_edge"] == "fmin" else "above"
@@ -1250,7 +1250,7 @@ def _prior_edge_advice(warnings, piled_up: Mapping[str, str], draws: Mapping[str
                     w = w[: -len(advice)] + "; the gap analysis takes no prior: the EP CPE vanishing leaves C_gap and the EP branch not told apart (the warning 'u is NOT determined')"
                     continue
                 w = (w[: -len(advice)] + f"; the gap analysis takes no prior: u's correlation with {name} in the draws (log space) is "
-                     f"{r:+.2f}, so bounding {name} would narrow u's interval by at most {narrowing:.0%} (√(1 − r²))")
+                     f"{r:+.2f}, so bounding {name} would narrow u's interval by at most {narrowing * 100:.0f} % (√(1 − r²))")
         out.append(w)
     return out
 
@@ -1305,8 +1305,8 @@ def _correlation_advice(warnings, correlations, draws: Mapping[str, np.ndarray],
         narrowing = 1.0 - math.sqrt(1.0 - min(1.0, max(r * r for r in rs.values())))
         correlations = " and ".join(f"{r:+.2f} with {n}" for n, r in rs.items())
         verdict = ("this matters little to u" if narrowing < U_CORRELATION_MATTERS else "this widens u's interval") + (
-            f": u's interval {_gap_range(q05, q95)} (±{(q95 - q05) / (2 * q50):.2%}) already carries it, u's correlation (log space) is {correlations}, "
-            f"so knowing either exactly would narrow it by at most {narrowing:.0%} (√(1 − r²))"
+            f": u's interval {_gap_range(q05, q95)} (±{(q95 - q05) / (2 * q50) * 100:.2f} %) already carries it, u's correlation (log space) is {correlations}, "
+            f"so knowing either exactly would narrow it by at most {narrowing * 100:.0f} % (√(1 − r²))"
         )
         out.append(
             f"{found.finding}; {verdict}; impedax gap has no --fix or --prior: in Python, fix one in the EDL fit the pooled sampling starts from, "
@@ -1397,7 +1397,7 @@ def _paper_bound_notes(paper: PaperGapEstimate, remaining: xr.Dataset) -> list[s
         return []
     return [
         f"the paper method's u = {_gap_length(u, 3)} lies far outside its own bounds {_gap_range(low, high, 3)} "
-        f"(by more than their width and {PAPER_BOUND_SLACK:.0%} of u): the lowest- and highest-impedance trials are far from bracketing the trial means, "
+        f"(by more than their width and {PAPER_BOUND_SLACK * 100:.0f} % of u): the lowest- and highest-impedance trials are far from bracketing the trial means, "
         + ("so those bounds are no interval for u; check the file's trials (one may be of another contact)" if _single(remaining)
            else "so those bounds are no interval for u; check the three files (TOTAL SKIN SCREEN: the right measurements, in that order)")
     ]
@@ -1506,7 +1506,7 @@ def _naive_runaway_notes(naive, single: bool = False) -> list[str]:
     if naive.rms_rel < NAIVE_RUNAWAY_RMS_REL and low <= c <= high:
         return []
     return [
-        f"the naive fit (C_gap alone) ran away: C_gap = {c:.3g} F (physical range {low:g}–{high:g} F), rms_rel {naive.rms_rel:.0%}: "
+        f"the naive fit (C_gap alone) ran away: C_gap = {c:.3g} F (physical range {low:g}–{high:g} F), rms_rel {naive.rms_rel * 100:.0f} %: "
         f"a lone capacitor cannot describe this {'spectrum' if single else 'remainder'} at all, so that fit and its C_gap mean nothing (the EDL model's fit is the one to read)"
     ]
 
@@ -1586,15 +1586,15 @@ def _gap_breakdown_notes(force: xr.Dataset, u: float, area: float, eps_gap: floa
     apart = _distinct_digits(v_low, v_high) if math.isfinite(v_high) else 3
     digits = apart or VOLTAGE_DIGITS_MAX
     where = f"at the force's peak ({format_frequency(float(peak['frequency'][i]))}) the air gap carries {_volts(v_median, digits)} V"
-    interval = "" if not math.isfinite(v_high) else f" (90% interval {_volts(v_low, digits)}–{_volts(v_high, digits)} V)" if apart else f" (90% interval ≈ {_volts(v_high, digits)} V)"
+    interval = "" if not math.isfinite(v_high) else f" (90 % interval {_volts(v_low, digits)}–{_volts(v_high, digits)} V)" if apart else f" (90 % interval ≈ {_volts(v_high, digits)} V)"
     threshold = f"the ~{AIR_BREAKDOWN_V:g} V at which air breaks down (Paschen minimum, 1 atm)"
     unmodelled = "which eq 1's force does not model; check --v0 (Python: v0)"
     if v_median > AIR_BREAKDOWN_V:
         return [f"{where}{interval} across u = {_gap_length(u, 3)}, above {threshold}: the gap would spark, {unmodelled}"]
     if v_high > AIR_BREAKDOWN_V:
         return [
-            f"{where}{interval} across u = {_gap_length(u, 3)}: the median is below {threshold}, but the upper end of the 90% interval "
-            f"({_volts(v_high, digits)} V) is above it: the gap may spark (more than 5% of the posterior), {unmodelled}"
+            f"{where}{interval} across u = {_gap_length(u, 3)}: the median is below {threshold}, but the upper end of the 90 % interval "
+            f"({_volts(v_high, digits)} V) is above it: the gap may spark (more than 5 % of the posterior), {unmodelled}"
         ]
     return []
 
@@ -1776,7 +1776,7 @@ def _near_misfit_note(fitted, remaining: xr.Dataset, known_kk: KKChains) -> str 
     return (
         f"{fitted.model} misses {what} by {format_percent(rms)} (rms_rel), {rms / kk:.3g}× the {format_percent(kk)} a Kramers–Kronig-consistent model reaches: "
         f"under the {MISFIT_RATIO_MAX:g}× at which the gap analysis says MODEL DOES NOT FIT, but the data's own distance from such a model accounts for only "
-        f"{(kk / rms) ** 2:.0%} of the misfit's square{loose_text}; u, C_gap and the force rest on that fit "
+        f"{(kk / rms) ** 2 * 100:.0f} % of the misfit's square{loose_text}; u, C_gap and the force rest on that fit "
         f"(no alarm; impedax diagnose on {what} shows where the model misses it)"
     )
 
@@ -1916,7 +1916,7 @@ def _piled_bounds(u_draws, lower: float, upper: float) -> list[tuple[str, float,
 def _bound_notes(u_draws, reparametrization, area: float, single: bool = False) -> list[str]:
     """A warning for each prior bound of u the draws pile up at (`_piled_bounds`)."""
     return [
-        f"the posterior of u piles up at the {side} bound of its prior, u = {_gap_length(bound, 3)} (C_gap = {c_bound:g} F at A = {area:g} m²; {share:.0%} of the draws within a factor {_BOUND_FACTOR:g} of it): "
+        f"the posterior of u piles up at the {side} bound of its prior, u = {_gap_length(bound, 3)} (C_gap = {c_bound:g} F at A = {area:g} m²; {share * 100:.0f} % of the draws within a factor {_BOUND_FACTOR:g} of it): "
         f"u and C_gap are then set by the prior bound, not the data, and are unreliable; check {'the spectrum' if single else 'the three spectra'}"
         for side, bound, c_bound, share in _piled_bounds(u_draws, reparametrization.lower[0], reparametrization.upper[0])
     ]

@@ -185,8 +185,8 @@ def _length_goal(length: ChainLength, ran: int) -> tuple[int | None, str]:
     if not (length.long and ran >= length.needed):
         return length.needed, f"{CHAIN_TAU_MULTIPLE} τ"
     known = length.tau_change is not None and math.isfinite(length.tau_change)
-    changed = f"changed {length.tau_change:.1%} at the last check" if known else "no earlier estimate yet"
-    return None, f"{CHAIN_TAU_MULTIPLE} τ reached; waiting for τ to settle ({changed}, < {AUTO_TAU_CHANGE:.0%} stops)"
+    changed = f"changed {length.tau_change * 100:.1f} % at the last check" if known else "no earlier estimate yet"
+    return None, f"{CHAIN_TAU_MULTIPLE} τ reached; waiting for τ to settle ({changed}, < {AUTO_TAU_CHANGE * 100:.0f} % stops)"
 
 
 def length_settings(chain: Chain, walkers: int) -> dict:
