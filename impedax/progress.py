@@ -9,9 +9,12 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import functools
+import io
+import re
 from typing import Callable, Iterator
 
-__all__ = ["progress_to", "say", "silenced", "reporting", "reported", "reports_progress", "quiet_beneath", "progress_printer", "PROGRESS_AFTER_S", "DelayedPrinter", "SilentPrinter"]
+__all__ = ["progress_to", "say", "silenced", "reporting", "reported", "reports_progress", "quiet_beneath", "progress_printer", "PROGRESS_AFTER_S", "DelayedPrinter", "SilentPrinter",
+           "terminal_text", "terminal_width", "terminal_line", "MIN_TERMINAL_WIDTH"]
 
 PROGRESS_AFTER_S = 2.0
 """Progress lines go to stderr once a run has taken this long (the CLI's and, by default, a
@@ -110,6 +113,86 @@ def quiet_beneath(function):
     return call
 
 
+MIN_TERMINAL_WIDTH = 40
+"""Terminals narrower than this get every line as it is (`terminal_width`): wrapped to fewer
+columns, a report would be more breaks than words."""
+
+# a command inside a report line, after the prose that introduces it ("to apply 1. …: impedax fit FILE --model …")
+_COMMAND = re.compile(r": (impedax (?:fit|refine) .*)$")
+# the space between a number and its unit ("390 mHz", "2.8 %", "41.9 Ω"), which a wrapped line keeps
+_UNIT_SPACE = re.compile(r"(\d) (?=(?:%|[pnµmkMG]?(?:Hz|Ω|F|H|s|V|A)\b))")
+
+
+def terminal_width(stream) -> int | None:
+    """The columns of the terminal ``stream`` writes to: the environment's ``COLUMNS`` where set
+    (as `shutil.get_terminal_size` reads it), else the terminal's own size (80 when it cannot be
+    read); None when ``stream`` is no terminal (a pipe, a file, a closed or replaced stream) or
+    one narrower than `MIN_TERMINAL_WIDTH`: its lines are then written as they are."""
+    import os
+
+    try:
+        if not stream.isatty():
+            return None
+    except (AttributeError, ValueError):
+        return None
+    try:
+        width = int(os.environ.get("COLUMNS", "0"))
+    except ValueError:
+        width = 0
+    if width <= 0:
+        try:
+            width = os.get_terminal_size(stream.fileno()).columns
+        except (AttributeError, ValueError, OSError, io.UnsupportedOperation):
+            width = 80
+    return width if width >= MIN_TERMINAL_WIDTH else None
+
+
+def terminal_text(text: str, width: int) -> str:
+    """The report ``text`` for a terminal ``width`` columns wide: each longer line's prose wrapped
+    at words, its further lines hanging 4 columns under its own indentation; a command that ends a
+    line (`_COMMAND`) on lines of its own, broken before its options, each line but the last
+    ending in `` \\`` so that a shell pasted it reads one command. Lines within ``width`` stay as
+    they are. The reports' lines ran to 700 characters on the REAL example files, which a
+    terminal breaks mid-word (``impedax.cli.diagnose.to_terminal``; progress lines:
+    `terminal_line`)."""
+    import textwrap
+
+    out = []
+    for line in text.splitlines():
+        if len(line) <= width:
+            out.append(line)
+            continue
+        indent = " " * (len(line) - len(line.lstrip(" ")))
+        found = _COMMAND.search(line)
+        prose, command = (line[:found.start() + 1], found.group(1)) if found else (line, "")
+        if len(prose) > width:  # (a number kept with its unit: "near 390" and "mHz" on two lines read badly)
+            kept = _UNIT_SPACE.sub("\\1\u00a0", prose)
+            out += [part.replace("\u00a0", " ") for part in textwrap.wrap(kept, width, subsequent_indent=indent + "    ", break_long_words=False, break_on_hyphens=False)]
+        else:
+            out.append(prose)
+        if command:
+            words = re.split(r" (?=--)", command)
+            current = indent + "    " + words[0]
+            for word in words[1:]:
+                if len(current) + 1 + len(word) + 2 > width:
+                    out.append(current + " \\")
+                    current = indent + "      " + word
+                else:
+                    current += " " + word
+            out.append(current)
+    return "\n".join(out)
+
+
+def terminal_line(line: str, width: int | None, lead: int = 0) -> str:
+    """A progress ``line`` for a terminal ``width`` columns wide (`terminal_width`; None: as it
+    is): wrapped as the reports are (`terminal_text`), its first ``lead`` characters (the time
+    "[  1.5 s] " of a timed line) counted as indentation, so that its further lines hang under
+    its text. The lines of diagnose, refine, gap and sample ran to 200 characters on stderr."""
+    if width is None or len(line) <= width:
+        return line
+    return line[:lead] + terminal_text(" " * lead + line[lead:], width)[lead:]
+
+
 def progress_printer(after_s: float = PROGRESS_AFTER_S, stream=None, *, quiet: bool = False):
     """A progress callback that prints its lines to stderr (``stream``) once ``after_s`` seconds
     have passed. The lines said before then are printed, in order and with their own times, at
@@ -154,7 +237,9 @@ class DelayedPrinter:
     def _print(self, elapsed: float, text: str) -> None:
         import sys
 
-        print(f"[{elapsed:5.1f} s] {text}", file=self._stream or sys.stderr, flush=True)
+        stream = self._stream or sys.stderr
+        time = f"[{elapsed:5.1f} s] "
+        print(terminal_line(time + text, terminal_width(stream), len(time)), file=stream, flush=True)  # (wrapped on a terminal only)
 
     def _flush(self) -> None:
         with self._lock:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import re
 import sys
 
 
@@ -116,56 +115,20 @@ def run(args) -> int:
     return 0
 
 
-# a command inside a report line, after the prose that introduces it ("to apply 1. …: impedax fit FILE --model …")
-_COMMAND = re.compile(r": (impedax (?:fit|refine) .*)$")
-# the space between a number and its unit ("390 mHz", "2.8 %", "41.9 Ω"), which a wrapped line keeps
-_UNIT_SPACE = re.compile(r"(\d) (?=(?:%|[pnµmkMG]?(?:Hz|Ω|F|H|s|V|A)\b))")
-
-
-def terminal_text(text: str, width: int) -> str:
-    """The report ``text`` for a terminal ``width`` columns wide: each longer line's prose wrapped
-    at words, its further lines hanging 4 columns under its own indentation; a command that ends a
-    line (`_COMMAND`) on lines of its own, broken before its options, each line but the last
-    ending in `` \\`` so that a shell pasted it reads one command. Lines within ``width`` stay as
-    they are. The reports' lines ran to 700 characters on the REAL example files, which a
-    terminal breaks mid-word."""
-    import textwrap
-
-    out = []
-    for line in text.splitlines():
-        if len(line) <= width:
-            out.append(line)
-            continue
-        indent = " " * (len(line) - len(line.lstrip(" ")))
-        found = _COMMAND.search(line)
-        prose, command = (line[:found.start() + 1], found.group(1)) if found else (line, "")
-        if len(prose) > width:  # (a number kept with its unit: "near 390" and "mHz" on two lines read badly)
-            kept = _UNIT_SPACE.sub("\\1\u00a0", prose)
-            out += [part.replace("\u00a0", " ") for part in textwrap.wrap(kept, width, subsequent_indent=indent + "    ", break_long_words=False, break_on_hyphens=False)]
-        else:
-            out.append(prose)
-        if command:
-            words = re.split(r" (?=--)", command)
-            current = indent + "    " + words[0]
-            for word in words[1:]:
-                if len(current) + 1 + len(word) + 2 > width:
-                    out.append(current + " \\")
-                    current = indent + "      " + word
-                else:
-                    current += " " + word
-            out.append(current)
-    return "\n".join(out)
+from ..progress import terminal_text as terminal_text  # (the reports' and the progress lines' wrapping: `to_terminal`)
 
 
 @contextlib.contextmanager
 def to_terminal(text: bool):
     """What is printed inside, wrapped to the terminal's width (`terminal_text`) when ``text``
-    goes to a terminal (standard output a TTY of at least 40 columns); else printed as it is."""
+    goes to a terminal (standard output a TTY of at least 40 columns, `progress.terminal_width`;
+    the progress lines on stderr are wrapped alike, `progress.terminal_line`); else printed as it is."""
     import io
-    import shutil
 
-    width = shutil.get_terminal_size().columns
-    if not (text and sys.stdout.isatty() and width >= 40):
+    from ..progress import terminal_width
+
+    width = terminal_width(sys.stdout) if text else None
+    if width is None:
         yield
         return
     buffer = io.StringIO()

@@ -5,6 +5,8 @@ from __future__ import annotations
 import sys
 import time
 
+from ...progress import terminal_line, terminal_width
+
 LOG_INTERVAL = 1.0
 """Seconds between two progress lines when stderr is not a terminal (a log file, a pipe, CI):
 each report is a line of its own there, so one a second (not every half second, as on a
@@ -25,7 +27,7 @@ def announce(text: str, enabled) -> None:
     if callable(enabled):
         enabled(text)
     elif enabled:
-        sys.stderr.write(f"{text}\n")
+        sys.stderr.write(terminal_line(text, terminal_width(sys.stderr)) + "\n")  # (wrapped on a terminal only, as the reports on stdout)
         sys.stderr.flush()
 
 
@@ -87,7 +89,7 @@ class ProgressLine:
         if self.callback is not None:
             self.callback(self.text(done, now))
         else:
-            sys.stderr.write(f"\r{self.text(done, now)} " if self.interactive else self.text(done, now) + "\n")
+            sys.stderr.write(f"\r{_in_place(self.text(done, now), terminal_width(sys.stderr))} " if self.interactive else self.text(done, now) + "\n")
             sys.stderr.flush()
         self.shown = True
 
@@ -126,6 +128,16 @@ class ProgressLine:
         if self.shown and self.interactive:
             sys.stderr.write("\n")
             sys.stderr.flush()
+
+
+def _in_place(text: str, width: int | None) -> str:
+    """A step line rewritten in place (``\\r``) on a terminal ``width`` columns wide (None: as it
+    is), cut to fit with its space after it, ending in "…": a line the terminal wraps leaves its
+    first rows behind at each rewrite (the hierarchical line ran to 130 characters), which
+    wrapping it as `announce`'s lines are would do too."""
+    if width is None or len(text) + 1 < width:
+        return text
+    return text[: width - 3] + "…"
 
 
 def _is_terminal(stream) -> bool:
