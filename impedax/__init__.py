@@ -90,6 +90,7 @@ _LAZY = {
     "CircuitSyntaxError": (".errors", "CircuitSyntaxError"),
     "DataError": (".errors", "DataError"),
     "FitError": (".errors", "FitError"),
+    "FitsNotComparable": (".errors", "FitsNotComparable"),
     "ImpedaxError": (".errors", "ImpedaxError"),
     "ParameterError": (".errors", "ParameterError"),
     "SweepGridsDiffer": (".errors", "SweepGridsDiffer"),

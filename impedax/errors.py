@@ -18,6 +18,7 @@ __all__ = [
     "ParameterError",
     "ArgumentNeeded",
     "FitError",
+    "FitsNotComparable",
     "IN_MEMORY",
 ]
 
@@ -178,3 +179,10 @@ class ArgumentNeeded(ParameterError):
 
 class FitError(ImpedaxError, RuntimeError):
     """A fit that cannot be set up (more parameters than data, infeasible start, ...)."""
+
+
+class FitsNotComparable(FitError, ValueError):
+    """Fits that `compare` cannot rank together: none, of different spectra or weightings, fits
+    of one spectrum beside batches, a shared fit, one batch alone. The input is at fault, so it is
+    a `ValueError` as the API's other argument errors, and a `FitError`, the class these messages
+    were raised as."""

@@ -13,8 +13,8 @@ import numpy as np
 import xarray as xr
 
 from ..data import column_width, concise_repr, report_text
-from ..errors import FitError
-from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, fit_label, labelled_warnings, nested_as_held, register_batch_compare, significant, unique_labels
+from ..errors import FitsNotComparable
+from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, weightings_differ, fit_label, labelled_warnings, nested_as_held, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key, labels_shown, spectra_named
 from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, data_difference, misfit_hint_spectra
@@ -77,12 +77,12 @@ def _label_view(batch: BatchFitResult) -> SimpleNamespace:
 
 
 def _refuse_other_data(batches: Sequence[BatchFitResult]) -> None:
-    """`FitError` unless every batch is of the same spectra (dimensions, sizes, labels,
+    """`FitsNotComparable` unless every batch is of the same spectra (dimensions, sizes, labels,
     frequencies and impedances, `data_difference`) with the same weighting; a shared (joint) fit,
     whose spectra share parameters, has no per-spectrum AIC to compare."""
     for i, b in enumerate(batches):
         if isinstance(b, SharedFitResult):
-            raise FitError(f"fits[{i}] ({b.model}) is a shared fit: its spectra share parameters, so it has no AIC of its own per spectrum; compare batches of independent fits (fit without shared=)")
+            raise FitsNotComparable(f"fits[{i}] ({b.model}) is a shared fit: its spectra share parameters, so it has no AIC of its own per spectrum; compare batches of independent fits (fit without shared=)")
     ref = batches[0]
     dims = ref.dims
     for i, b in enumerate(batches[1:], 1):
@@ -90,20 +90,20 @@ def _refuse_other_data(batches: Sequence[BatchFitResult]) -> None:
         if set(b.dims) != set(dims) or any(b.dataset.sizes[d] != ref.dataset.sizes[d] for d in dims):
             def shape(x):
                 return " × ".join(f"{d} ({x.dataset.sizes[d]})" for d in x.dims)
-            raise FitError(f"{which} were fitted to different spectra: {shape(ref)} against {shape(b)}; compare batches of the same spectra")
+            raise FitsNotComparable(f"{which} were fitted to different spectra: {shape(ref)} against {shape(b)}; compare batches of the same spectra")
         for d in dims:
             ours, theirs = (x.dataset[d].values.tolist() if d in x.dataset.coords else None for x in (ref, b))
             if ours != theirs:
-                raise FitError(f"{which} were fitted to different spectra: their labels along {d} differ ({ours[:5] if ours else 'none'} against {theirs[:5] if theirs else 'none'}); compare batches of the same spectra")
+                raise FitsNotComparable(f"{which} were fitted to different spectra: their labels along {d} differ ({ours[:5] if ours else 'none'} against {theirs[:5] if theirs else 'none'}); compare batches of the same spectra")
         z_ref = ref.dataset["Z"].transpose(*dims, "frequency").values.reshape(ref.n_spectra, -1)
         z = b.dataset["Z"].transpose(*dims, "frequency").values.reshape(b.n_spectra, -1)
         f_ref, f = ref.dataset["frequency"].values, b.dataset["frequency"].values
         for s, key in enumerate(_keys(ref)):
             difference = data_difference(f, z[s], f_ref, z_ref[s])
             if difference is not None:
-                raise FitError(f"{which} were fitted to different data: at {key}, {difference} (fmin/fmax or another file?); compare batches of the same spectra")
+                raise FitsNotComparable(f"{which} were fitted to different data: at {key}, {difference} (fmin/fmax or another file?); compare batches of the same spectra")
         if b.weighting != ref.weighting:
-            raise FitError(f"models were fitted with different weightings ({b.weighting} vs {ref.weighting})")
+            raise weightings_differ(ref, i, b)
 
 
 def _labels(batch: BatchFitResult) -> list[dict]:
@@ -126,11 +126,11 @@ def compare_batches(batches: Sequence[BatchFitResult]) -> "BatchComparison":
     the sum) with that sum's Δ and Akaike weight, and its median ΔAIC. A batch over the same
     dimensions in another order (a stack transposed) is lined up with the first
     (`BatchFitResult.transpose`); its labels must match. Fewer than two batches
-    is a `FitError` naming what was given: with one model there is nothing to rank."""
+    is a `FitsNotComparable` naming what was given: with one model there is nothing to rank."""
     batches = list(batches)
     if len(batches) < 2:
         given = f"1, a {type(batches[0]).__name__} of {batches[0].model} over {batches[0].n_spectra} spectra ({', '.join(batches[0].dims)})" if batches else "none"
-        raise FitError(f"compare of batches needs at least two batches of fits of the same spectra, one per model, to rank them: got {given}; "
+        raise FitsNotComparable(f"compare of batches needs at least two batches of fits of the same spectra, one per model, to rank them: got {given}; "
                        "fit another model to the same spectra and compare both (one batch's own fits: batch.report())")
     _refuse_other_data(batches)
     ref = batches[0]

@@ -16,14 +16,14 @@ from ..arguments import checked_arguments, sequence_of
 from ..circuits import DEFAULT_REGISTRY, Circuit, Registry
 from ..circuits.nesting import embedding
 from ..data import column_width, format_quantity, report_text
-from ..errors import FitError
+from ..errors import FitError, FitsNotComparable
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EvidenceDoubt, WaicDoubt
 from .least_squares.notes import MISFIT, MODEL_MISFIT, Note, sign_hint_tag
 from .least_squares.result import BOUND_CHI2_FRACTION, value_shown_at_bound, data_difference, SIGN_HINT_LEAD, fit_data_limit, misfit_hint, user_bounds_text, with_warnings
 from .frozen import FrozenResult, freeze_fields
-from .problem import WEIGHTING_SCALES
+from .problem import WEIGHTING_SCALES, WEIGHTINGS
 from .statistics import KNOWN_SIGMA, UNKNOWN_VARIANCE, known_noise_criteria
 
 __all__ = ["compare", "Comparison", "WEAK_DELTA_AIC", "is_nested", "nested_as_held", "boundary_parameters", "boundary_limits", "unidentified_limits", "chi_bar_squared_p_value", "undetermined_names", "criteria", "akaike_weights", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "TIE_CHI2_REL", "criteria_tie", "SIGMA_CHI2_RED_RANGE", "register_batch_compare"]
@@ -621,6 +621,13 @@ def common_source(fits) -> str | None:
     return sources.pop() if len(sources) == 1 else None
 
 
+def weightings_differ(ref, i: int, other) -> FitsNotComparable:
+    """The error of `compare` when fits[``i``] (``other``) was fitted with another weighting than
+    fits[0] (``ref``): both named with their models and weightings, and the choices."""
+    return FitsNotComparable(f"fits[0] ({ref.model}, weighting '{ref.weighting}') and fits[{i}] ({other.model}, weighting '{other.weighting}') were fitted with different weightings, "
+                             f"so their χ² and AIC are not on one scale; fit both with one weighting (choose one of {', '.join(WEIGHTINGS)})")
+
+
 @checked_arguments(fits=sequence_of(FitResult, BatchFitResult, attribute="fit", what="FitResult (or Posterior, or BatchFitResult)"))
 def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparison: batch_comparison.py)
     """Compare least-squares fits of several models to the same data.
@@ -646,12 +653,12 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
     """
     items = list(fits)
     if len(items) < 1:
-        raise FitError("compare needs at least one fit")
+        raise FitsNotComparable("compare needs at least one fit")
     batches = [isinstance(x, BatchFitResult) for x in items]
     if any(batches):
         if not all(batches):
             i, j = batches.index(True), batches.index(False)
-            raise FitError(f"compare takes fits of one spectrum or batches of fits of many, not both: fits[{i}] is a {type(items[i]).__name__} of {items[i].n_spectra} spectra, "
+            raise FitsNotComparable(f"compare takes fits of one spectrum or batches of fits of many, not both: fits[{i}] is a {type(items[i]).__name__} of {items[i].n_spectra} spectra, "
                            f"fits[{j}] a fit of one spectrum; for that spectrum use batch.fit_of(DIM=LABEL)")
         if _batch_compare is None:  # (not reached: impedax.fitting imports batch_comparison, which registers it)
             raise FitError("compare of batches needs impedax.fitting.batch_comparison imported")
@@ -662,9 +669,9 @@ def compare(fits: Sequence) -> "Comparison | BatchComparison":  # (BatchComparis
         difference = data_difference(r.frequency, r.z_data, ref.frequency, ref.z_data)
         if difference is not None:
             which = f"fits[0] ({ref.model}) and fits[{i}] ({r.model})" if r.model != ref.model else f"fits[0] and fits[{i}] (both {r.model})"
-            raise FitError(f"{which} were fitted to different data: {difference} (fmin/fmax or another spectrum?); compare fits of the same spectrum")
+            raise FitsNotComparable(f"{which} were fitted to different data: {difference} (fmin/fmax or another spectrum?); compare fits of the same spectrum")
         if r.weighting != ref.weighting:
-            raise FitError(f"models were fitted with different weightings ({r.weighting} vs {ref.weighting})")
+            raise weightings_differ(ref, i, r)
     ics = [criteria(r) for r in results]
     delta, weights = akaike_weights([c["aic"] for c in ics])
     delta_c, weights_c = akaike_weights([c["aicc"] for c in ics])
