@@ -30,7 +30,7 @@ from ..grid import refuse_result_names
 from ..kk import KKChains
 from ..parameters import ParameterTable
 from ..problem import residual_scale, weights
-from ..statistics import SINGULAR_RATIO_LIMIT, at_noise_floor, covariances, fit_noise, information_criteria, non_passive, null_sets
+from ..statistics import SINGULAR_RATIO_LIMIT, UNKNOWN_VARIANCE, at_noise_floor, covariances, fit_noise, information_criteria, non_passive, null_sets
 from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
@@ -538,18 +538,23 @@ class BatchFitResult(FrozenResult):
         """The JSON of ``impedax fit --json`` for several spectra (docs/fitting.md, "Batch fits")."""
         ds = self.dataset
         specs = self.circuit.parameter_specs(self.registry)
+        fixed = {str(p): bool(ds["fixed"].sel(param=p).all()) for p in ds["param"].values}
         return {
             "model": self.model,
             "dims": {d: int(ds.sizes[d]) for d in self.dims},
             "sizes": {d: int(ds.sizes[d]) for d in self.dims},  # (the key kk and drt give too; "dims" here is the same mapping)
             "n_spectra": self.n_spectra,
             "n_points": self.n_points,  # (a single fit's key: the frequencies each fit used, after the band)
-            "params": {  # (the spread across the spectra, and each one's unit, as a single fit's)
-                str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84)), "unit": specs[str(p)].unit}
+            "n_params": sum(not f for f in fixed.values()),  # (a single fit's key: the free parameters of each spectrum's fit)
+            "params": {  # (the spread across the spectra, and each one's unit and fixed, as a single fit's)
+                str(p): {"median": float(ds["value"].sel(param=p).median()), "q16": float(ds["value"].sel(param=p).quantile(0.16)), "q84": float(ds["value"].sel(param=p).quantile(0.84)), "unit": specs[str(p)].unit,
+                         "fixed": fixed[str(p)], "stderr_median": _median_stderr(ds["stderr"].sel(param=p).values, fixed[str(p)])}
                 for p in ds["param"].values
             },
             "rms_rel_median": float(ds["rms_rel"].median()),
             "converged_fraction": float(ds["converged"].mean()),
+            "converged": bool(ds["converged"].all()),  # (a single fit's key: every spectrum's fit converged)
+            "aic_form": UNKNOWN_VARIANCE,  # (a single fit's key: the form of each spectrum's aic and bic)
             "at_bound": {str(p): int(n) for p, n in zip(ds["param"].values, ds["at_bound"].values.reshape(ds.sizes["param"], -1).sum(axis=1)) if n},
             "warnings": sorted({w for ws in self.warnings.values() for w in ws}),
             "warning_kinds": self._warning_kinds(),  # (each kind with its spectra, as report() groups them)
@@ -660,6 +665,8 @@ class BatchFitResult(FrozenResult):
         fixed = ds["fixed"].values.tolist()
         stored_groups = self._stored_groups()
         misses = self.misses_structure.transpose(*self.dims).values.reshape(-1)
+        evaluations = ds["n_evaluations"].transpose(*self.dims).values if "n_evaluations" in ds else None
+        units = [self.circuit.parameter_specs(self.registry)[n].unit for n in names]
         rows = []
         for position, (index, (key, label)) in enumerate(zip(np.ndindex(*converged.shape), self.spectrum_keys())):  # (key: as `fit_batch` names the spectra its warnings are about)
             own = {
@@ -667,6 +674,10 @@ class BatchFitResult(FrozenResult):
                 "stderr": {n: shown_stderr(float(stderr[index + (p,)]), fixed[p]) for p, n in enumerate(names)},
                 # (the linearisation's, bounds ignored, as a single fit's params[NAME]["linearised_stderr"]: the number a bound note quotes)
                 **({} if linearised is None else {"linearised_stderr": {n: shown_stderr(float(linearised[index + (p,)]), fixed[p]) for p, n in enumerate(names)}}),
+                # (the same numbers in a single fit's shape, so code that reads a single fit's params reads each row's)
+                "params": {n: {"value": float(value[index + (p,)]), "stderr": shown_stderr(float(stderr[index + (p,)]), fixed[p]), "fixed": bool(fixed[p]), "unit": units[p],
+                               **({} if linearised is None else {"linearised_stderr": shown_stderr(float(linearised[index + (p,)]), fixed[p])})} for p, n in enumerate(names)},
+                **({} if evaluations is None else {"n_evaluations": int(evaluations[index])}),
                 **{k: float(a[index]) for k, a in statistics.items()},
                 "converged": bool(converged[index]),
                 "at_bound": [n for p, n in enumerate(names) if at_bound[index + (p,)]],
@@ -1506,6 +1517,14 @@ def data_notes(freq, z, z_model, sigma, weighting: str, source: str, kk_chains: 
     passive = ~np.any(non_passive(z, sigma, noise), axis=-1)  # (the spectra `non_passive_notes` has nothing to say of)
     return [tuple(weighted[i]) + (() if passive[i] else non_passive_notes(freq, z[i], None if sigma is None else sigma[i], remainder=remainder, noise=None if noise is None else noise[i]))
             + uneven[i] + scale[i] + misfit[i] for i in range(b)]
+
+
+def _median_stderr(stderr: np.ndarray, fixed: bool) -> float | None:
+    """The median over the spectra of one parameter's standard errors that the JSON shows
+    (`shown_stderr`: finite, not fixed; not at a bound), None where no spectrum has one."""
+    shown = np.asarray(stderr, float).reshape(-1)
+    shown = shown[np.isfinite(shown)]
+    return None if fixed or shown.size == 0 else float(np.median(shown))
 
 
 RESULT_NAMES = frozenset({
