@@ -22,6 +22,7 @@ import numpy as np
 
 import _example
 import impedax as ix
+from impedax.data import format_band
 
 
 def synthetic_finger(seed: int = 7):
@@ -38,7 +39,7 @@ def main(argv=None):
     args = _example.parse_args(__doc__, argv)
     data = synthetic_finger()
 
-    print("1. Compare the model with the measurements")
+    print("1. Compare the model with the measurements (SYNTHETIC: a finger-like spectrum written with numpy, 1 % noise)")
     naive = ix.fit("R_s + R_sc || C_sc", data)
     print(f"   model R_s + R_sc || C_sc: rms_rel {naive.rms_rel:.3g}")
 
@@ -49,7 +50,7 @@ def main(argv=None):
     print("3. Where does it fail, and which effect is missing?")
     diagnosis = ix.diagnose(naive, data=data)
     for band in diagnosis.failing_bands:
-        print(f"   fails {band.f_min:.3g}–{band.f_max:.3g} Hz: {band.pattern}")
+        print(f"   fails {format_band(band.f_min, band.f_max)}: {band.pattern}")
     print(f"   verdict: {diagnosis.verdict}")
     for s in diagnosis.suggestions[:4]:
         print(f"   {s.effect:<22} ΔAIC {s.delta_aic:8.1f}   rms_rel {s.rms_rel:.3g}   {s.model}")

@@ -21,7 +21,7 @@ the fits, not the formula; the independent check is the charge bound |Q_i|²/(4�
 charge on C_i, from the circuit current written out with numpy), which the generating finger's
 force may not exceed. The bound belongs to one circuit: the fitted RC finger is another circuit,
 with its own, higher bound (drawn too), so its force may rise above the generating finger's bound
-(at 10 kHz 157.5 mN against that bound's 156.8 mN; ≈ 12 % above it near 0.16 MHz) while staying
+(at 10 kHz 157.5 mN against that bound's 156.7 mN; ≈ 12 % above it near 0.16 MHz) while staying
 under its own.
 
 Run: python examples/meyer_rc_vs_cpe.py [OUT_DIR] [--fast]
@@ -33,7 +33,7 @@ import numpy as np
 
 import _example
 import impedax
-from impedax.data import format_quantity
+from impedax.data import format_frequency, format_quantity
 from impedax.models import meyer
 
 TRUE_FINGER = {"R_f": 500.0, "R_sc": 130e3, "CPE_sc.alpha": 0.8, "CPE_sc.Q": 2.2e-9 * (2 * np.pi * 1e3) ** 0.2}
@@ -78,6 +78,16 @@ def charge_bound(freq, p, area, v_a=meyer.THESIS_DRIVE_V):
     z_total = 1 / (jw * p["C_s"]) + 1 / (jw * p["C_i"]) + finger_impedance(freq, p)
     q_i = v_a / z_total / jw
     return np.abs(q_i) ** 2 / (4.0 * EPSILON_0 * area)
+
+
+def force_curves(fits, freq):
+    """At ``freq`` [Hz], 140 V: each fitted model's time-averaged force ({"rc", "cpe"}), the
+    generating finger's, its charge bound and the fitted RC circuit's own charge bound [N]."""
+    forces = {key: np.asarray(meyer.force_time_average({**f.values, **SCREEN}, freq, variant=key)) for key, f in zip(MODELS, fits)}
+    truth = np.asarray(meyer.force_time_average({**TRUE_FINGER, **SCREEN}, freq, variant="cpe"))
+    bound = charge_bound(freq, {**TRUE_FINGER, **SCREEN}, meyer.THESIS_PHYSICAL.area)
+    rc_bound = charge_bound(freq, {**fits[0].values, **SCREEN}, meyer.THESIS_PHYSICAL.area)
+    return forces, truth, bound, rc_bound
 
 
 def screen_chain_identifiability(freq, rng):
@@ -153,17 +163,12 @@ def main(argv=None):
     _example.save(fig, args, "meyer_fig5_3_rc_vs_cpe_impedance.png")
 
     force_freq = np.logspace(1.0, 6.0, 200 if args.fast else 600)
-    forces = {}
-    for key, f in zip(MODELS, fits):
-        params = {**f.values, **SCREEN}
-        forces[key] = np.asarray(meyer.force_time_average(params, force_freq, variant=key))
-    truth = np.asarray(meyer.force_time_average({**TRUE_FINGER, **SCREEN}, force_freq, variant="cpe"))
-    bound = charge_bound(force_freq, {**TRUE_FINGER, **SCREEN}, meyer.THESIS_PHYSICAL.area)
-    rc_bound = charge_bound(force_freq, {**fits[0].values, **SCREEN}, meyer.THESIS_PHYSICAL.area)
+    forces, truth, bound, rc_bound = force_curves(fits, force_freq)
     print("time-averaged force at 140 V (fitted finger + thesis C_i, C_s), model predictions:")
-    for f_hz in (100.0, 1e3, 1e4, 1e5):
-        i = int(np.argmin(np.abs(force_freq - f_hz)))
-        print(f"  {f_hz:>7.0f} Hz   RC {forces['rc'][i] * 1e3:7.2f} mN   CPE {forces['cpe'][i] * 1e3:7.2f} mN   (generating finger {truth[i] * 1e3:7.2f} mN, its charge bound {bound[i] * 1e3:7.2f} mN; RC fit's own bound {rc_bound[i] * 1e3:7.2f} mN)")
+    table_freq = np.array([100.0, 1e3, 1e4, 1e5])  # (evaluated at these frequencies, not at the grid's nearest points)
+    at, at_truth, at_bound, at_rc_bound = force_curves(fits, table_freq)
+    for i, f_hz in enumerate(table_freq):
+        print(f"  {format_frequency(f_hz):>7}   RC {at['rc'][i] * 1e3:7.2f} mN   CPE {at['cpe'][i] * 1e3:7.2f} mN   (generating finger {at_truth[i] * 1e3:7.2f} mN, its charge bound {at_bound[i] * 1e3:7.2f} mN; RC fit's own bound {at_rc_bound[i] * 1e3:7.2f} mN)")
     print(f"max force / charge bound (generating finger, 10 Hz–1 MHz): {np.max(truth / bound):.3f}")
     print(f"max force / charge bound (fitted RC finger, its own circuit, 10 Hz–1 MHz): {np.max(forces['rc'] / rc_bound):.3f}"
           f"  (the RC curve may exceed the generating finger's bound: up to {np.max(forces['rc'] / bound):.3f} of it)")

@@ -89,6 +89,19 @@ def _eps_i_for_30_mn_at_2_5_um() -> float:
     return low
 
 
+def _generating_finger_force_mn(freq: float) -> float:
+    """The time-averaged force [mN] of meyer_rc_vs_cpe.py's generating finger (its TRUE_FINGER and
+    SCREEN) at exactly ``freq`` [Hz], from Meyer's eq 3.13 (`meyer.force_time_average`)."""
+    sys.path.insert(0, str(EXAMPLES_DIR))
+    try:
+        import meyer_rc_vs_cpe as script
+    finally:
+        sys.path.remove(str(EXAMPLES_DIR))
+    from impedax.models import meyer
+
+    return float(np.asarray(meyer.force_time_average({**script.TRUE_FINGER, **script.SCREEN}, np.array([freq]), variant="cpe"))[0]) * 1e3
+
+
 def _all_exponents_near_two(output: str) -> bool:
     exponents = [float(m) for m in re.findall(r"^\s+\d+\s+\S+\s+\S+ mN\s+" + _NUMBER + r"$", output, flags=re.M)]
     return len(exponents) == 7 and all(1.4 <= n <= 2.6 for n in exponents)
@@ -120,6 +133,10 @@ EXAMPLES = {
             # the fitted values with their units (bare numbers until 2026-12-06: "R_sc = 1.3e+05"): the generating 500 Ω, 130 kΩ
             (r"cpe: .*R_f = " + _NUMBER + " Ω", _near(500.0, 50.0)),
             (r"cpe: .*R_sc = " + _NUMBER + " kΩ", _near(130.0, 10.0)),
+            # the force table's frequencies as impedax writes them, and its values at those frequencies
+            # exactly, whatever the grid (it printed "100000 Hz" and the nearest grid point's value until 2026-12-07)
+            (None, lambda out: not re.search(r"\d{4,} Hz", out) and all(f"  {f}   RC " in out for f in ("100 Hz", "1 kHz", "10 kHz", "100 kHz"))),
+            (r"10 kHz   RC .*generating finger\s+" + _NUMBER + " mN", lambda mn: abs(mn - _generating_finger_force_mn(1e4)) <= 0.005),
         ],
         (pytest.mark.slow,),  # (15 s; the suite's 15-minute budget: make test-all)
     ),
@@ -164,6 +181,10 @@ EXAMPLES = {
             (r"Kramers–Kronig test: valid, rms_rel " + _NUMBER, _within(0.005, 0.03)),  # the data are fine
             (r"final model .*: rms_rel " + _NUMBER, _within(0.005, 0.02)),  # the error falls to the noise (√2·1 %)
             (None, lambda out: "verdict adequate" in out and "verdict: missing_effect" in out),
+            # the data are SYNTHETIC (the docstring says so; the output said "the measurements" only)
+            (None, lambda out: "SYNTHETIC" in out.splitlines()[0]),
+            # the failing band in impedax's frequency words, as the diagnosis writes it ("fails 0.1–1e+06 Hz" until 2026-12-07)
+            (None, lambda out: re.search(r"^   fails \d+(\.\d+)? [mkM]?Hz–\d+(\.\d+)? [mkM]?Hz: ", out, flags=re.M) and "e+0" not in out),
         ],
         (pytest.mark.slow,),  # ~25 s; tests/test_diagnose.py covers each step
     ),
