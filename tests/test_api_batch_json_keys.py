@@ -71,3 +71,21 @@ def test_the_command_prints_the_same_keys(stack, tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["converged"] is True and out["n_params"] == 2 and out["params"]["R0"]["fixed"] is True
     assert out["spectra"][0]["params"]["R1"]["value"] == out["spectra"][0]["values"]["R1"]
+
+
+def test_the_command_gives_a_batchs_hint_under_a_single_fits_hints_key(stack, tmp_path, capsys):
+    """``hints`` (a single fit's key: the text of its "hint:" line) holds a batch's hint too, the
+    ``note`` of its ``misfit_hints``; [] where there is none (the right model at the noise)."""
+    rng = np.random.default_rng(5)
+    small_arc = [(r0 + r1 / (1 + 2j * np.pi * FREQ * r1 * c1) + 3.0 / (1 + 2j * np.pi * FREQ * 3.0 * 1e-7)) * (1 + 3e-4 * (rng.standard_normal(FREQ.size) + 1j * rng.standard_normal(FREQ.size)))
+                 for r0, r1, c1 in TRUTHS]  # (a 3 Ω arc at 530 kHz's tail the model lacks: a misfit far below 2 %, many times the noise)
+    missing = tmp_path / "missing.nc"
+    ix.save(ix.make_spectrum(FREQ, np.array(small_arc), dims=("cycle",)).assign_coords(cycle=[1, 2, 3]), missing)
+    assert main(["fit", str(missing), "--model", MODEL, "--json", "-q"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["misfit_hints"] is not None and out["hints"] == [out["misfit_hints"]["note"]]
+    right = tmp_path / "right.nc"
+    ix.save(stack, right)
+    assert main(["fit", str(right), "--model", MODEL, "--json", "-q"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["misfit_hints"] is None and out["hints"] == []

@@ -181,7 +181,8 @@ def run(args) -> int:
     hint = misfit_hint(result) if isinstance(result, FitResult) else None
     batch_hints = result.misfit_hints() if isinstance(result, BatchFitResult) else None
     read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {}),
-                                    **({"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {})})  # (the JSON's, as inspect --json's)
+                                    # (a batch's hint under a single fit's key too: the text of the report's "hint:" line)
+                                    **({"misfit_hints": batch_hints, "hints": [batch_hints["note"]] if batch_hints else []} if isinstance(result, BatchFitResult) else {})})  # (the JSON's, as inspect --json's)
     outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None and args.plot_x is None else lambda: result.plot(params=plot_params, x=args.plot_x), source, **figure_options(args)),
                   "--residual-map": figure_writer(lambda: result.plot_residual_map(excluded=left_out or None), source, **figure_options(args))})
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr)
