@@ -34,6 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 import _example
+from impedax.data import format_frequency
 from impedax.models import example_spectra, gap_thickness
 from impedax.models.gap import gap_analysis
 from impedax.models.synthetic import SIRIN_SYNTHETIC_TRUTH
@@ -41,6 +42,7 @@ from impedax.models.synthetic import SIRIN_SYNTHETIC_TRUTH
 
 def main(argv=None):
     args = _example.parse_args(__doc__, argv)
+    print("Sirin gap thickness and Fig 2f — SYNTHETIC example (finger sliding, 30 trials; true C_gap = 413 pF)")
     spectra = example_spectra()
     result = gap_analysis(spectra["total_sliding"], spectra["skin"], spectra["touchscreen"], area=130e-6, v0=75.0, steps=300 if args.fast else 2000, progress=True)
     g, p = result.gap, result.paper
@@ -52,7 +54,7 @@ def main(argv=None):
     for target in (1.0, 10.0, 30.0, 250.0, 1e5):
         i = int(np.argmin(np.abs(np.log(freq / target))))
         w, wo = force.sel(branch="with_ep")["median"].values[i], force.sel(branch="without_ep")["median"].values[i]
-        print(f"force at {freq[i]:>9.3g} Hz   with EP {w * 1e3:8.3g} mN   without EP {wo * 1e3:8.3g} mN")
+        print(f"force at {format_frequency(freq[i]):>9}   with EP {w * 1e3:8.3g} mN   without EP {wo * 1e3:8.3g} mN")
     with_ep = force.sel(branch="with_ep")["median"].values
     top, at_250 = int(np.argmax(with_ep)), int(np.argmin(np.abs(np.log(freq / 250.0))))
     # why not at 250 Hz: docs/models.md, "Fig 2f"; the circuit numbers are computed there with numpy

@@ -170,6 +170,9 @@ EXAMPLES = {
             (r"paper method\s+C_gap = \S+ pF\s+u = " + _NUMBER + " µm", _within(2.65, 2.85)),
             (r"Bayesian\s+u = " + _NUMBER + " µm", _within(2.70, 2.85)),
             (None, lambda out: "with EP" in out and "without EP" in out),
+            (None, lambda out: "SYNTHETIC" in out.splitlines()[0]),  # (as the other Sirin examples; it said so only in its figure's title)
+            # its frequencies as impedax writes them ("force at 1e+05 Hz" until 2026-12-07)
+            (None, lambda out: "force at   100 kHz   with EP" in out and "e+0" not in out),
             (r"Fig 2f: with EP the force peaks at " + _NUMBER + " Hz", _within(20.0, 50.0)),  # not at the paper's 250 Hz (docs/models.md)
         ],
         (pytest.mark.slow,),  # 80 s of CPU (2 min 46 s under load); the demo test tells the same story
@@ -216,6 +219,8 @@ EXAMPLES = {
             (r"R0 \+ R1 \|\| CPE1 \+ R2 \|\| CPE2 \+ CPE3: rms_rel " + _NUMBER, _within(0.002, 0.02)),  # the DRT's suggested circuit fits to ≈ 1 %
             (r"peaks explained by the fitted circuit: (\d+) of 3", _near(3.0, 0.0)),
             (r"cycle 129: peaks at \S+ s \(\S+ Ω\), " + _NUMBER + " s", _within(0.1, 0.4)),  # charge transfer slows with ageing (cycle 0: ≈ 0.04 s)
+            # the data are REAL, and the first line says so and which (the other examples say SYNTHETIC where theirs are)
+            (None, lambda out: out.splitlines()[0].startswith("REAL data: ") and "cycle 0" in out.splitlines()[0]),
         ],
         (pytest.mark.slow,),  # ~13 s, the suite's budget; tests/test_drt.py and test_diagnose_drt.py cover its steps
     ),
