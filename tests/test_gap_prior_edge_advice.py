@@ -25,7 +25,7 @@ def test_the_advice_becomes_what_the_pile_up_means_for_u():
     r = float(np.corrcoef(np.log(draws["u"]), np.log(draws["R_EP"]))[0, 1])
     (said,) = _prior_edge_advice([LEAD + " — give R_EP a prior that says how large it can be"], {"R_EP": "upper"}, draws)
     assert "give R_EP a prior" not in said and said.startswith(LEAD + "; the gap analysis takes no prior: "), said
-    assert f"u's correlation with R_EP in the draws (log space) is {r:+.2f}, so bounding R_EP would narrow u's interval by at most {1 - math.sqrt(1 - r * r):.0%}" in said, said
+    assert f"u's correlation with R_EP in the draws (log space) is {r:+.2f}, so bounding R_EP would narrow u's interval by at most {(1 - math.sqrt(1 - r * r)) * 100:.0f} %" in said, said
 
 
 def test_other_warnings_and_a_parameter_not_piled_up_are_left_as_they_are():

@@ -372,7 +372,7 @@ def test_gap_correlation_warning_says_what_a_gap_user_can_do():
         r = [np.corrcoef(ln_u, x)[0, 1] for x in (ln_r, ln_q)]
         narrowing = 1 - np.sqrt(1 - max(v * v for v in r))
         assert said.startswith(raw[0][: raw[0].index("; fix one")]) and "fix one or give it an informative prior" not in said
-        assert f"; {verdict}: " in said and f"{r[0]:+.2f} with R_EP and {r[1]:+.2f} with CPE_EP.Q" in said and f"by at most {narrowing:.0%}" in said
+        assert f"; {verdict}: " in said and f"{r[0]:+.2f} with R_EP and {r[1]:+.2f} with CPE_EP.Q" in said and f"by at most {narrowing * 100:.0f} %" in said
         # u's interval as the report's headline gives it, to 1 nm (it said "4.01–4.03 µm" to 3
         # significant digits, and "2.8–2.81 µm" beside the demo files' headline 2.797–2.814 µm)
         u05, u95 = np.exp(np.quantile(ln_u, [0.05, 0.95])) * 1e6
