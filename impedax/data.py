@@ -643,12 +643,12 @@ def report_text(result) -> str:
 
 
 def format_relative_error(ratio: float) -> str:
-    """A relative standard error for a table: ``3.8%``, ``0.52%``, ``126%`` (whole percent from
-    10 %, where ``1.3e+02%`` read badly), ``1.2e+12%`` from 10⁴ % up; ``—`` when not finite."""
+    """A relative standard error for a table: ``3.8 %``, ``0.52 %``, ``126 %`` (whole percent from
+    10 %, where ``1.3e+02 %`` read badly), ``1.2e+12 %`` from 10⁴ % up; ``—`` when not finite."""
     percent = abs(ratio) * 100
     if not np.isfinite(percent):
         return "—"
-    return f"{percent:.0f}%" if 9.95 <= percent < 9999.5 else f"{percent:.2g}%"
+    return f"{percent:.0f} %" if 9.95 <= percent < 9999.5 else f"{percent:.2g} %"
 
 
 def format_percent(ratio: float) -> str:

@@ -248,23 +248,23 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None,
             story.say("  no alarm: the sampling passed its checks (divergences, R-hat) and the model fits")
         story.say(f"  Every one of the {n_trials} total trials gets its own u, R_EP and CPE_EP.Q, drawn from a log-normal population;")
         story.say("  the noise per frequency comes from the trial scatter, plus a sampled discrepancy floor for misfit the model lacks.")
-        story.say(f"  u = {g['value'] * 1e6:.3f} µm, 90% credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm (population median; NUTS, {post.mu.shape[0]} chains × {post.mu.shape[1]} draws)")
+        story.say(f"  u = {g['value'] * 1e6:.3f} µm, 90 % credible interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm (population median; NUTS, {post.mu.shape[0]} chains × {post.mu.shape[1]} draws)")
         c = gap.c_gap  # (the draws' C_gap = ε0 ε_gap A/u, so its median is that of u's median)
-        story.say(f"  C_gap = {c['value'] * 1e12:.1f} pF, 90% credible interval {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF (u = ε0 ε_gap A/C_gap, ε_gap = {EPSILON_AIR:g}, A = {AREA * 1e6:g} mm²)")
-        story.say(f"  spread between trials: {spread['relative']['value']:.1%} (sd of ln u, 90%: {spread['relative']['q05']:.1%}–{spread['relative']['q95']:.1%}), ≈ {spread['sd_m'] * 1e6:.3f} µm")
-        story.say(f"  a new trial: u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90% predictive interval)")
+        story.say(f"  C_gap = {c['value'] * 1e12:.1f} pF, 90 % credible interval {c['q05'] * 1e12:.1f}–{c['q95'] * 1e12:.1f} pF (u = ε0 ε_gap A/C_gap, ε_gap = {EPSILON_AIR:g}, A = {AREA * 1e6:g} mm²)")
+        story.say(f"  spread between trials: {spread['relative']['value'] * 100:.1f} % (sd of ln u, 90 %: {spread['relative']['q05'] * 100:.1f}–{spread['relative']['q95'] * 100:.1f} %), ≈ {spread['sd_m'] * 1e6:.3f} µm")
+        story.say(f"  a new trial: u in {new['q05'] * 1e6:.3f}–{new['q95'] * 1e6:.3f} µm (90 % predictive interval)")
         delta = post.summary()["discrepancy"]
-        story.say(f"  discrepancy floor δ = {delta['value']:.2%} (90%: {delta['q05']:.2%}–{delta['q95']:.2%}) on top of the trial-scatter noise (median {np.median(post.nu):.2%})")
+        story.say(f"  discrepancy floor δ = {delta['value'] * 100:.2f} % (90 %: {delta['q05'] * 100:.2f}–{delta['q95'] * 100:.2f} %) on top of the trial-scatter noise (median {np.median(post.nu) * 100:.2f} %)")
         story.say(f"  paper's method: u = {p.gap * 1e6:.3f} µm, bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm from the lowest/highest impedances")
         story.say(f"  naive C_gap-only fit would say u = {ix.models.gap_thickness(naive.values['C_gap']) * 1e6:.3f} µm (the missing effect biases it)")
         true_gap = ix.models.gap_thickness(413e-12, area=AREA)  # the generator's population median
-        story.say(f"  (the synthetic data were made with a population median u = {true_gap * 1e6:.3f} µm, trials varying by 7%; `impedax gap --pooled` gives the analysis of the trial means)")
+        story.say(f"  (the synthetic data were made with a population median u = {true_gap * 1e6:.3f} µm, trials varying by 7 %; `impedax gap --pooled` gives the analysis of the trial means)")
         story.figure(_save(gap.plot(true_gap=true_gap), staging, "step4_gap_and_force.png"))
         if gap.alarms:
             facts["ALARM (step 4's numbers may be wrong)"] = "; ".join(gap.alarms)
-        facts["gap thickness (hierarchical Bayesian, population median)"] = f"{g['value'] * 1e6:.3f} µm [{g['q05'] * 1e6:.3f}, {g['q95'] * 1e6:.3f}] (90%)"
-        facts["air-gap capacitance C_gap (hierarchical Bayesian, population median)"] = f"{c['value'] * 1e12:.1f} pF [{c['q05'] * 1e12:.1f}, {c['q95'] * 1e12:.1f}] (90%)"
-        facts["spread of u between trials"] = f"{spread['relative']['value']:.1%} (≈ {spread['sd_m'] * 1e6:.3f} µm); a new trial: [{new['q05'] * 1e6:.3f}, {new['q95'] * 1e6:.3f}] µm (90%)"
+        facts["gap thickness (hierarchical Bayesian, population median)"] = f"{g['value'] * 1e6:.3f} µm [{g['q05'] * 1e6:.3f}, {g['q95'] * 1e6:.3f}] (90 %)"
+        facts["air-gap capacitance C_gap (hierarchical Bayesian, population median)"] = f"{c['value'] * 1e12:.1f} pF [{c['q05'] * 1e12:.1f}, {c['q95'] * 1e12:.1f}] (90 %)"
+        facts["spread of u between trials"] = f"{spread['relative']['value'] * 100:.1f} % (≈ {spread['sd_m'] * 1e6:.3f} µm); a new trial: [{new['q05'] * 1e6:.3f}, {new['q95'] * 1e6:.3f}] µm (90 %)"
         facts["gap thickness (paper method)"] = f"{p.gap * 1e6:.3f} µm, bounds [{p.gap_lower * 1e6:.3f}, {p.gap_upper * 1e6:.3f}]"
         facts["naive-model gap thickness"] = f"{ix.models.gap_thickness(naive.values['C_gap']) * 1e6:.3f} µm"
 
@@ -278,7 +278,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None,
                 f"  {format_frequency(ff[i]):>9}: force {_band_text(with_ep, '', i, 1e3)} mN with EP   vs {_band_text(without, '', i, 1e3)} mN without EP;"
                 f"   gap voltage {_band_text(with_ep, 'gap_voltage_', i, 1.0, 4)} V vs {_band_text(without, 'gap_voltage_', i, 1.0, 4)} V"  # (4 digits: its interval is ±0.3 %)
             )
-        story.say(f"  Peak force (Sirin eq 1, peak convention, V0 = {V0:g} V) and the amplitude |ΔV_gap| of the gap voltage, medians with their 90% intervals.")
+        story.say(f"  Peak force (Sirin eq 1, peak convention, V0 = {V0:g} V) and the amplitude |ΔV_gap| of the gap voltage, medians with their 90 % intervals.")
         story.say("  Below ~30 Hz the EP branch leaks the charge: the gap voltage and the force drop.")
         ix.io.write_netcdf(gap.to_xarray(), staging / "force_bands.nc")
         fig = plot_force_bands(gap)

@@ -269,7 +269,7 @@ def _kind_text(members: Sequence[tuple[str, str]]) -> str:
     """One text for a kind: the numbers that differ as ranges (`_spread`); when it has several
     wordings, the most frequent one's brackets, the numbers outside them over every member, and
     after ``;`` each other wording's differing brackets with the spectra they are of
-    (``…; in cycle 4, 14: (… their standard errors (10%) already include the correlation)``)."""
+    (``…; in cycle 4, 14: (… their standard errors (10 %) already include the correlation)``)."""
     wordings = _wordings(members)
     if len(wordings) == 1:
         return _spread([t for _, t in members])

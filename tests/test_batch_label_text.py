@@ -15,7 +15,7 @@ from impedax.cli import main
 from impedax.fitting.least_squares import BatchFitResult
 
 NOISY = 0.30000000000000004  # (np.arange(6) * 0.1)[3], as numpy makes it
-NOTE = "R1 has a relative standard error of 150%: it is not determined by the data"
+NOTE = "R1 has a relative standard error of 150 %: it is not determined by the data"
 F = np.geomspace(1, 1e5, 40)
 ARC = 10 + 100 / (1 + 2j * np.pi * F * 100 * 1e-6)  # R0 + R1 ∥ C1: 10 Ω, 100 Ω, 1 µF
 

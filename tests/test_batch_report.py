@@ -52,7 +52,7 @@ def test_a_larger_batch_gives_median_and_quantiles():
     n = SPECTRA_AS_COLUMNS + 1
     batch = ix.fit("R0 + R1 || C1", stack(n))
     head, rows = table(batch.report())
-    assert head.split()[1:4] == ["median", "16%", "84%"]
+    assert head.split()[1:6] == ["median", "16", "%", "84", "%"]
     r0 = batch.dataset["value"].sel(param="R0").values
     assert rows["R0"].split()[1:4] == [f"{x:.5g}" for x in np.quantile(r0, [0.5, 0.16, 0.84])]
 

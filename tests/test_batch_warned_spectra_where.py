@@ -10,7 +10,7 @@ from impedax.cli.common import command_line_words
 from impedax.fitting.least_squares import BatchFitResult
 
 N = 20
-NOTE = "R1 has a relative standard error of 150%: it is not determined by the data"
+NOTE = "R1 has a relative standard error of 150 %: it is not determined by the data"
 
 
 def batch(warned: int) -> BatchFitResult:

@@ -427,9 +427,9 @@ def test_progress_estimate_leaves_out_the_wait_before_the_first_step(monkeypatch
     monkeypatch.setattr(progress.time, "perf_counter", lambda: next(clock))
     bar = progress.ProgressLine(10, True, label="run", interactive=True)
     bar.advance()
-    assert capsys.readouterr().err == "\rrun: step 1/10 (10%), 30 s "
+    assert capsys.readouterr().err == "\rrun: step 1/10 (10 %), 30 s "
     bar.advance()
-    assert capsys.readouterr().err == "\rrun: step 2/10 (20%), 31 s, ~8 s left "
+    assert capsys.readouterr().err == "\rrun: step 2/10 (20 %), 31 s, ~8 s left "
 
 
 def test_progress_in_a_log_is_a_line_every_second_and_one_at_the_end(monkeypatch, capsys):
@@ -458,8 +458,8 @@ def test_progress_in_a_log_is_a_line_every_second_and_one_at_the_end(monkeypatch
             last = now
     steps = [int(line.split("step ")[1].split("/")[0]) for line in lines[:-1]]
     assert steps == expected and steps[:11] == [1, *range(5, 42, 4)] and len(steps) < 24  # (23 at one a second)
-    assert lines[0] == "run: step 1/100 (1%), 2 s" and lines[1] == "run: step 5/100 (5%), 3 s, ~24 s left"
-    assert lines[-2] == "run: step 100/100 (100%), 27 s"
+    assert lines[0] == "run: step 1/100 (1 %), 2 s" and lines[1] == "run: step 5/100 (5 %), 3 s, ~24 s left"
+    assert lines[-2] == "run: step 100/100 (100 %), 27 s"
 
 
 def test_a_long_run_writes_few_lines_to_a_log(monkeypatch, capsys):

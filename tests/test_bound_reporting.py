@@ -259,9 +259,9 @@ def test_the_cpe_correlation_note_calls_q_and_alpha_well_determined_only_when_th
     from impedax.fitting.least_squares.result import WELL_DETERMINED, correlated_note
 
     well = correlated_note("CPE1.Q", "CPE1.alpha", -0.995, (0.02, 0.004))
-    assert well.endswith("both are still well determined (relative errors 2% and 0.4%))"), well
+    assert well.endswith("both are still well determined (relative errors 2 % and 0.4 %))"), well
     loose = correlated_note("CPE1.Q", "CPE1.alpha", -0.992, (0.73, 0.05))
-    assert "well determined" not in loose and "(73% and 5%)" in loose, loose
+    assert "well determined" not in loose and "(73 % and 5 %)" in loose, loose
     assert "well determined" not in correlated_note("CPE1.Q", "CPE1.alpha", -0.99, (WELL_DETERMINED * 1.01, 0.01))
     assert "well determined" not in correlated_note("CPE1.Q", "CPE1.alpha", -0.99, (math.nan, 0.01))
 

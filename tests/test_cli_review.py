@@ -299,8 +299,8 @@ def test_a_warning_of_most_spectra_names_the_others_and_one_finding_worded_two_w
     bound = "CPE2.alpha is at its upper bound 1"
     # as on AutoEIS's 130 battery cycles: at the bound in all but cycles 8 and 14
     warnings = {k: (bound,) for k in keys if k not in ("cycle=8", "cycle=14")}
-    well = "A.Q and A.alpha are strongly correlated (r = -0.99{}) (a CPE's Q and α correlate far from 1 rad/s; both are still well determined (relative errors {}% and 2%))"
-    held = "A.Q and A.alpha are strongly correlated (r = -0.99{}) (a CPE's Q and α correlate far from 1 rad/s; their standard errors ({}% and 2%) already include the correlation)"
+    well = "A.Q and A.alpha are strongly correlated (r = -0.99{}) (a CPE's Q and α correlate far from 1 rad/s; both are still well determined (relative errors {} % and 2 %))"
+    held = "A.Q and A.alpha are strongly correlated (r = -0.99{}) (a CPE's Q and α correlate far from 1 rad/s; their standard errors ({} % and 2 %) already include the correlation)"
     for i, k in enumerate(("cycle=0", "cycle=3", "cycle=4", "cycle=14")):
         text = (held if k in ("cycle=4", "cycle=14") else well).format(i + 1, 5 + 10 * i)
         warnings[k] = warnings.get(k, ()) + (text,)
@@ -308,8 +308,8 @@ def test_a_warning_of_most_spectra_names_the_others_and_one_finding_worded_two_w
     assert lines[0] == f"warning (128 of 130 spectra: all but cycle 8, 14): {bound}"
     assert lines[1] == (
         "warning (4 of 130 spectra: cycle 0, 3, 4, 14): A.Q and A.alpha are strongly correlated (r = -0.994 to -0.991) "
-        "(a CPE's Q and α correlate far from 1 rad/s; both are still well determined (relative errors 5 to 15% and 2%)); "
-        "in cycle 4, 14: (a CPE's Q and α correlate far from 1 rad/s; their standard errors (25 to 35% and 2%) already include the correlation)"
+        "(a CPE's Q and α correlate far from 1 rad/s; both are still well determined (relative errors 5 to 15 % and 2 %)); "
+        "in cycle 4, 14: (a CPE's Q and α correlate far from 1 rad/s; their standard errors (25 to 35 % and 2 %) already include the correlation)"
     )
     assert len(lines) == 2
     # without every spectrum's key, or for half or fewer, the spectra it applies to as before
@@ -367,7 +367,7 @@ def test_fit_and_compare_print_rms_rel_in_percent_like_the_other_commands(files,
     assert f"rms_rel    {rms * 100:.3g} %" in capsys.readouterr().out
     assert main(["compare", files["one"], "--model", "R0 + R1 || C1", "--model", "R0 + C1"]) == 0
     row = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("R0 + R1 || C1 "))
-    assert f"{significant(rms * 100)}%" in row.split()  # (three significant digits kept in the table: 0.120%, since 2026-11-30)
+    assert f" {significant(rms * 100)} % " in row  # (three significant digits kept in the table: 0.120 %, since 2026-11-30)
     assert main(["fit", files["three"], "--model", "R0 + R1 || C1"]) == 0
     assert re.search(r"median rms_rel [0-9.]+ %", capsys.readouterr().out)
 

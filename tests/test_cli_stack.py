@@ -340,7 +340,7 @@ def test_common_frequencies_refuse_files_not_measured_on_one_plan(days, tmp_path
     write_day(sparse, 15e3, seed=5, freq=np.geomspace(0.1, 1e5, 12))
     out = tmp_path / "days.nc"
     code, _, err = run(["stack", paths[0], sparse, "--common-frequencies", "--out", out], capsys)
-    assert code == 2 and f"error: {paths[0]}: shares only 2 of its 31 frequencies with the other files (within 0.1%): under half" in err, err
+    assert code == 2 and f"error: {paths[0]}: shares only 2 of its 31 frequencies with the other files (within 0.1 %): under half" in err, err
     assert "Traceback" not in err and not out.exists()
 
 

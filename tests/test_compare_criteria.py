@@ -118,7 +118,7 @@ def test_aicc_undefined_when_n_minus_k_minus_1_is_not_positive():
     assert [rows[m]["akaike_weight_aicc"] for m in expected] == pytest.approx(w, abs=1e-12)
     table = c.table()
     assert "AICc is undefined for R0 + R1 || C1: n − k − 1 = 0 with n = 4 real data values and k = 3" in table
-    assert next(line for line in table.splitlines() if line.startswith("R0 + R1 || C1")).split()[9] == "—"
+    assert next(line for line in table.splitlines() if line.startswith("R0 + R1 || C1")).split()[10] == "—"
     assert not re.search(r"(?<!-> )\binf\b", table), table  # (no number printed as inf; an F-test's "R1 -> inf" names a limit)
     doc = json.loads(json.dumps(to_jsonable(c.summary()), allow_nan=False))
     assert next(m for m in doc["models"] if m["model"] == "R0 + R1 || C1")["aicc"] is None

@@ -47,7 +47,7 @@ def test_a_fit_of_data_that_pass_the_kk_test_is_told_its_misfit_is_its_own():
     simple, right = (ix.fit(m, data) for m in ("R0 + R1 || C1", "R0 + R1 || CPE1"))
     assert kk.valid and MODEL_MISFIT_OVER_CONSISTENT * kk.rms_rel < simple.rms_rel < 5 * kk.rms_rel
     (note,) = [w for w in simple.warnings if "misfit" in w]
-    assert note.startswith(f"the misfit is this model's: the data pass the Kramers–Kronig test (their {kk.rms_rel * 100:.2g}% rms_rel")
+    assert note.startswith(f"the misfit is this model's: the data pass the Kramers–Kronig test (their {kk.rms_rel * 100:.2g} % rms_rel")
     assert not any(DATA_LIMIT_NOTE in w for w in simple.warnings)
     assert not any("misfit" in w or "Kramers–Kronig" in w for w in right.warnings)
 
@@ -62,7 +62,7 @@ def test_compare_tells_the_too_simple_model_its_misfit_is_its_own(fits):
     (test,) = c.f_tests
     assert test["valid"] and test["p_value"] < 1e-20
     (note,) = [w for w in c.fits[0].warnings if "misfit" in w]
-    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {right.rms_rel * 100:.3g}% against {simple.rms_rel * 100:.3g}%, F-test p = {test['p_value']:.2g})")
+    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {right.rms_rel * 100:.3g} % against {simple.rms_rel * 100:.3g} %, F-test p = {test['p_value']:.2g})")
     assert "the misfit is this model's, not the data's noise" in note
     assert not any(DATA_LIMIT_NOTE in w for f in c.fits for w in f.warnings)
     assert not any("misfit" in w or "Kramers–Kronig" in w for w in c.fits[1].warnings)  # the right model at the noise: nothing
@@ -91,7 +91,7 @@ def test_a_misfit_far_above_the_stated_sigma_is_the_model_s(fits):
     assert DATA_LIMIT_NOTE not in with_sigma[0]
     assert f"mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}" in with_sigma[0] and "the misfit is this model's" in with_sigma[0]
     noise_rms = np.sqrt(np.mean(2 * SIGMA**2 / np.abs(Z) ** 2))
-    assert f"within that noise ({noise_rms * 100:.2g}%)" in with_sigma[0]
+    assert f"within that noise ({noise_rms * 100:.2g} %)" in with_sigma[0]
     # a σ five times too small: the KK chain is far outside it too, so σ tells nothing; the KK
     # test's verdict (the data pass it) still says the misfit is the model's
     (understated,) = misfit_notes(FREQ, Z, RC, sigma=SIGMA[None] / 5)
@@ -122,7 +122,7 @@ def test_without_an_f_test_a_clearly_lower_rms_rel_and_aic_decide(fits):
     labels = [simple.model, right.model]
     assert simple.rms_rel > CLEARLY_LOWER_RMS * right.rms_rel
     (note,) = _model_not_data(simple, 0, fits, labels, [], [simple.aic, right.aic]).warnings
-    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {right.rms_rel * 100:.3g}% against {simple.rms_rel * 100:.3g}%, ΔAIC {right.aic - simple.aic:.1f})")
+    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {right.rms_rel * 100:.3g} % against {simple.rms_rel * 100:.3g} %, ΔAIC {right.aic - simple.aic:.1f})")
     assert _model_not_data(simple, 0, fits, labels, [], [right.aic, simple.aic]).warnings == simple.warnings  # a higher AIC: no
     assert _model_not_data(right, 1, fits, labels, [], [simple.aic, right.aic]) is right  # no note to replace
 
@@ -139,7 +139,7 @@ def test_without_an_f_test_an_aic_lower_by_ten_decides(fits):
     pair, labels = [simple, close], [simple.model, close.model]
     assert simple.rms_rel < CLEARLY_LOWER_RMS * close.rms_rel and DECISIVE_DELTA_AIC == 10
     (note,) = _model_not_data(simple, 0, pair, labels, [], [0.0, -61.0]).warnings
-    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {close.rms_rel * 100:.3g}% against {simple.rms_rel * 100:.3g}%, ΔAIC -61.0)")
+    assert note.startswith(f"R0 + R1 || CPE1 fits these data significantly better (rms_rel {close.rms_rel * 100:.3g} % against {simple.rms_rel * 100:.3g} %, ΔAIC -61.0)")
     assert _model_not_data(simple, 0, pair, labels, [], [0.0, -10.0]).warnings == (note.replace("-61.0", "-10.0"),)
     # ΔAIC below 10 with the rms ratio below 1.5: no evidence, the note stays
     assert _model_not_data(simple, 0, pair, labels, [], [0.0, -9.9]).warnings == simple.warnings

@@ -85,7 +85,7 @@ def test_rms_rel_keeps_its_significant_digits():
     assert [significant(x) for x in (1.0, 1.02, 0.931, 100.0, 123.4, 1e-5)] == ["1.00", "1.02", "0.931", "100", "123", "1.00e-05"]
     c = ix.compare([ix.fit(m, spectrum(alpha=0.9, seed=1)) for m in MODELS])
     for row, line in zip(c.rows, c.table().splitlines()[1:]):
-        assert f"{row['rms_rel'] * 100:#.3g}%" in line.split()
+        assert f" {row['rms_rel'] * 100:#.3g} % " in line
 
 
 def test_a_rival_that_reduces_to_the_best_is_no_weak_evidence():

@@ -269,7 +269,7 @@ def test_a_model_that_misses_an_arc_says_so_single_and_batch(rng):
     assert single.rms_rel > 0.05
     (note,) = [w for w in single.warnings if "misses structure" in w]
     kk = ix.kk_test(ix.make_spectrum(f, z[0])).rms_rel
-    assert f"over 5× the {kk * 100:.2g}%" in note and single.rms_rel > 5 * kk
+    assert f"over 5× the {kk * 100:.2g} %" in note and single.rms_rel > 5 * kk
     batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)))
     assert note in batch.warnings["trial=0"]
     assert all(any("misses structure" in w for w in batch.warnings[f"trial={i}"]) for i in range(3))

@@ -81,16 +81,16 @@ def test_demo_story(demo):
     assert re.search(r"^\s+electrode_polarization\s+ΔAIC", text, flags=re.M)  # top suggestion
     assert "Final model: R_EP || CPE_EP || C_gap   verdict: adequate" in text
     naive = float(re.search(r"Model C_gap: rms_rel = ([\d.e-]+)", text).group(1))
-    final = [float(x) for x in re.findall(r"^\s+\d+\s+([\d.]+)%", text, flags=re.M)]
+    final = [float(x) for x in re.findall(r"^\s+\d+\s+([\d.]+) %", text, flags=re.M)]
     assert naive > 0.3 and final[-1] / 100 < naive / 20  # the error falls
 
 
 def test_demo_gap_thickness(demo):
     _, text, _ = demo
-    u, lo, hi = (float(x) for x in re.search(r"u = ([\d.]+) µm, 90% credible interval ([\d.]+)–([\d.]+) µm", text).groups())
+    u, lo, hi = (float(x) for x in re.search(r"u = ([\d.]+) µm, 90 % credible interval ([\d.]+)–([\d.]+) µm", text).groups())
     assert lo <= u <= hi
     assert lo <= U_TRUE_UM <= hi  # the interval of the population median contains the generating u
-    spread = float(re.search(r"spread between trials: ([\d.]+)%", text).group(1))
+    spread = float(re.search(r"spread between trials: ([\d.]+) %", text).group(1))
     assert 3.0 < spread < 14.0  # generated with 7 % between trials (and 1 % between sessions)
     new_lo, new_hi = (float(x) for x in re.search(r"a new trial: u in ([\d.]+)–([\d.]+) µm", text).groups())
     assert new_lo < lo and new_hi > hi
@@ -190,13 +190,13 @@ def test_demo_prints_c_gap_beside_u(demo):
     ε0, ε_gap = 1.00059 (air) and A = 130 mm² written here; u's interval maps onto C_gap's
     reversed (C_gap falls as u grows). The report's facts give it too."""
     _, text, out = demo
-    u, u_lo, u_hi = (float(x) * 1e-6 for x in re.search(r"u = ([\d.]+) µm, 90% credible interval ([\d.]+)–([\d.]+) µm", text).groups())
-    c, c_lo, c_hi = (float(x) * 1e-12 for x in re.search(r"C_gap = ([\d.]+) pF, 90% credible interval ([\d.]+)–([\d.]+) pF", text).groups())
+    u, u_lo, u_hi = (float(x) * 1e-6 for x in re.search(r"u = ([\d.]+) µm, 90 % credible interval ([\d.]+)–([\d.]+) µm", text).groups())
+    c, c_lo, c_hi = (float(x) * 1e-12 for x in re.search(r"C_gap = ([\d.]+) pF, 90 % credible interval ([\d.]+)–([\d.]+) pF", text).groups())
     eps0, eps_air, area = 8.8541878128e-12, 1.00059, 130e-6
     assert c == pytest.approx(eps0 * eps_air * area / u, rel=5e-4)  # (u printed to 1 nm, C_gap to 0.1 pF)
     assert c_lo == pytest.approx(eps0 * eps_air * area / u_hi, rel=5e-4) and c_hi == pytest.approx(eps0 * eps_air * area / u_lo, rel=5e-4)
     assert 380e-12 < c < 450e-12  # near the generator's 413 pF
-    assert f"{c * 1e12:.1f} pF [{c_lo * 1e12:.1f}, {c_hi * 1e12:.1f}] (90%)" in (out / "report.html").read_text()
+    assert f"{c * 1e12:.1f} pF [{c_lo * 1e12:.1f}, {c_hi * 1e12:.1f}] (90 %)" in (out / "report.html").read_text()
 
 
 def test_demo_force_lines_give_both_intervals_and_the_gap_voltage(demo):

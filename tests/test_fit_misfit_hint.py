@@ -223,7 +223,7 @@ def test_the_misfit_note_says_which_kk_figure_it_quotes():
     fit = ix.fit("R0 + R1 || CPE1", gamry)
     (note,) = [w for w in fit.warnings if "Kramers–Kronig-consistent model" in w]
     assert "(the KK test's Voigt chain fitted to every point as this fit is)" in note
-    quoted = float(re.search(r"the ([0-9.]+)% a Kramers", note).group(1)) / 100
+    quoted = float(re.search(r"the ([0-9.]+) % a Kramers", note).group(1)) / 100
     kk = ix.kk_test(gamry)
     assert kk.stray_frequencies.size == 0 and abs(quoted - kk.rms_rel) < 0.0005
     assert abs(quoted - 0.048) < 0.001

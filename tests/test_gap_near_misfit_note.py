@@ -76,7 +76,7 @@ def test_the_fits_own_misfit_note_gives_way_to_the_alarm():
     alarm (2.3×) the fit's notes stay as they are."""
     from impedax.models.gap import _edl_fit_warnings
 
-    own = "the model misses structure the data hold: its rms_rel is over 5× the 4.8% a Kramers–Kronig-consistent model (…) reaches; a diagnosis (…)"
+    own = "the model misses structure the data hold: its rms_rel is over 5× the 4.8 % a Kramers–Kronig-consistent model (…) reaches; a diagnosis (…)"
     fitted = _fit(0.25)
     fitted.warnings = (own, "R_EP is at its lower bound 0")
     assert _edl_fit_warnings(fitted, REMAINDER, _KK(0.048)) == ["EDL fit: R_EP is at its lower bound 0"]

@@ -93,7 +93,7 @@ def test_a_reworded_misfit_note_gives_way_to_the_alarm(reworded):
 
 
 def test_a_reworded_data_limit_note_gives_way_to_the_near_misfit_note():
-    reworded = "the data are 4.8% (rms_rel) from any Kramers–Kronig-consistent model (…), within 5× of this fit's misfit: what limits this fit is the data's noise"
+    reworded = "the data are 4.8 % (rms_rel) from any Kramers–Kronig-consistent model (…), within 5× of this fit's misfit: what limits this fit is the data's noise"
     plain = reworded.split(": what limits")[0] + f": {DATA_LIMIT_NOTE}"
     by_words = _edl_fit_warnings(_edl(0.238, (BOUND, reworded)), REMAINDER, _KK(0.048))
     assert f"EDL fit: {reworded}" in by_words  # (the old rule keeps it beside the near-misfit note)

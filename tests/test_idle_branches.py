@@ -164,8 +164,8 @@ def test_an_undetermined_term_that_takes_its_share_of_the_voltage_is_not_called_
 def test_undetermined_notes_write_the_relative_error_as_the_table_does():
     from impedax.fitting.least_squares.result import undetermined_note
 
-    assert undetermined_note("R1", 1.26) == "R1 has a relative standard error of 126%: it is not determined by the data"
-    assert undetermined_note("R1", 3.88e13) == "R1 has a relative standard error of 3.9e+15%: it is not determined by the data"
+    assert undetermined_note("R1", 1.26) == "R1 has a relative standard error of 126 %: it is not determined by the data"
+    assert undetermined_note("R1", 3.88e13) == "R1 has a relative standard error of 3.9e+15 %: it is not determined by the data"
     assert undetermined_note("R1", float("inf")) == "R1 has no finite standard error: it is not determined by the data"
 
 

@@ -33,7 +33,7 @@ def test_a_skipped_point_is_named_not_the_point_after_it(tmp_path):
         ix.stack_files([GAMRY, cut])
     text = str(err.value)
     assert f"its frequency grid differs from {GAMRY}'s (71 vs 72 points" in text, text
-    assert f"71 frequencies match within 0.1%; exampleDataGamry.DTA has 1 this file lacks ({format_frequency(skipped_hz)})" in text, text
+    assert f"71 frequencies match within 0.1 %; exampleDataGamry.DTA has 1 this file lacks ({format_frequency(skipped_hz)})" in text, text
     assert "first differing" not in text and "--common-frequencies" in text
     # and the other way round: the file that has it first
     with pytest.raises(DataError) as err:
@@ -50,7 +50,7 @@ def test_grids_of_two_instruments_are_told_by_their_ranges(tmp_path, capsys):
     assert f"(43 vs 72 points: {format_band(f.min(), f.max())} vs {format_band(f0.min(), f0.max())};" in err, err
     # the oracle for what matches: each of the mpt's frequencies against the Gamry grid, within 0.1 %
     matched = sum(bool(np.any(np.abs(fi / f0 - 1) <= 1e-3)) for fi in f)
-    assert matched == 1 and "1 frequency matches within 0.1%" in err and f"exampleDataGamry.DTA has {72 - matched} this file lacks" in err
+    assert matched == 1 and "1 frequency matches within 0.1 %" in err and f"exampleDataGamry.DTA has {72 - matched} this file lacks" in err
     assert f"this file has {43 - matched} exampleDataGamry.DTA lacks" in err
     # --common-frequencies would refuse them (under half shared): not offered
     assert "too few to keep only the shared ones (--common-frequencies): fit the files one by one" in err

@@ -689,7 +689,7 @@ def test_corner_titles_and_ticks_stay_within_the_figure():
 def test_relative_errors_in_the_fit_table_read_as_percentages():
     from impedax.data import format_relative_error
 
-    assert [format_relative_error(x) for x in (0.038, 0.0052, 0.126, 1.26, -2.56, 1.2e10)] == ["3.8%", "0.52%", "13%", "126%", "256%", "1.2e+12%"]
+    assert [format_relative_error(x) for x in (0.038, 0.0052, 0.126, 1.26, -2.56, 1.2e10)] == ["3.8 %", "0.52 %", "13 %", "126 %", "256 %", "1.2e+12 %"]
 
 
 def test_batch_panels_count_their_values_in_an_si_prefix():
@@ -768,7 +768,7 @@ def test_review_edge_cases_of_the_prefixes():
     # metres too, since 2026-12-03 (an air gap read "2.8055 [2.8030, 2.8078] ×10⁻⁶ m"); another unit far from 1 keeps its power of ten
     assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "m") == "10.00 [9.68, 10.34] µm"
     assert interval_text(1.0e-5, 0.968e-5, 1.034e-5, "V") == "1.000 [0.968, 1.034] ×10⁻⁵ V"
-    assert format_relative_error(float("nan")) == "—" and format_relative_error(99.996) == "1e+04%"
+    assert format_relative_error(float("nan")) == "—" and format_relative_error(99.996) == "1e+04 %"
     # a label the user wrote with a prefix (values already in kΩ) is left as it is
     fig, ax = plt.subplots()
     ax.plot([0.0, 50.0], [0.0, 20.0], "o")

@@ -58,7 +58,7 @@ def test_each_step_gives_its_residuals_against_the_noise(refined):
     table = result.table().splitlines()
     assert table[0].split() == ["step", "rms_rel", "AIC", "×noise", "change", "/", "model"]
     for i, expected in enumerate(by_hand):
-        assert table[1 + 2 * i].split()[3] == f"{expected:.3g}×"
+        assert table[1 + 2 * i].split()[4] == f"{expected:.3g}×"  # (index, rms_rel, %, AIC, ×noise)
 
 
 def test_the_notebook_table_rounds_it_and_a_step_without_diagnosis_has_none():
@@ -75,4 +75,4 @@ def test_the_notebook_table_rounds_it_and_a_step_without_diagnosis_has_none():
     html = Refinement((RefinementStep(fit, None, None, judged),), "adequate")._repr_html_()
     assert "×noise" in html and "0.912" in html and "0.91234" not in html
     bare = Refinement((RefinementStep(fit, None, None, None),), "adequate")
-    assert bare.table().splitlines()[1].split()[3] == "–" and bare.summary()["steps"][0]["noise_ratio"] is None
+    assert bare.table().splitlines()[1].split()[4] == "–" and bare.summary()["steps"][0]["noise_ratio"] is None

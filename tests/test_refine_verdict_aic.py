@@ -39,7 +39,7 @@ def test_the_verdicts_delta_aic_is_named_beside_the_fits_own():
 
     assert said.group(2) == best.effect
     assert float(said.group(3)) == pytest.approx(aic(best.fit) - aic(baseline), abs=0.06)
-    table_aic = float(lines[2].split()[2])  # (step 0's row: the table's AIC)
+    table_aic = float(lines[2].split()[3])  # (step 0's row: the table's AIC, after rms_rel and its %)
     assert float(said.group(4)) == pytest.approx(table_aic, abs=0.051)
     assert abs(float(said.group(3))) < quoted  # (here too the two differ: proportional weights are not the noise's)
     assert refinement.summary()["verdict_aic_note"] == note

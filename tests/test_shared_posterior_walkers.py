@@ -271,16 +271,16 @@ def test_start_fit_warnings_shared_by_spectra_are_given_once(determined):
     import dataclasses
 
     notes = {
-        "trial=0": ("C2 is near its bound", "R2 has a relative standard error of 120%: it is not determined by the data"),
+        "trial=0": ("C2 is near its bound", "R2 has a relative standard error of 120 %: it is not determined by the data"),
         "trial=1": ("C2 is near its bound",),
-        "trial=2": ("C2 is near its bound", "R2 has a relative standard error of 340%: it is not determined by the data"),
+        "trial=2": ("C2 is near its bound", "R2 has a relative standard error of 340 %: it is not determined by the data"),
         "shared over trial": ("the shared R0 moves the others",),
     }
     post = dataclasses.replace(determined, fit=dataclasses.replace(determined.fit, warnings=notes))
     start = [w for w in post.warnings if w.startswith("least-squares start")]
     assert start == [
         "least-squares start (all 3 spectra): C2 is near its bound",
-        "least-squares start (2 of 3 spectra: trial 0, 2): R2 has a relative standard error of 120 to 340%: it is not determined by the data",
+        "least-squares start (2 of 3 spectra: trial 0, 2): R2 has a relative standard error of 120 to 340 %: it is not determined by the data",
         "least-squares start (shared over trial): the shared R0 moves the others",
     ]
 

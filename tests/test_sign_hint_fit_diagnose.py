@@ -82,6 +82,6 @@ def test_cli_diagnose_names_the_column_to_rename(tmp_path, capsys):
 
 
 def test_compare_keeps_the_sign_hint_when_it_replaces_the_note():
-    note = f"the data are 77% from ...: {DATA_LIMIT_NOTE}; {SIGN_HINT_LEAD}the imaginary part may be stored with the opposite sign"
+    note = f"the data are 77 % from ...: {DATA_LIMIT_NOTE}; {SIGN_HINT_LEAD}the imaginary part may be stored with the opposite sign"
     assert _sign_hint_of(note) == f"; {SIGN_HINT_LEAD}the imaginary part may be stored with the opposite sign"
-    assert _sign_hint_of(f"the data are 1% from ...: {DATA_LIMIT_NOTE}") == ""
+    assert _sign_hint_of(f"the data are 1 % from ...: {DATA_LIMIT_NOTE}") == ""

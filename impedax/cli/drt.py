@@ -50,7 +50,7 @@ def register(sub) -> None:
     p.add_argument(
         "--min-peak-fraction", type=_fraction, default=0.1, metavar="F",
         help="peaks holding less than this share of the DRT's area are dropped (default 0.1); a resolved peak "
-        "(gamma falls below 10%% of its height on both sides) needs half of it. See docs/drt.md, 'Peaks'",
+        "(gamma falls below 10 %% of its height on both sides) needs half of it. See docs/drt.md, 'Peaks'",
     )
     p.add_argument("--fmin", type=number_option, help="ignore data below this frequency [Hz]")
     p.add_argument("--fmax", type=number_option, help="ignore data above this frequency [Hz]")

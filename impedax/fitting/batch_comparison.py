@@ -557,7 +557,7 @@ class BatchComparison(FrozenResult):
         for i, (m, lead) in enumerate(zip(models, leads)):
             wins = f"{m['wins']}/{self.n_spectra}"
             line = (f"{m['label']:<{width}}  {m['n_params']:>2}  {wins:>9}  {m['decisive_wins']:>8}  {lead:<{lead_width}}  {m['aic_sum']:>11.2f}  {m['delta_aic_sum']:>9.2f}  {m['akaike_weight_sum']:>6.3f}  "
-                    f"{m['converged_fraction'] * 100:>8.0f}%  {significant(m['rms_rel_median'] * 100):>13}%")
+                    f"{m['converged_fraction'] * 100:>7.0f} %  {significant(m['rms_rel_median'] * 100):>12} %")
             lines.append(line + ("   ← best by summed AIC" if i == best else ""))
         lines += ["", SUM_NOTE + f"; wins count the spectra each model is best on by its own AIC; its lead there is the ΔAIC of the nearest rival "
                   f"that neither reduces to it nor is its fit in another writing (— where no rival is left), decisive from {DECISIVE_DELTA_AIC:g} (Burnham & Anderson 2002: essentially no support for the rival)"]

@@ -460,12 +460,12 @@ class Comparison(FrozenResult):
         ``report()``."""
         extra = [c for c in ("log_evidence", "waic") if any(c in r for r in self.rows)]
         width = column_width((r["label"] for r in self.rows), "model")
-        head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>9}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
+        head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>10}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
         lines = [head]
         best = self.best_index
         for i, r in enumerate(self.rows):
             aicc = "—" if math.isnan(r["aicc"]) else f"{r['aicc']:.2f}"
-            line = f"{r['label']:<{width}}  {r['n_params']:>2}  {significant(r['rms_rel'] * 100):>8}%  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
+            line = f"{r['label']:<{width}}  {r['n_params']:>2}  {significant(r['rms_rel'] * 100):>8} %  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {self._extra_cell(r, c):>12}" for c in extra)
             if i == best:
                 line += self._best_mark(warnings_below=warnings_below)
@@ -1126,7 +1126,7 @@ def _model_not_data(fit: FitResult, i: int, results: Sequence[FitResult], labels
         return fit
     _, _, j, evidence = min(better)
     note = (
-        f"{labels[j]} fits these data significantly better (rms_rel {results[j].rms_rel * 100:.3g}% against {fit.rms_rel * 100:.3g}%, {evidence}): "
+        f"{labels[j]} fits these data significantly better (rms_rel {results[j].rms_rel * 100:.3g} % against {fit.rms_rel * 100:.3g} %, {evidence}): "
         "the misfit is this model's, not the data's noise; a diagnosis (impedax diagnose) shows where it fails and which effect is missing"
     )
     blaming = Note(note + hint, (MISFIT, MODEL_MISFIT, *([sign_hint_tag(hint)] if hint else [])))  # (the misfit note, which blames the model: `FitResult.misses_structure`)

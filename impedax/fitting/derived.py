@@ -34,7 +34,7 @@ QUANTILES = {"q05": 0.05, "q16": 0.16, "median": 0.5, "q84": 0.84, "q95": 0.95}
 # was 120.5 mN, with no word
 MISSES_STRUCTURE_WARNING = ("the fit's model misses structure the data hold (its warnings or its misfit hint say so): the band is that model's uncertainty, "
                             "not the quantity's, and can lie far from it; find what is missing first (impedax diagnose)")
-UNDETERMINED_WARNING = (f"its standard error exceeds {RELATIVE_ERROR_LIMIT:.0%} of its value: the data do not determine it (it rests on parameters "
+UNDETERMINED_WARNING = (f"its standard error exceeds {RELATIVE_ERROR_LIMIT * 100:.0f} % of its value: the data do not determine it (it rests on parameters "
                         "the fit's warnings call undetermined or not separately determined); fix one of them at a value you know, or use impedax sample")
 
 

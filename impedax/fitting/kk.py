@@ -761,11 +761,11 @@ class ValidityGrid(ResultGrid):
         estimate, `_COUNT_COLUMN` and bad bands with the rules that flagged each."""
         width = column_width(names, "spectrum")
         head, attribute = self._COUNT_COLUMN or ("", "")
-        lines = [f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>9} {'noise':>9}{f' {head:>3}' if head else ''}  bad bands [rules that flagged them]"]
+        lines = [f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>10} {'noise':>10}{f' {head:>3}' if head else ''}  bad bands [rules that flagged them]"]
         for name, r in zip(names, self.results):
             bands = "; ".join(f"{band_name(points)} [{', '.join(rules)}]" for points, rules in zip(r.band_frequencies, r.band_rules)) or "none"
             count = f" {getattr(r, attribute):>3}" if head else ""
-            lines.append(f"{name:<{width}}  {_verdict_word(r):<9} {r.rms_rel * 100:>8.3g}% {r.noise_estimate * 100:>8.3g}%{count}  {bands}")
+            lines.append(f"{name:<{width}}  {_verdict_word(r):<9} {r.rms_rel * 100:>8.3g} % {r.noise_estimate * 100:>8.3g} %{count}  {bands}")
         return lines
 
     def _html_rows(self) -> list[dict]:

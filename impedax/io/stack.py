@@ -336,7 +336,7 @@ def _check_grid(f: np.ndarray, f0: np.ndarray, path, first_path: str) -> None:
         return shown + (", …" if values.size > 4 else "")
 
     shared = f0.size - lacking.size
-    told = [f"{shared} frequenc{'y matches' if shared == 1 else 'ies match'} within {SWEEP_RTOL:.1%}"]
+    told = [f"{shared} frequenc{'y matches' if shared == 1 else 'ies match'} within {SWEEP_RTOL * 100:.1f} %"]
     if lacking.size:
         told.append(f"{name0} has {lacking.size} this file lacks ({listed(lacking)})")
     if extra.size:
@@ -349,7 +349,7 @@ def _check_grid(f: np.ndarray, f0: np.ndarray, path, first_path: str) -> None:
     raise DataError(
         f"its frequency grid differs from {first_path}'s ({f.size} vs {f0.size} points: {format_band(f.min(), f.max())} vs "
         f"{format_band(f0.min(), f0.max())}; {'; '.join(told)}); "
-        f"spectra stack only on one grid (within {SWEEP_RTOL:.1%}): measure them so, {remedy}",
+        f"spectra stack only on one grid (within {SWEEP_RTOL * 100:.1f} %): measure them so, {remedy}",
         path=path,
     )
 
@@ -383,7 +383,7 @@ def _on_common_frequencies(spectra: list[xr.Dataset], paths: Sequence, first_pat
         match = _nearest_match(ds["frequency"].values, f0)
         matched = match >= 0
         if np.unique(match[matched]).size != np.count_nonzero(matched):
-            raise DataError(f"two of {first_path}'s frequencies match one of this file's within {SWEEP_RTOL:.1%}: the grids cannot be lined up point by point", path=path)
+            raise DataError(f"two of {first_path}'s frequencies match one of this file's within {SWEEP_RTOL * 100:.1f} %: the grids cannot be lined up point by point", path=path)
         matches.append(match)
     kept = np.all(np.array(matches) >= 0, axis=0)
     left_out: dict[str, list[float]] = {}
@@ -392,7 +392,7 @@ def _on_common_frequencies(spectra: list[xr.Dataset], paths: Sequence, first_pat
         n = ds.sizes["frequency"]
         if np.count_nonzero(kept) < COMMON_SHARE_MIN * n:
             raise DataError(
-                f"shares only {np.count_nonzero(kept)} of its {n} frequencies with the other files (within {SWEEP_RTOL:.1%}): under half, so the files were not "
+                f"shares only {np.count_nonzero(kept)} of its {n} frequencies with the other files (within {SWEEP_RTOL * 100:.1f} %): under half, so the files were not "
                 f"measured on one sweep plan; fit them one by one",
                 path=path,
             )

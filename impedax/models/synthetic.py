@@ -194,8 +194,8 @@ def generate_sirin_synthetic(seed: int = SIRIN_SYNTHETIC_SEED, *, sessions: int 
             "seed": int(seed),
             "truth": json.loads(json.dumps(truth)),
             "trial_variation": json.loads(json.dumps({k: {"session_sd": v[0], "trial_sd": v[1]} for k, v in _SPREAD.items()})),
-            "trial_variation_note": "ln of each parameter = ln(truth) + session offset + trial offset, both Gaussian with the sds in trial_variation (additive for alpha); the contact of the sliding finger: u 1% between sessions and 7% between trials, R_EP 5%/15%, CPE_EP.Q 3%/8%; the truth of each trial is stored in the trial_* variables; population median of u = eps0 eps_gap A / C_gap(truth) = 2.789 um",
-            "noise": "per-session (shared by the skin, screen and total measurements of a session) and per-trial log-normal parameter factors; CPE exponent jitter pivots at 250 Hz (skin), 100 kHz (screen), 10 Hz (EP); complex Gaussian noise, relative sd 0.4% + 3%*(1 Hz/f)^0.5",
+            "trial_variation_note": "ln of each parameter = ln(truth) + session offset + trial offset, both Gaussian with the sds in trial_variation (additive for alpha); the contact of the sliding finger: u 1 % between sessions and 7 % between trials, R_EP 5 %/15 %, CPE_EP.Q 3 %/8 %; the truth of each trial is stored in the trial_* variables; population median of u = eps0 eps_gap A / C_gap(truth) = 2.789 um",
+            "noise": "per-session (shared by the skin, screen and total measurements of a session) and per-trial log-normal parameter factors; CPE exponent jitter pivots at 250 Hz (skin), 100 kHz (screen), 10 Hz (EP); complex Gaussian noise, relative sd 0.4 % + 3 % * (1 Hz/f)^0.5",
             "source": "impedax synthetic example (Sirin et al. style)",
         },
     )

@@ -288,7 +288,7 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
         return {n: everything[n] for n in self.circuit.parameter_names(self.registry)}
 
     def quantiles(self, *, circuit: bool = False) -> xr.Dataset:
-        """median, q05, q16, q84, q95, mean, sd and the 90% HDI per parameter (``circuit=True``:
+        """median, q05, q16, q84, q95, mean, sd and the 90 % HDI per parameter (``circuit=True``:
         the circuit's parameters, derived through the reparametrization)."""
         return draws_table(self.circuit_samples() if circuit else self.samples)
 
@@ -506,7 +506,7 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
     # -- figures (drawn by impedax.plotting.bayes) -----------------------------------------
     def plot(self, *, title: str | None = None, n_lines: int = 40, figsize: tuple[float, float] | None = None):
         """Data with posterior bands: Nyquist (draws as thin lines) and Bode |Z| and phase with
-        the 68% and 90% credible bands of the model and the 90% posterior predictive band
+        the 68 % and 90 % credible bands of the model and the 90 % posterior predictive band
         (model and noise: where new measurements fall) (matplotlib Figure; ``figsize`` (width,
         height) [in] in place of the size that follows the spectrum's shape)."""
         from ...plotting.bayes import plot_posterior_bands

@@ -105,7 +105,7 @@ class ProgressLine:
                 else:  # (the costly first steps in the rate: more than is left, likely, but not a bound: a busier machine slows them further)
                     pace = f" at the warm-up's pace (faster from step {self.settle})"
             left = f", ~{(self.total - done) * rate:.0f} s left{pace}" if rate is not None and done < self.total else ""
-            return f"{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f}%), {now:.0f} s{left}"
+            return f"{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f} %), {now:.0f} s{left}"
         if self.target is None:
             goal = f"{self.target_note or 'steps needed not yet estimated'}; at most {self.total}"
         else:

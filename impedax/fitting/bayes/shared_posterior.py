@@ -245,7 +245,7 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
         return tuple(out)
 
     def quantiles(self) -> xr.Dataset:
-        """median, q05, q16, q84, q95, mean, sd and the 90% HDI per sampled parameter."""
+        """median, q05, q16, q84, q95, mean, sd and the 90 % HDI per sampled parameter."""
         return draws_table(self.samples)
 
     def _by_name(self, q: xr.Dataset, names) -> dict[str, dict]:
@@ -407,7 +407,7 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
 
     def plot(self, *, spectra: Sequence[str] | None = None, title: str | None = None, n_lines: int = 40, figsize: tuple[float, float] | None = None):
         """Each spectrum's data with its posterior bands, one row per spectrum: Nyquist (draws
-        as thin lines), Bode |Z| and phase with the 68% and 90% credible bands and the 90%
+        as thin lines), Bode |Z| and phase with the 68 % and 90 % credible bands and the 90 %
         posterior predictive band (`Posterior.plot`'s panels; matplotlib Figure). ``spectra``:
         the labels to draw (as ``spectra`` names them, "trial=3"); default: every spectrum up
         to `PLOTTED_SPECTRA`, else that many spread evenly over them (the title says so).

@@ -320,11 +320,11 @@ class Refinement(FrozenResult):
         """One row per step: rms_rel, AIC, the residuals against the noise its verdict was judged
         on (``×noise``, `RefinementStep.noise_ratio`: whether a step's gain is beyond the noise)
         and what it changed, with the model under it."""
-        lines = [f"{'step':>4}  {'rms_rel':>9}  {'AIC':>9}  {'×noise':>7}  change / model"]
+        lines = [f"{'step':>4}  {'rms_rel':>10}  {'AIC':>9}  {'×noise':>7}  change / model"]
         for i, s in enumerate(self.steps):
             ratio = f"{s.noise_ratio:.3g}×" if s.noise_ratio is not None else "–"
-            lines.append(f"{i:>4}  {s.fit.rms_rel * 100:>8.3g}%  {s.fit.aic:>9.1f}  {ratio:>7}  {s.change}")
-            lines.append(f"{'':>4}  {'':>9}  {'':>9}  {'':>7}  {s.model}")
+            lines.append(f"{i:>4}  {s.fit.rms_rel * 100:>8.3g} %  {s.fit.aic:>9.1f}  {ratio:>7}  {s.change}")
+            lines.append(f"{'':>4}  {'':>10}  {'':>9}  {'':>7}  {s.model}")
         return "\n".join(lines)
 
     def report(self) -> str:

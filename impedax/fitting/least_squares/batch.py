@@ -398,7 +398,7 @@ class BatchFitResult(FrozenResult):
         stored = self.dataset.attrs.get("unidentified_groups")
         return None if stored is None else dict(stored)
 
-    UNDETERMINED_RULE = f"relative error > {RELATIVE_ERROR_LIMIT:.0%} or none"  # (`undetermined`, as figures name it)
+    UNDETERMINED_RULE = f"relative error > {RELATIVE_ERROR_LIMIT * 100:.0f} % or none"  # (`undetermined`, as figures name it)
 
     def undetermined(self, name: str) -> xr.DataArray:
         """Where the data do not determine parameter ``name`` (bool over the batch dimensions):
@@ -505,7 +505,7 @@ class BatchFitResult(FrozenResult):
         s = self.summary()
         rows = [{"parameter": p, "median": v["median"], "q16": v["q16"], "q84": v["q84"]} for p, v in s["params"].items()]
         chi2_median = f", median chi2_red {np.nanmedian([r['chi2_red'] for r in s['spectra']]):.3g}" if self._against_sigma() else ""  # (as the report)
-        lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f}%, median rms_rel {s['rms_rel_median'] * 100:.3g} %{chi2_median}, weighting {self.weighting}", *(f"note: {n}" for n in self.notes)]
+        lines = [f"{self.n_spectra} {'spectrum' if self.n_spectra == 1 else 'spectra'} over {_dims_text(s['dims'])}: converged {s['converged_fraction'] * 100:.1f} %, median rms_rel {s['rms_rel_median'] * 100:.3g} %{chi2_median}, weighting {self.weighting}", *(f"note: {n}" for n in self.notes)]
         return result_html(self.model, rows, lines=lines)
 
     def plot(self, *, title: str | None = None, figsize: tuple[float, float] | None = None, params=None, x: str | None = None, spectra: str = "auto"):
@@ -749,7 +749,7 @@ class BatchFitResult(FrozenResult):
         noun = "spectrum" if self.n_spectra == 1 else "spectra"
         against_sigma = self._against_sigma()
         chi2_median = f"   median chi2_red {np.nanmedian([r['chi2_red'] for r in s['spectra']]):.3g}" if against_sigma else ""
-        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f}%   median rms_rel {s['rms_rel_median'] * 100:.3g} %{chi2_median}   weighting {self.weighting}{self._points_text()}", ""]
+        lines = [f"model {self.model}: {self.n_spectra} {noun} over {_dims_text(s['dims'])}", f"converged: {s['converged_fraction'] * 100:.1f} %   median rms_rel {s['rms_rel_median'] * 100:.3g} %{chi2_median}   weighting {self.weighting}{self._points_text()}", ""]
         specs = self.circuit.parameter_specs(self.registry)
         if self.n_spectra <= SPECTRA_AS_COLUMNS:
             rows = s["spectra"]
@@ -766,7 +766,7 @@ class BatchFitResult(FrozenResult):
             return lines
         # (the quantiles read like a confidence interval: say what they are)
         lines.append(f"across the {self.n_spectra} spectra (not uncertainties): median, 16th and 84th percentiles of each parameter's values")
-        lines.append(f"{'parameter':<{width}} {'median':>12} {'16%':>12} {'84%':>12}  unit")
+        lines.append(f"{'parameter':<{width}} {'median':>12} {'16 %':>12} {'84 %':>12}  unit")
         for p, v in s["params"].items():
             lines.append(f"{p:<{width}} {v['median']:>12.5g} {v['q16']:>12.5g} {v['q84']:>12.5g}  {unit_text(specs[p].unit)}".rstrip())
         if self.n_spectra <= SPECTRA_AS_ROWS:
@@ -871,7 +871,7 @@ single fit's JSON (`FitResult.summary`), so models can be compared spectrum by s
 
 
 def _cell(value: float, stderr, fixed: bool, at_bound: bool, name: str = "", notes=()) -> str:
-    """One spectrum's parameter ``name`` as the single fit's table gives it: ``0.11946 ± 1.2%``
+    """One spectrum's parameter ``name`` as the single fit's table gives it: ``0.11946 ± 1.2 %``
     (value and relative standard error), ``… (fixed)``, ``… at bound`` (``0 at bound`` where
     its ``notes`` say it is on its bound 0, `value_shown_at_bound`), ``… ± —`` (no finite error)."""
     if fixed:
@@ -1109,7 +1109,7 @@ def _tried_runner_up(out: SolverOutput, u: np.ndarray, u_other: np.ndarray, solv
     out, u, ratio = _also_solved_from(out, u, np.broadcast_to(u_other, (sample.size, u_other.size)), solver, scale, max_steps, sample, RUNNER_UP_STEPS)
     gained = int(np.sum(ratio < 1 - RUNNER_UP_GAIN))
     if not gained:
-        say(f"another minimum of the reference spectrum tried on {sample.size} of the spectra: none lowered by {RUNNER_UP_GAIN:.0%} of χ² or more")
+        say(f"another minimum of the reference spectrum tried on {sample.size} of the spectra: none lowered by {RUNNER_UP_GAIN * 100:.0f} % of χ² or more")
         return out, u, sample
     rest = np.setdiff1d(np.arange(b), sample)
     if not rest.size:  # (a batch no larger than the sample)

@@ -135,7 +135,7 @@ def constraint_note(constraints, kk: float, units: Mapping[str, str] | None = No
     names = ", ".join(dict.fromkeys(n for n, _, _ in constraints))
     return (
         f"the misfit is a constraint you set, not the model's: with {constraint_words(constraints, units)} the fit misses the data, and one local fit "
-        f"with {names} free reaches what the data allow (a Kramers–Kronig-consistent model reaches {kk * 100:.2g}% rms_rel) and at least halves the misfit; "
+        f"with {names} free reaches what the data allow (a Kramers–Kronig-consistent model reaches {kk * 100:.2g} % rms_rel) and at least halves the misfit; "
         f"fit with {names} free, or check the value you set (no effect is missing for this misfit)"
     )
 

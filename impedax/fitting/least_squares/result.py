@@ -368,11 +368,11 @@ class FitResult(FrozenResult):
             f"rms_rel    {self.rms_rel * 100:.3g} %    chi2 {self.chi2:.4g}    chi2_red {self.chi2_red:.4g}{self._chi2_red_basis()}    {self._criteria_text()}",
             f"status     {'converged' if self.converged else 'NOT converged'}: {self.message}",
             "",
-            f"{'parameter':<{width}}  {'value':>12}  {'stderr':>10}  {'rel':>8}  unit",
+            f"{'parameter':<{width}}  {'value':>12}  {'stderr':>10}  {'rel':>9}  unit",
         ]
         for n, v in self.values.items():
             if self.fixed[n]:
-                lines.append(f"{n:<{width}}  {exact_number(v):>12}  {'(fixed)':>10}  {'':>8}  {unit_text(specs[n].unit)}".rstrip())  # (as given: no error to round to)
+                lines.append(f"{n:<{width}}  {exact_number(v):>12}  {'(fixed)':>10}  {'':>9}  {unit_text(specs[n].unit)}".rstrip())  # (as given: no error to round to)
             else:
                 e = self.stderr[n]
                 # at a bound the linearised error says nothing (a log transform's scale at 0:
@@ -381,7 +381,7 @@ class FitResult(FrozenResult):
                 rel = "at bound" if at else format_relative_error(e / v) if v and np.isfinite(e) else "—"
                 shown = f"{'—':>10}" if at else f"{e:>10.3g}"
                 value = value_shown_at_bound(n, v, self.warnings) if at else f"{v:.5g}"  # (on a bound 0: "0", as its note says)
-                lines.append(f"{n:<{width}}  {value:>12}  {shown}  {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
+                lines.append(f"{n:<{width}}  {value:>12}  {shown}  {rel:>9}  {unit_text(specs[n].unit)}".rstrip())
         for w in self.warnings:
             if not w.startswith("fit did not converge"):  # the status line says it once
                 lines.append(f"warning: {w}")
@@ -711,7 +711,7 @@ def _relative_error(value: float, stderr: float) -> float:
 
 
 def undetermined_note(name: str, relative_error: float) -> str:
-    """"R1 has a relative standard error of 126%: it is not determined by the data" (as the fit
+    """"R1 has a relative standard error of 126 %: it is not determined by the data" (as the fit
     table writes it, `format_relative_error`); "has no finite standard error" where it is not
     finite."""
     if not math.isfinite(relative_error):
@@ -982,7 +982,7 @@ def weighting_notes(weighting: str, freq, points: np.ndarray, share) -> list[tup
             continue
         where = ", ".join(format_frequency(f) for f in np.sort(freq[row]))  # (238 kHz, as impedax writes frequencies, not "2.383e+05 Hz")
         out.append((
-            f"the {weighting} weighting gives {int(row.sum())} of {row.size} points {s * 100:.0f}% of the weight ({where}): "
+            f"the {weighting} weighting gives {int(row.sum())} of {row.size} points {s * 100:.0f} % of the weight ({where}): "
             f"{DOMINATED_WORDS}; consider weighting='modulus'",
         ))
     return out
@@ -1866,25 +1866,25 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
             continue
         if rms[i] > MISFIT_RATIO_MAX * kk and not sigma_wrong[i]:
             out[i] = (
-                f"{MODEL_MISSES_STRUCTURE}: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g}% a Kramers–Kronig-consistent model "
+                f"{MODEL_MISSES_STRUCTURE}: its rms_rel is over {MISFIT_RATIO_MAX:g}× the {kk * 100:.2g} % a Kramers–Kronig-consistent model "
                 f"({KK_CHAIN_WORDS}) reaches; {DIAGNOSIS_ADVICE}",
             )
             blamed[i] = True
         elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i] and weighting not in (None, "sigma"):
             out[i] = (
                 f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
-                f"model ({KK_CHAIN_WORDS}) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%); {SIGMA_EXCEEDED_UNWEIGHTED}",
+                f"model ({KK_CHAIN_WORDS}) reaches {kk * 100:.2g} % (rms_rel), within that noise ({noise_rms[i] * 100:.2g} %); {SIGMA_EXCEEDED_UNWEIGHTED}",
             )
         elif ratio[i] > SIGMA_EXCEEDED and kk <= math.sqrt(SIGMA_EXPLAINED) * noise_rms[i] and not sigma_wrong[i]:
             out[i] = (
                 f"the misfit exceeds the noise the data's sigma states (mean (ΔRe² + ΔIm²)/2σ² above {SIGMA_EXCEEDED:g}) while a Kramers–Kronig-consistent "
-                f"model ({KK_CHAIN_WORDS}) reaches {kk * 100:.2g}% (rms_rel), within that noise ({noise_rms[i] * 100:.2g}%): {MISFIT_IS_MODELS}, "
+                f"model ({KK_CHAIN_WORDS}) reaches {kk * 100:.2g} % (rms_rel), within that noise ({noise_rms[i] * 100:.2g} %): {MISFIT_IS_MODELS}, "
                 f"not the data's noise; {DIAGNOSIS_ADVICE}",
             )
             blamed[i] = True
         else:
             out[i] = (
-                f"the data are {kk * 100:.2g}% (rms_rel) from any Kramers–Kronig-consistent model ({KK_CHAIN_WORDS}), within {MISFIT_RATIO_MAX:g}× "
+                f"the data are {kk * 100:.2g} % (rms_rel) from any Kramers–Kronig-consistent model ({KK_CHAIN_WORDS}), within {MISFIT_RATIO_MAX:g}× "
                 f"of this fit's misfit: {DATA_LIMIT_NOTE}",
             )
             data_limited[i] = kk
@@ -1907,7 +1907,7 @@ def misfit_notes(freq, z, z_model, known: KKChains | None = None, sigma=None, at
                     else f"this fit's χ² is over {1 + MODEL_MISFIT_NOISE_SHARE:g}× the chain's, its AIC more than {MODEL_MISFIT_DELTA_AIC:g} worse with the parameters counted"
                 )
                 out[i] = (
-                    f"{MISFIT_IS_MODELS}: the data pass the Kramers–Kronig test (their {kk * 100:.2g}% rms_rel from its Voigt chain is their noise) "
+                    f"{MISFIT_IS_MODELS}: the data pass the Kramers–Kronig test (their {kk * 100:.2g} % rms_rel from its Voigt chain is their noise) "
                     f"and {beyond}; {DIAGNOSIS_ADVICE}",
                 )
                 blamed[i] = True

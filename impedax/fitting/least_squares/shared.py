@@ -556,7 +556,7 @@ class SharedFitResult(BatchFitResult):
         groups = self._group_texts() if self.keep else [""]
         lead_width = column_width(groups, 5) if self.keep else 0
         lead = (lambda g: f"{g:<{lead_width}} ") if self.keep else (lambda g: "")
-        lines.append(f"{lead('group')}{'parameter':<{width}} {'value':>12} {'stderr':>10} {'rel':>8}  unit")
+        lines.append(f"{lead('group')}{'parameter':<{width}} {'value':>12} {'stderr':>10} {'rel':>9}  unit")
         ordered = lambda da: (da.transpose(*self.keep) if self.keep else da).values.ravel()  # noqa: E731
         for n in self.shared:
             v = ordered(ds["shared_value"].sel(shared_param=n))
@@ -566,7 +566,7 @@ class SharedFitResult(BatchFitResult):
                 rel = "at bound" if bound else format_relative_error(ei / vi) if vi and math.isfinite(ei) else "—"
                 shown = f"{ei:>10.3g}" if math.isfinite(ei) else f"{'—':>10}"  # (at a bound: no standard error)
                 value = value_shown_at_bound(n, vi, self.warnings.get(scope_key(self.over, g), ())) if bound else f"{vi:.5g}"  # (on a bound 0: "0", as its note says)
-                lines.append(f"{lead(g)}{n:<{width}} {value:>12} {shown} {rel:>8}  {unit_text(specs[n].unit)}".rstrip())
+                lines.append(f"{lead(g)}{n:<{width}} {value:>12} {shown} {rel:>9}  {unit_text(specs[n].unit)}".rstrip())
         for g, f, p, d, c in zip(groups, *(ordered(ds[k]).tolist() for k in ("f_statistic", "f_pvalue", "delta_aic", "joint_chi2_red"))):
             whose = f" ({g})" if g else ""
             lines.append(f"sharing vs independent fits{whose}: F = {f:.3g}, p = {p:.3g}, ΔAIC = {d:+.1f} (negative favours sharing); joint chi2_red {c:.4g}")

@@ -281,7 +281,7 @@ def escalated(out, solve, circuit, table, features, freq, z, n_starts: int, seed
             rms_rel = float(rms_rel_of(out.z_model, z))
             if rms_rel <= target:
                 break
-            say(f"the best of {calls * size} starts misses the data by {rms_rel * 100:.3g}% rms_rel, above {target * 100:.2g}% "
+            say(f"the best of {calls * size} starts misses the data by {rms_rel * 100:.3g} % rms_rel, above {target * 100:.2g} % "
                 f"({KK_MISFIT_FACTOR:g} × the misfit of a Kramers–Kronig-consistent model): escalated to {(calls + multiple) * size} starts ({multiple} new draws of {size})")
         seeds = [rung_seed(seed, rung, call) for call in range(multiple)]
         draws = [to_solver_space(table, x) for x in rung_draws(circuit, table, features, n_starts, seeds, registry)]
