@@ -312,9 +312,18 @@ class DRTResult(FrozenResult):
 
     @property
     def lambda_scale_text(self) -> str:
-        """What λ is relative to, and the credible band's λ."""
-        return (f"λ is relative to max|Z|² = ({format_quantity(self.z_ref, 'Ω')})² (residuals relative to |Z|, penalty on γ/max|Z|; γ is reported in Ω); "
-                f"credible band at λ = {format_lambda(self.band_lambda, 2)} (evidence; noise only: it leaves out the smoothing that lowers peaks, docs/drt.md)")
+        """What λ is relative to, and the credible band's λ: where it is not γ's (beyond 1 %, the
+        figure legend's rule, `plotting.drt.band_label`), γ's λ beside it and what the band then
+        is: the band of a smoother (larger λ) or rougher γ, widened to contain the γ shown, so its
+        width is not that γ's uncertainty (REAL exampleDataParstat.txt: band at λ = 29, γ at 10⁻⁴)."""
+        scale = f"λ is relative to max|Z|² = ({format_quantity(self.z_ref, 'Ω')})² (residuals relative to |Z|, penalty on γ/max|Z|; γ is reported in Ω); "
+        noise = "noise only: it leaves out the smoothing that lowers peaks, docs/drt.md"
+        band = f"credible band at λ = {format_lambda(self.band_lambda, 2)}"
+        if not (math.isfinite(self.band_lambda) and math.isfinite(self.lam)) or abs(self.band_lambda - self.lam) <= 0.01 * self.lam:
+            return scale + f"{band} (γ's λ; {noise})"
+        kind = "smoother" if self.band_lambda > self.lam else "rougher"
+        return (scale + f"{band} (the evidence's), not at γ's λ = {format_lambda(self.lam, 2)}: the band of a {kind} γ, widened to contain the γ shown, "
+                f"so its width is not the uncertainty of the γ shown (the peaks' ± are, at γ's λ); {noise}")
 
     @property
     def cutoff_text(self) -> str:
