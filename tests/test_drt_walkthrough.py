@@ -17,7 +17,7 @@ import pytest
 
 import impedax as ix
 from impedax.cli import main
-from impedax.data import format_time
+from impedax.data import format_quantity, format_time
 from impedax.io.export import to_jsonable
 from impedax.io.netcdf import read_netcdf
 
@@ -149,9 +149,9 @@ def test_a_batch_report_has_a_line_per_spectrum_as_the_command_prints(tmp_path, 
     lines = text.splitlines()
     assert len(lines) == 4 and lines[0].startswith("DRT of 3 spectra over cycle")
     for line, label, one in zip(lines[1:], (0, 64, 129), batch.results):
-        assert line.startswith(f"  cycle={label}: rms_rel") and f"R_inf {one.r_inf_ohm:.4g} Ω" in line and f"R_pol {one.polarization_resistance:.4g} Ω" in line
+        assert line.startswith(f"  cycle={label}: rms_rel") and f"R_inf {format_quantity(one.r_inf_ohm, 'Ω', 4)}," in line and f"R_pol {format_quantity(one.polarization_resistance, 'Ω', 4)}," in line
         # τ as the single report prints it ("167 µs", not "0.000167 s"; 2026-12-01)
-        assert all(f"{format_time(p.tau_s)} ({p.r_ohm:.3g} Ω" in line for p in one.peaks)
+        assert all(f"{format_time(p.tau_s)} ({format_quantity(p.r_ohm, 'Ω')}" in line for p in one.peaks)  # (R with its SI prefix, as the single report)
     assert main(["drt", str(source)]) == 0
     # the report, then (2026-12-02) the starting circuit most spectra suggest
     out, suggestion = capsys.readouterr().out, batch.results[0].suggested_circuit()

@@ -590,13 +590,13 @@ class DRTBatchResult(ResultGrid):
         lines = [f"DRT of {counted(len(self.results), 'spectrum', 'spectra')} over {' × '.join(self.dims)}: {spread}; rms_rel median {np.median(rms) * 100:.3g} %, max {rms.max() * 100:.3g} %{floored}"]
         for where, one in zip(self.labels(), self.results):
             peaks = "; ".join(
-                f"{format_time(p.tau_s)} ({p.r_ohm:.3g} Ω{'' if p.inside_window else ', outside the measured range'}{'' if p.resolved else ', not told from zero'})" for p in one.peaks
+                f"{format_time(p.tau_s)} ({format_quantity(p.r_ohm, 'Ω')}{'' if p.inside_window else ', outside the measured range'}{'' if p.resolved else ', not told from zero'})" for p in one.peaks
             ) or "none"
-            dropped = f"; {len(one.dropped_peaks)} below the cut-off dropped ({sum(p.r_ohm for p in one.dropped_peaks):.3g} Ω)" if one.dropped_peaks else ""
+            dropped = f"; {len(one.dropped_peaks)} below the cut-off dropped ({format_quantity(sum(p.r_ohm for p in one.dropped_peaks), 'Ω')})" if one.dropped_peaks else ""
             note = note_of(one)
             lines.append(
-                f"  {', '.join(f'{d}={label_text(v)}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {one.r_inf_ohm:.4g} Ω, "
-                f"R_pol {one.polarization_resistance:.4g} Ω, peaks {peaks}{dropped}{note}"
+                f"  {', '.join(f'{d}={label_text(v)}' for d, v in where.items())}: rms_rel {one.rms_rel * 100:.3g} %, R_inf {format_quantity(one.r_inf_ohm, 'Ω', 4)}, "
+                f"R_pol {format_quantity(one.polarization_resistance, 'Ω', 4)}, peaks {peaks}{dropped}{note}"
             )
         hinted = [(where, one.sign_hint) for where, one in zip(self.labels(), self.results) if one.sign_hint]
         if hinted:  # (as the KK batch report's hint line: the first spectrum's hint, the others counted)
