@@ -68,7 +68,7 @@ def test_one_arc_at_5_percent_noise_leaves_the_unresolved_peak_out():
     spurious = [p for p in r.peaks if not p.resolved]
     assert len(r.peaks) == 2 and len(spurious) == 1 and spurious[0].inside_window
     suggestion = r.suggested_circuit()
-    assert suggestion.model == "R0 + R1 || CPE1"
+    assert suggestion.model == "R0 + R1 || C1"  # (an ideal R‖C's narrow peak: suggest.NARROW_FACTOR)
     assert suggestion.init["R1"] == pytest.approx(100.0, rel=0.05)
     assert any("left out: its R is not told from zero" in reason for reason in suggestion.reasons)
 
@@ -95,8 +95,8 @@ def test_drt_json_and_report_carry_the_suggestion(tmp_path, capsys):
     "name, z_true, model",
     [
         ("a resistor: no arc, R0 + C1", 50.0 + 0 * OMEGA, "R0 + C1"),
-        ("ωL = 13 % of |Z| at 100 kHz: L1", 10.0 + 100.0 / (1 + 1j * OMEGA * 1e-3) + 1j * OMEGA * 2e-6, "R0 + L1 + R1 || CPE1"),
-        ("a ZARC at τ = 1000 s, beyond the slowest point (15.9 s): a series CPE", 10.0 + 100.0 / (1 + 1j * OMEGA * 1e-3) + 300.0 / (1 + (1j * OMEGA * 1e3) ** 0.9), "R0 + R1 || CPE1 + CPE2"),
+        ("ωL = 13 % of |Z| at 100 kHz: L1", 10.0 + 100.0 / (1 + 1j * OMEGA * 1e-3) + 1j * OMEGA * 2e-6, "R0 + L1 + R1 || C1"),
+        ("a ZARC at τ = 1000 s, beyond the slowest point (15.9 s): a series CPE", 10.0 + 100.0 / (1 + 1j * OMEGA * 1e-3) + 300.0 / (1 + (1j * OMEGA * 1e3) ** 0.9), "R0 + R1 || C1 + CPE2"),
     ],
     ids=["resistor", "inductor", "slow_zarc"],
 )
@@ -167,3 +167,37 @@ def test_a_real_lead_inductance_under_five_percent_is_suggested_and_fits():
     with_l = ix.fit(suggestion.model, data, init=dict(suggestion.init))
     without = ix.fit("R0 + R1 || CPE1", data)
     assert with_l.rms_rel < 0.5 * without.rms_rel and "L1" not in with_l.at_bound
+
+
+# A narrow peak starts as R‖C (suggest.NARROW_FACTOR): SYNTHETIC one-arc spectra, 71 points over
+# 0.1 Hz–1 MHz, relative noise 0.5 % on each part; oracles the formulas' own R, C = τ/R and α.
+F_WIDE = np.logspace(-1, 6, 71)
+
+
+def one_arc(alpha, seed, level=0.005):
+    """SYNTHETIC: 1.2 kΩ + 85 kΩ/(1 + (jω·85 kΩ·22 nF)^alpha), noisy."""
+    z = 1.2e3 + 85e3 / (1 + (1j * 2 * np.pi * F_WIDE * 85e3 * 22e-9) ** alpha)
+    return noisy(z, level, seed)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_an_ideal_rc_arc_starts_as_r_parallel_c(seed):
+    suggestion = ix.drt((F_WIDE, one_arc(1.0, seed))).suggested_circuit()
+    assert suggestion.model == "R0 + R1 || C1"
+    assert suggestion.init["R0"] == pytest.approx(1.2e3, rel=0.02)
+    assert suggestion.init["R1"] == pytest.approx(85e3, rel=0.02)
+    assert suggestion.init["C1"] == pytest.approx(22e-9, rel=0.06)  # τ/R, with the peak's τ
+    assert suggestion.n_arcs == 1 and "as narrow as one ideal R‖C's" in suggestion.reasons[1]
+    fit = ix.fit(suggestion.model, (F_WIDE, one_arc(1.0, seed)), init=suggestion.init, progress=False)
+    assert fit.values["C1"] == pytest.approx(22e-9, rel=0.01)
+
+
+@pytest.mark.parametrize("alpha, level", [(0.8, 0.005), (0.9, 0.005), (0.9, 0.03)])
+def test_a_distributed_arc_keeps_its_cpe(alpha, level):
+    suggestion = ix.drt((F_WIDE, one_arc(alpha, 4, level))).suggested_circuit()
+    assert suggestion.model == "R0 + R1 || CPE1"
+    assert suggestion.init["CPE1.alpha"] == 0.9
+
+
+def test_an_ideal_rc_at_3_percent_noise_still_starts_as_r_parallel_c():
+    assert ix.drt((F_WIDE, one_arc(1.0, 5, 0.03))).suggested_circuit().model == "R0 + R1 || C1"

@@ -88,7 +88,7 @@ def test_cli_text_json_and_a_batch(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "warning: in 1 of 2 spectra (cell=1): the imaginary part may be stored with the opposite sign" in out
     line = out.rstrip().splitlines()[-1]
-    assert line.startswith("starting circuit from the DRT (the one 1 of 2 spectra suggest") and "R0 + R1 || CPE1 + R2 || CPE2" in line
+    assert line.startswith("starting circuit from the DRT (the one 1 of 2 spectra suggest") and "R0 + R1 || C1 + R2 || C2" in line  # (two ideal R‖C: narrow peaks, suggest.NARROW_FACTOR)
     assert main(["drt", str(stack), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["suggestion_withheld"] is None  # (one cell reads right: a circuit is given)
 

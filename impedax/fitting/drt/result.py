@@ -429,7 +429,7 @@ class DRTResult(FrozenResult):
 
     def suggested_circuit(self):
         """A starting circuit read off this DRT (`suggest.SuggestedCircuit`: ``model``, ``init``,
-        ``reasons``): R0 + one R‖CPE per counted peak, + W1 on a diffusion tail (a CPE on a constant-phase tail), + L1 when L is
+        ``reasons``): R0 + one R‖CPE per counted peak (R‖C when as narrow as an ideal R‖C's), + W1 on a diffusion tail (a CPE on a constant-phase tail), + L1 when L is
         visible (`suggest.suggest_circuit`; docs/drt.md, "From the DRT to a circuit")."""
         from .suggest import suggest_circuit
 
