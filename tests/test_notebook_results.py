@@ -160,7 +160,9 @@ def test_a_diagnosis_dataset_and_view_say_which_candidates_the_data_do_not_deter
     and the notebook table showed that candidate as ΔAIC −58 and "significant: no" with no word why.
     Oracle: the names the report's "not proposed" lines give."""
     diagnosis = ix.diagnose(data, "R0 + R1 || C1", progress=False)
-    named = {m: names.split(", ") for m, names in re.findall(r"not proposed: (.+?) \(rms_rel [^)]*\): the data do not determine ([^(]+?) \(", diagnosis.report())}
+    # (the rule in brackets is said once, after the first such line: the names end there or at the line's end)
+    named = {m: names.split(", ") for m, names in re.findall(r"not proposed: (.+?) \(rms_rel [^)]*\): the data do not determine ([^(\n]+?)(?: \(|$)", diagnosis.report(), flags=re.M)}
+    assert len(named) == diagnosis.report().count("the data do not determine")
     assert "R0 + (R1 + R_relax || C_relax) || C1" in named
     ds = diagnosis.to_xarray()
     by_model = dict(zip(ds["candidate_model"].values, ds["candidate_undetermined"].values))
