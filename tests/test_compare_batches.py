@@ -179,12 +179,19 @@ def test_batches_of_other_data_or_weighting_and_mixed_items_are_refused(batches,
         ix.compare([rc, cpe.fit_of(subject="s0")])
 
 
-def test_one_batch_is_no_comparison(batches):
-    """A list of one batch (one model) is refused, naming the batch (before 2026-12-01 it gave a
-    comparison of one model that won every spectrum); so is an empty list."""
+def test_one_batch_is_a_comparison_of_one_model_as_one_fit_is(batches):
+    """``ix.compare([fit])`` is a comparison of one model (its criteria; a posterior's evidence and
+    WAIC columns); ``ix.compare([batch])`` is the same one level up, not refused: each spectrum's
+    criteria, their sum, and a report saying nothing is ranked. Oracle: the single-spectrum path,
+    ``compare([batch.fit_of(subject=...)])``, and the sum of its AICs. An empty list is refused."""
     rc, _ = batches
-    with pytest.raises(FitError, match=r"needs at least two batches .* got 1, a BatchFitResult of R0 \+ R1 \|\| C1 over 12 spectra \(subject\)"):
-        ix.compare([rc])
+    c = ix.compare([rc])
+    assert isinstance(c, ix.fitting.batch_comparison.BatchComparison)
+    singles = [ix.compare([rc.fit_of(subject=f"s{i}")]).rows[0] for i in range(12)]
+    assert isinstance(ix.compare([rc.fit_of(subject="s0")]), ix.fitting.comparison.Comparison)
+    np.testing.assert_allclose(c.dataset["aic"].sel(model=c.labels[0]).values, [r["aic"] for r in singles], rtol=1e-9)
+    assert float(c.dataset["aic_sum"].values[0]) == pytest.approx(math.fsum(r["aic"] for r in singles), rel=1e-9)
+    assert c.report().splitlines()[0].startswith("comparison of 1 model over 12 spectra") and "nothing is ranked" in c.report().splitlines()[0]
     with pytest.raises(FitError, match="got none"):
         ix.fitting.batch_comparison.compare_batches([])
 

@@ -126,12 +126,11 @@ def compare_batches(batches: Sequence[BatchFitResult]) -> "BatchComparison":
     the sum) with that sum's Δ and Akaike weight, and its median ΔAIC. A batch over the same
     dimensions in another order (a stack transposed) is lined up with the first
     (`BatchFitResult.transpose`); its labels must match. Fewer than two batches
-    is a `FitsNotComparable` naming what was given: with one model there is nothing to rank."""
+    is a `FitsNotComparable`; one batch is a comparison of one model, as `compare` of one fit: each
+    spectrum's criteria and their sum, nothing ranked (its report says so)."""
     batches = list(batches)
-    if len(batches) < 2:
-        given = f"1, a {type(batches[0]).__name__} of {batches[0].model} over {batches[0].n_spectra} spectra ({', '.join(batches[0].dims)})" if batches else "none"
-        raise FitsNotComparable(f"compare of batches needs at least two batches of fits of the same spectra, one per model, to rank them: got {given}; "
-                       "fit another model to the same spectra and compare both (one batch's own fits: batch.report())")
+    if not batches:
+        raise FitsNotComparable("compare of batches needs at least one batch of fits: got none")
     _refuse_other_data(batches)
     ref = batches[0]
     dims = ref.dims
@@ -549,7 +548,8 @@ class BatchComparison(FrozenResult):
         width = column_width(self.labels, "model")
         noun = "spectrum" if self.n_spectra == 1 else "spectra"
         sizes = " × ".join(f"{d} ({self.dataset.sizes[d]})" for d in self.dims)
-        lines = [f"comparison of {len(models)} models over {self.n_spectra} {noun} ({sizes}), weighting {self.dataset.attrs['weighting']}", ""]
+        alone = " (one model: nothing is ranked; its wins and weight are those of a model without rivals)" if len(models) == 1 else ""
+        lines = [f"comparison of {len(models)} {'model' if len(models) == 1 else 'models'} over {self.n_spectra} {noun} ({sizes}), weighting {self.dataset.attrs['weighting']}{alone}", ""]
         leads = [_lead_text(m) for m in models]
         lead_width = column_width(leads, "lead: median (range)")
         lines.append(f"{'model':<{width}}  {'k':>2}  {'wins':>9}  {'decisive':>8}  {'lead: median (range)':<{lead_width}}  {'ΣAIC':>11}  {'ΔΣAIC':>9}  {'weight':>6}  {'converged':>9}  {'median rms_rel':>14}")
