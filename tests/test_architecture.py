@@ -13,7 +13,7 @@ ROOT = Path(__file__).resolve().parent.parent / "impedax"
 
 # lower layers first; a module may import from its own layer or a lower one only
 LAYERS = [
-    ("impedax.errors", "impedax.constants", "impedax.arguments", "impedax.data", "impedax.warning_groups", "impedax.progress"),
+    ("impedax.errors", "impedax.constants", "impedax.arguments", "impedax.data", "impedax.warning_groups", "impedax.progress", "impedax.passivity"),
     ("impedax.io",),
     ("impedax.circuits",),
     ("impedax.plotting", "impedax.diagram"),

@@ -89,7 +89,7 @@ def run(args) -> int:
         "attrs": {k: v for k, v in ds.attrs.items() if isinstance(v, (str, int, float, bool))},
         "sign_hint": _sign_hint(ds, extra),
         # points with Re Z < 0 beyond 5 % of |Z| (or the data's sigma), which no passive cell
-        # gives, in any spectrum (`fitting.statistics.non_passive`); the note as a fit words it,
+        # gives, in any spectrum (`passivity.non_passive`); the note as a fit words it,
         # null when none (or when the sign hint says Z' < 0 nearly everywhere)
         **_non_passive(ds, extra),
         # [low, high] Hz of each step of the sorted frequencies at least GAP_RATIO times both
@@ -364,13 +364,12 @@ def _gaps(freq) -> list[tuple[float, float, str]]:
 
 def _non_passive(ds, extra) -> dict:
     """``non_passive_frequencies_hz`` (sorted, of every spectrum) and ``non_passive_note``: the
-    points with Re Z < 0 beyond the noise (`fitting.statistics.non_passive`: 5 % of |Z|, or the
-    data's sigma), in a fit's words (`non_passive_notes`); in how many spectra for several. None
+    points with Re Z < 0 beyond the noise (`passivity.non_passive`: 5 % of |Z|, or the
+    data's sigma), in a fit's words (`passivity.non_passive_notes`); in how many spectra for several. None
     and [] when there are none, or when Z' < 0 nearly everywhere (the sign hint says that)."""
     import numpy as np
 
-    from ..fitting.least_squares.result import non_passive_notes
-    from ..fitting.statistics import non_passive
+    from ..passivity import non_passive, non_passive_notes
     from .common import dimension_labels
 
     freq = ds["frequency"].values

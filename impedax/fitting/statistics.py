@@ -8,6 +8,8 @@ from typing import Sequence
 
 import numpy as np
 
+from ..passivity import FIT_RESIDUAL_NOISE, KK_RESIDUAL_NOISE, NOISE_OF_SIGMA, NON_PASSIVE_CHANCE, NON_PASSIVE_MARGIN, chance_depth, non_passive, non_passive_words, top_of_band  # (the rule of Re Z < 0, below JAX: `impedax inspect` applies it too)
+
 __all__ = ["difference_noise", "residual_noise", "information_criteria", "known_noise_criteria", "KNOWN_SIGMA", "UNKNOWN_VARIANCE", "covariances", "null_sets", "uncertainties", "at_noise_floor", "dominant_points", "non_passive", "fit_noise", "chance_depth", "non_passive_words", "top_of_band", "NOISE_OF_SIGMA", "FIT_RESIDUAL_NOISE", "KK_RESIDUAL_NOISE", "SINGULAR_RATIO_LIMIT", "DOMINANT_FRACTION", "NON_PASSIVE_MARGIN", "NON_PASSIVE_CHANCE"]
 
 # a Jacobian direction whose singular value is below this fraction of the largest is not
@@ -213,42 +215,6 @@ def dominant_points(z, inv_re, inv_im) -> tuple[np.ndarray, np.ndarray]:
     return heavy[..., :n] | heavy[..., n:], share
 
 
-# a point is not passive when Re Z < 0 by more than noise could make it: below −5 % of |Z|
-# (a capacitive point, Re Z ≈ 0, at 1 % noise per component goes there once in 3·10⁶), and,
-# where the noise is known (the data's σ, or one estimated from a fit's residuals), below
-# −`chance_depth` σ as well (a subtracted remainder's noisy top decade; a SYNTHETIC finger
-# spectrum, Re Z ≈ 0.3 % of |Z| at 31.6 Hz, with ~2 % noise per component: the 5 % rule alone
-# flagged a point or two in a batch of 24 by chance, and a fit called it an artifact at the top of the band)
-NON_PASSIVE_MARGIN = 0.05
-NON_PASSIVE_CHANCE = 0.01
-"""The chance that Gaussian noise alone puts any of a spectrum's points (Re Z ≈ 0 at each, the
-worst case) below −`chance_depth` σ: one spectrum in 100."""
-
-
-def chance_depth(n_points: int) -> float:
-    """The depth k (in σ of each point's noise) that one of ``n_points`` Gaussian draws goes
-    below by chance with probability `NON_PASSIVE_CHANCE`: Φ(−k) = NON_PASSIVE_CHANCE / N
-    (Bonferroni; 3.59 at N = 61, 3.06 at N = 9)."""
-    from scipy.special import ndtri
-
-    return float(-ndtri(NON_PASSIVE_CHANCE / max(int(n_points), 1)))
-
-
-def non_passive(z, sigma=None, noise=None) -> np.ndarray:
-    """Points (bool, z's shape) whose real part is negative beyond the noise:
-    Re Z < −max(`NON_PASSIVE_MARGIN`·|Z|, k·σ), σ the data's ``sigma`` (Ω, per point), else
-    ``noise`` (Ω, per point: an estimate, e.g. `fit_noise`), k = `chance_depth` of the points
-    of a spectrum (z's last axis). A passive one-port has Re Z(jω) ≥ 0, so no circuit of
-    passive elements reaches them: measurement artifacts (an instrument's phase error near the
-    top of its band is the usual one)."""
-    z = np.asarray(z)
-    margin = NON_PASSIVE_MARGIN * np.abs(z)
-    scale = sigma if sigma is not None else noise
-    if scale is not None:
-        margin = np.maximum(margin, chance_depth(z.shape[-1] if z.ndim else 1) * np.asarray(scale, float))
-    return z.real < -margin
-
-
 def fit_noise(freq, z, z_model, n_free: int) -> np.ndarray:
     """σ [Ω] of each component of each point of spectra z (…, N) estimated from a fit z_model:
     `residual_noise` of the relative residuals (first differences in frequency order, which a
@@ -260,31 +226,6 @@ def fit_noise(freq, z, z_model, n_free: int) -> np.ndarray:
     levels = residual_noise(rel.real, rel.imag, order, n_free)
     levels = np.where(np.isfinite(levels), levels, 0.0)
     return levels[:, None] * np.abs(z)
-
-
-NOISE_OF_SIGMA = "the data's sigma"
-"""`non_passive_words`' name of the noise the data state."""
-FIT_RESIDUAL_NOISE = "the fit's residuals"
-"""... of the noise a fit's residuals show (`fit_noise`)."""
-KK_RESIDUAL_NOISE = "the KK test's residuals"
-"""... of the noise the Kramers–Kronig test's residuals show (`KKResult.non_passive_noise`)."""
-
-
-def non_passive_words(noise_from: str | None, n_points: int) -> str:
-    """What `non_passive` counted, in words: "Re Z < 0 by more than 5 % of |Z|" and, with a
-    noise (``noise_from``: "the data's sigma", "the fit's residuals"), by more than k σ of it."""
-    words = f"Re Z < 0 by more than {NON_PASSIVE_MARGIN * 100:g} % of |Z|"
-    if noise_from:
-        words += f" and {chance_depth(n_points):.2g}σ of the noise ({noise_from}; noise alone goes that deep in fewer than 1 of {1 / NON_PASSIVE_CHANCE:.0f} spectra)"
-    return words
-
-
-def top_of_band(freq, mask) -> bool:
-    """Whether the points ``mask`` all lie in the top decade of the band of ``freq``, where an
-    instrument's phase error is the usual cause of Re Z < 0."""
-    freq = np.asarray(freq, float)
-    picked = freq[np.asarray(mask, bool)]
-    return bool(picked.size) and bool(np.min(picked) >= np.max(freq) / 10)
 
 
 _MAD_TO_SIGMA = 1.482602218505602  # 1/Φ⁻¹(3/4): median(|x|)·this = σ for Gaussian x

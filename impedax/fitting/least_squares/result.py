@@ -24,6 +24,7 @@ from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
 from ..problem import WEIGHTING_SCALES
 from ..reductions import RESISTOR_LIKE_ALPHA, WARBURG_LIKE_DEVIATION, warburg_deviation
+from ...passivity import SUBTRACTION_CAUSE, listed_frequencies, non_passive_notes
 from ..statistics import FIT_RESIDUAL_NOISE, KNOWN_SIGMA, NOISE_OF_SIGMA, UNKNOWN_VARIANCE, covariances, dominant_points, information_criteria, known_noise_criteria, non_passive, non_passive_words, top_of_band, uncertainties
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .notes import DATA_LIMIT, MISFIT, MODEL_MISFIT, SIGMA_RESIDUAL, SIGN_HINT, UNEVEN_NOISE, Note, carried_over, has_tag, notes_tags, sign_hint_tag, stored_tags, tag_detail, tagged, tags_attr, tags_of
@@ -1923,48 +1924,9 @@ REMAINDER_ATTRS = ("total", "skin", "touchscreen")
 """The attrs naming the three spectra a remainder Z_total − Z_skin − Z_TS was subtracted from
 (``impedax remaining``, ``impedax gap --remaining``): data that carry them are a remainder, whose
 Re Z < 0 comes from the subtraction, not from the instrument."""
-SUBTRACTION_CAUSE = (
-    "the subtraction Z_total − Z_skin − Z_TS (the skin and touchscreen spectra's series resistance "
-    "scatters between trials by more than the remainder's real part there)"
-)
-
-
 def is_remainder(attrs) -> bool:
     """Whether a spectrum's attrs mark it a remainder of a subtraction (`REMAINDER_ATTRS`)."""
     return all(k in attrs for k in REMAINDER_ATTRS)
-
-
-def listed_frequencies(freq, mask, shown: int = 6) -> str:
-    """The first ``shown`` frequencies where ``mask`` holds, as impedax writes frequencies
-    (`impedax.data.format_frequency`: "702 kHz, 1 MHz", not "7.017e+05 Hz,
-    1e+06 Hz"), then "…" when there are more."""
-    picked = np.sort(np.asarray(freq, float)[np.asarray(mask, bool)])
-    return ", ".join(format_frequency(f) for f in picked[:shown]) + (", …" if picked.size > shown else "")
-
-
-def non_passive_notes(freq, z, sigma=None, *, remainder: bool = False, noise=None) -> tuple[str, ...]:
-    """A note naming the points with Re Z < 0 beyond the noise (`statistics.non_passive`: below
-    −5 % of |Z| and −k σ, σ the data's ``sigma`` or else the ``noise`` a fit's residuals show,
-    `statistics.fit_noise`), which no passive circuit reaches, saying what was counted
-    (`statistics.non_passive_words`): an instrument's phase error when they lie in the top
-    decade of the band (`statistics.top_of_band`), a measurement artifact where they lie
-    elsewhere; in a remainder (``remainder``, `is_remainder`) the subtraction's scatter. (The
-    5 % rule alone, said as "Re Z < 0", would flag a noisy SYNTHETIC finger spectrum's 31.6 Hz
-    point, 1 of its 13 with Re Z < 0, and blame the top of the band.)"""
-    bad = non_passive(z, sigma, noise)
-    if not bad.any():
-        return ()
-    noise_from = NOISE_OF_SIGMA if sigma is not None else FIT_RESIDUAL_NOISE if noise is not None and np.any(np.asarray(noise) > 0) else None
-    head = (f"{int(bad.sum())} of {bad.size} points have {non_passive_words(noise_from, bad.size)} ({listed_frequencies(freq, bad)}), "
-            "which no passive circuit reaches: ")
-    if remainder:
-        return (head + f"in a remainder, the cause is {SUBTRACTION_CAUSE}; leave them out (fmin/fmax, or impedax fit --exclude); a remainder of the trial means (impedax remaining without --trials) scatters less",)
-    if top_of_band(freq, bad):
-        return (head + "a measurement artifact (often a phase error at the top of the instrument's band); leave them out (fmin/fmax) or check the file's sign convention",)
-    return (
-        head + "a measurement artifact below the top decade of the band, where an instrument's phase error seldom lies: check those points "
-        "(an outlier, a sign convention changing within the file) and leave them out (impedax fit --exclude, or fmin/fmax)",
-    )
 
 
 def unidentified_group_note(group, ratio: float) -> str:
