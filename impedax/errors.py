@@ -183,6 +183,6 @@ class FitError(ImpedaxError, RuntimeError):
 
 class FitsNotComparable(FitError, ValueError):
     """Fits that `compare` cannot rank together: none, of different spectra or weightings, fits
-    of one spectrum beside batches, a shared fit, one batch alone. The input is at fault, so it is
+    of one spectrum beside batches, a shared fit. The input is at fault, so it is
     a `ValueError` as the API's other argument errors, and a `FitError`, the class these messages
     were raised as."""
