@@ -3,7 +3,9 @@
 Layout: ``ZPLOT2 ASCII`` and ``Key: value`` lines ending with ``End Comments`` (the line before
 it may name the columns), then one row per point separated by tabs or commas:
 ``Freq(Hz) Ampl Bias Time(Sec) Z'(a) Z''(b) GD Err Range``. The variant without metadata starts
-with that column-name line. A ``Data Points: N`` header that differs from the rows is reported in ``attrs``.
+with that column-name line. A ``Data Points: N`` header that differs from the rows is reported in ``attrs``;
+so is a sweep whose points stop short of the one ``vs Freq-Initial`` and ``vs Freq-Final`` plan
+(``frequency_plan_note``, as CH Instruments', Gamry's, BioLogic's and VersaStudio's).
 Numbers with decimal commas are refused, saying so (`_check_decimal_commas`): a ',' separates fields.
 
 Conventions: frequency in Hz; Z = ``Z'(a)`` + j·``Z''(b)`` in Ω, Z'' stored as is (negative for
@@ -18,7 +20,7 @@ from pathlib import Path
 import xarray as xr
 
 from ...errors import DataError
-from .._common import cut_last_line, cut_short_note, decimal_comma, head_text, read_text
+from .._common import cut_last_line, cut_short_note, decimal_comma, frequency_plan_note, head_text, read_text
 from ..dates import record_date
 from ..registry import Reader
 from ..table import Layout, NoLayout, detect_layout, spectrum_from_rows
@@ -29,6 +31,11 @@ CONVENTIONS = "Freq(Hz); Z = Z'(a) + j·Z''(b) [Ω] as stored (Z'' < 0 capacitiv
 COLUMN_NAMES = ("Freq(Hz)", "Ampl", "Bias", "Time(Sec)", "Z'(a)", "Z''(b)", "GD", "Err", "Range")
 #: ZPlot's fixed column order, used when the file does not name its columns.
 FIXED_LAYOUT = Layout({"frequency": (0, 1.0), "real": (4, 1.0), "imag": (5, 1.0)}, COLUMN_NAMES)
+
+
+#: The header's sweep plan (``vs Freq-Initial:  300000``), kept as numbers under the names
+#: Gamry's are kept by.
+_PLAN = {"vs Freq-Initial": "initial_frequency_hz", "vs Freq-Final": "final_frequency_hz"}
 
 
 def split_row(line: str) -> list[str]:
@@ -77,6 +84,11 @@ def read_zplot(path: str | Path) -> xr.Dataset:
                 attrs["software"] = f"{key.split(',')[-1].strip()} {value}".strip()
             elif key == "Data Points" and value.isdigit():
                 announced = int(value)
+            elif key in _PLAN:
+                try:
+                    attrs[_PLAN[key]] = float(value)
+                except ValueError:
+                    pass
         if date or time:  # (ISO 8601 when the order of day and month is established)
             record_date(attrs, [" ".join(v for v in (date, time) if v)])
         names_line = lines[end - 1] if end > 0 else ""
@@ -90,7 +102,11 @@ def read_zplot(path: str | Path) -> xr.Dataset:
     _check_decimal_commas(path, lines, rows, len(layout.header))
     if announced is not None and announced != len(rows):
         attrs["point_count_note"] = f"header says 'Data Points: {announced}'; the file holds {len(rows)} rows (sweep stopped early?)"
-    return spectrum_from_rows(path, layout, rows, attrs, comma=False, header_line=end + 1, cut_line=cut_last_line(text, lines))
+    ds = spectrum_from_rows(path, layout, rows, attrs, comma=False, header_line=end + 1, cut_line=cut_last_line(text, lines))
+    note = frequency_plan_note(ds["frequency"].values, attrs.get("initial_frequency_hz"), attrs.get("final_frequency_hz"))
+    if note:
+        ds.attrs["frequency_plan_note"] = note
+    return ds
 
 
 def _check_decimal_commas(path: Path, lines: list[str], rows: list[tuple[int, list[str]]], n_fields: int) -> None:
