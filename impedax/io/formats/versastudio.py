@@ -6,6 +6,12 @@ Layout: XML-like sections (``<Application>``, ``<Action0>``, ...); each data seg
 and ``Z Imag`` columns are impedance data; several become a ``segment`` dimension when they share
 their frequencies.
 
+The EIS action's ``Number of Points`` is the sweep's count only under ``Point Spacing=Linear``; a
+logarithmic sweep's points are set by ``Points Per Decade`` (the REAL exampleDataVersaStudio.par:
+``Number of Points=30``, 61 rows a ninth of a decade apart at ``Points Per Decade=9``).
+``point_count_note`` says which count the header plans and how many rows the file holds, when
+they differ (`_count_note`).
+
 Conventions: frequency in Hz; Z = ``Z Real`` + j·``Z Imag`` in Ω as stored (it equals the
 file's own E/I: ``(E Real + j·E Imag)/(I Real + j·I Imag)``).
 """
@@ -15,9 +21,12 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
+
 import xarray as xr
 
 from ...errors import DataError
+from ...data import format_frequency
 from .._common import cut_short_note, frequency_plan_note, head_text, read_text, stack
 from ..registry import Reader
 from ..table import NoLayout, detect_layout, spectrum_from_rows
@@ -41,7 +50,9 @@ def read_versastudio(path: str | Path) -> xr.Dataset:
     lines = text.splitlines()
     spectra = []
     tried = []
-    settings = _settings(lines)
+    agreed = _agreed(lines)
+    settings = _settings(agreed)
+    spacing = {key: agreed[key] for key in _SPACING if key in agreed}
     k = 0
     while k < len(lines):
         m = re.fullmatch(r"\s*<Segment(\d+)>\s*", lines[k])
@@ -72,6 +83,9 @@ def read_versastudio(path: str | Path) -> xr.Dataset:
         note = frequency_plan_note(ds["frequency"].values, settings.get("initial_frequency_hz"), settings.get("final_frequency_hz"))
         if note:
             ds.attrs["frequency_plan_note"] = note
+        count = _count_note(ds["frequency"].values, spacing, settings.get("initial_frequency_hz"), settings.get("final_frequency_hz"))
+        if count:
+            ds.attrs["point_count_note"] = count
         spectra.append((tag, ds))
         k = end + 1
     if not spectra:
@@ -87,10 +101,10 @@ _SETTINGS = {"Start Frequency (Hz)": "initial_frequency_hz", "End Frequency (Hz)
 _VERSUS = {"vs Ref": "reference electrode", "vs OC": "open circuit (Eoc)"}
 
 
-def _settings(lines: list[str]) -> dict[str, object]:
-    """`_SETTINGS` and ``dc_voltage_vs`` from the file's ``Key=value`` lines outside its data
-    segments, each kept only when every line of that key agrees (one EIS action, or several
-    alike): of several actions' differing values, none is the spectrum's for sure."""
+def _agreed(lines: list[str]) -> dict[str, str]:
+    """The file's ``Key=value`` lines outside its data segments, key → value, each kept only when
+    every line of that key agrees (one EIS action, or several alike): of several actions'
+    differing values, none is the spectrum's for sure."""
     found: dict[str, set[str]] = {}
     inside = False
     for line in lines:
@@ -101,22 +115,62 @@ def _settings(lines: list[str]) -> dict[str, object]:
             inside = False
         elif not inside and "=" in text:
             key, _, value = text.partition("=")
-            if key in _SETTINGS or key == "Potential (V),Versus":
-                found.setdefault(key, set()).add(value.strip())
+            found.setdefault(key, set()).add(value.strip())
+    return {key: next(iter(values)) for key, values in found.items() if len(values) == 1}
+
+
+def _settings(agreed: dict[str, str]) -> dict[str, object]:
+    """`_SETTINGS` as numbers and ``dc_voltage_vs`` from the agreed settings (`_agreed`)."""
     out: dict[str, object] = {}
-    for key, values in found.items():
-        if len(values) != 1:
-            continue
-        (value,) = values
+    for key, value in agreed.items():
         if key == "Potential (V),Versus":
             if value in _VERSUS:
                 out["dc_voltage_vs"] = _VERSUS[value]
-            continue
-        try:
-            out[_SETTINGS[key]] = float(value)
-        except ValueError:
-            pass
+        elif key in _SETTINGS:
+            try:
+                out[_SETTINGS[key]] = float(value)
+            except ValueError:
+                pass
     return out
+
+
+#: The settings that say how the sweep's points are spaced and counted (`_count_note`).
+_SPACING = ("Point Spacing", "Points Per Decade", "Number of Points")
+
+
+def _count_note(freq, spacing: dict[str, str], initial, final) -> str | None:
+    """``point_count_note`` of a segment whose frequencies ``freq`` [Hz] the header's
+    ``spacing`` settings (`_SPACING`) plan otherwise. Logarithmic spacing: the points per decade
+    set the count (over the planned band, ``initial`` to ``final`` [Hz], when known), and a
+    ``Number of Points`` that is not the rows' count is said to be none of this sweep's: the REAL
+    file's 30 beside its 61 rows, ``Points Per Decade=9``. Otherwise ``Number of Points`` is the
+    count, told when the rows differ. None when the rows match, or without those settings."""
+    rows = int(freq.size)
+    try:
+        per_decade = float(spacing["Points Per Decade"]) if "Points Per Decade" in spacing else None
+        announced = int(spacing["Number of Points"]) if "Number of Points" in spacing else None
+    except ValueError:
+        return None
+    if spacing.get("Point Spacing") != "Logarithmic" or not per_decade or per_decade <= 0:
+        if announced is None or announced == rows:
+            return None
+        return f"header says 'Number of Points={announced}'; the file holds {rows} rows" + (" (sweep stopped early?)" if rows < announced else "")
+    planned = None
+    if isinstance(initial, float) and isinstance(final, float) and min(initial, final) > 0:
+        steps = abs(np.log10(initial / final)) * per_decade
+        planned = (f"{round(steps) + 1}" if abs(steps - round(steps)) < 1e-6 else f"about {int(steps) + 1}") + f" points planned from {format_frequency(initial)} to {format_frequency(final)}"
+    if (announced is None or announced == rows) and (planned is None or planned.startswith(f"{rows} ")):
+        return None
+    span = (float(freq[0]), float(freq[-1]))
+    decades = abs(np.log10(span[0] / span[1])) if rows > 1 else 0.0
+    measured = (rows - 1) / decades if decades > 0 else None
+    density = f", {format(round(measured, 1), 'g')} a decade" if measured else ""
+    own = f"the file holds {rows} row{'s' if rows != 1 else ''}{density} from {format_frequency(span[0])} to {format_frequency(span[1])}"
+    # (the rows' own spacing is the evidence that Points Per Decade, not Number of Points, set them)
+    evidence = f" (the rows step by 1/{per_decade:g} decade, as Points Per Decade sets)" if measured and abs(measured / per_decade - 1) < 0.02 else ""
+    unused = f"; its 'Number of Points={announced}' is not this sweep's count{evidence}" if announced is not None and announced != rows else ""
+    head = f"Point Spacing=Logarithmic, Points Per Decade={per_decade:g}" + (f": {planned}" if planned else "")
+    return f"{head}; {own}{unused}"
 
 
 READER = Reader("VersaStudio par", (".par",), sniff, read_versastudio, CONVENTIONS)
