@@ -63,7 +63,10 @@ def run(args) -> int:
         "format": ds.attrs.get("format", "netCDF"),
         "data_format": ds.attrs.get("data_format"),  # (for a netCDF file, the format its data were first read from, else null)
         "dims": {k: int(v) for k, v in ds["Z"].sizes.items()},
-        "points": int(freq.size),
+        "points": int(freq.size),  # (the frequencies, of each spectrum)
+        # the impedance points held over every spectrum: `points` × the spectra along the other
+        # dimensions (a table of 3 sweeps of 5 frequencies: 15 rows), `points` for one spectrum
+        "rows": int(z.size),
         "frequency_min_hz": float(freq.min()),
         "frequency_max_hz": float(freq.max()),
         "z_abs_min_ohm": float(np.abs(z).min()),
@@ -283,12 +286,15 @@ def _points_text(summary: dict) -> str:
     """``21 frequencies 3 kHz–300 kHz, |Z| 148.2 Ω–628.8 Ω`` (frequencies as impedax writes them,
     `format_band`, |Z| with its SI prefix: not "3000–3e+05 Hz", nor for REAL
     exampleDataParstat.txt "10–1e+04 Hz, |Z| 0.0165–0.03349 Ω"); for one point ``1 frequency,
-    1 Hz, |Z| 3.606 Ω`` (not "1 frequencies 1–1 Hz, |Z| 3.606–3.606 Ω")."""
+    1 Hz, |Z| 3.606 Ω`` (not "1 frequencies 1–1 Hz, |Z| 3.606–3.606 Ω"); for several spectra
+    their rows too, ``…, 15 rows (3 spectra of 5 frequencies)``."""
     from ..data import format_band, format_quantity
 
     low, high = (format_quantity(summary[k], "Ω", 4) for k in ("z_abs_min_ohm", "z_abs_max_ohm"))
     count = "1 frequency," if summary["points"] == 1 else f"{summary['points']} frequencies"
-    return f"{count} {format_band(summary['frequency_min_hz'], summary['frequency_max_hz'])}, |Z| {low if low == high else f'{low}–{high}'}"
+    spectra = summary["rows"] // summary["points"]
+    rows = f", {summary['rows']} rows ({spectra} spectra of {count.rstrip(',')})" if spectra > 1 else ""
+    return f"{count} {format_band(summary['frequency_min_hz'], summary['frequency_max_hz'])}, |Z| {low if low == high else f'{low}–{high}'}{rows}"
 
 
 def _read_with(kind: str, ds) -> str:
