@@ -393,6 +393,16 @@ class BatchFitResult(FrozenResult):
         key = ", ".join(f"{d}={(ds[d].values[position[d]] if d in ds.coords else position[d])}" for d in self.dims)  # (as `fit_batch` keys them)
         return parameter_groups(stored.get(key, ()))
 
+    @labels_by_keyword
+    def at_bound_of(self, **labels) -> tuple[str, ...]:
+        """The free parameters at a natural or user bound in one spectrum's fit, picked by its
+        labels as `fit_of` (``at_bound_of(cycle=64)``): a tuple of names, the form of
+        `FitResult.at_bound` and of each row's ``at_bound`` in `summary`'s ``spectra``; ()
+        when none is. ``summary()["at_bound"]`` counts, per name, the spectra where it is; the
+        ``at_bound`` variable of `dataset` holds the same flags over (param, *dims)."""
+        one = self.dataset["at_bound"].isel(self._spectrum_position(labels, "at_bound_of"))
+        return tuple(str(n) for n, flag in zip(self.dataset["param"].values, one.transpose("param").values) if flag)
+
     def _stored_groups(self) -> dict | None:
         """``dataset.attrs["unidentified_groups"]`` (spectrum → groups), None if not recorded."""
         stored = self.dataset.attrs.get("unidentified_groups")
