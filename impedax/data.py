@@ -95,7 +95,7 @@ def make_spectrum(
             raise DataError(f"coords[{name!r}] has {labels.size} labels but Z has {n} entries along {name!r}", path=source)
         all_coords[name] = (name, labels)
     ds = xr.Dataset(data_vars, coords=all_coords, attrs={"source": source, **dict(attrs or {})})
-    return validate_spectrum(ds, source=source)
+    return _checked(ds, source, arrays=True)
 
 
 def _extra_dims(dims) -> tuple[str, ...]:
@@ -187,6 +187,13 @@ NON_FINITE_ADVICE = {
     True: "; every spectrum needs a value at every frequency: leave that point or spectrum out of the file (Python: out of the arrays given to "
           "make_spectrum); spectra measured on different sweeps are analysed apart, not padded with NaN to one grid",
 }
+# the same for arrays (given to `make_spectrum`, or a (frequency, Z) pair given as data): no file,
+# the Python that leaves the point out (an array sigma needs the same [keep])
+NON_FINITE_ARRAYS_ADVICE = {
+    False: "; leave that point out of the arrays: keep = np.isfinite(Z); frequency, Z = frequency[keep], Z[keep]",
+    True: "; every spectrum needs a value at every frequency: leave that frequency out of every spectrum, keep = np.isfinite(Z).all(axis=tuple(range(Z.ndim - 1))); "
+          "frequency, Z = frequency[keep], Z[..., keep], or that spectrum out of Z; spectra measured on different sweeps are analysed apart, not padded with NaN to one grid",
+}
 
 
 def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Dataset:
@@ -195,16 +202,30 @@ def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Datase
     they were changed in memory since, so that no one looks for the fault in the file."""
     if not isinstance(ds, xr.Dataset):  # (before ds.attrs: a list would end in AttributeError)
         raise DataError(f"expected an xarray.Dataset, got {type(ds).__name__}", path=source or "dataset")
-    source = source or str(ds.attrs.get("source", "dataset"))
+    return _checked(ds, source or str(ds.attrs.get("source", "dataset")), arrays=False)
+
+
+def _checked(ds: xr.Dataset, source: str, *, arrays: bool) -> xr.Dataset:
+    """`validate_spectrum`'s checks, a non-finite Z's advice fitted to where the data came from: a
+    file (a reader's Dataset, its ``attrs["format"]``) keeps `NON_FINITE_ADVICE`; data built in
+    Python get Python's remedy, for the ``arrays`` given to `make_spectrum`
+    `NON_FINITE_ARRAYS_ADVICE`, for a Dataset xarray's dropna (`_dropna_advice`), which is also
+    the remedy for a file's data changed in memory after `impedax.load` checked them."""
     try:
         return _validated(ds, source)
     except DataError as exc:
-        if ds.encoding.get(CHECKED_FILE) != source:
+        loaded = ds.encoding.get(CHECKED_FILE) == source
+        if not loaded and "format" in ds.attrs:
             raise
         detail = exc.detail
-        for advice in NON_FINITE_ADVICE.values():  # (the file is not at fault here, xarray's dropna is the remedy)
+        for batch, advice in NON_FINITE_ADVICE.items():
             if advice in detail:
-                detail = detail.replace(advice, "") + _dropna_advice(ds)
+                remedy = NON_FINITE_ARRAYS_ADVICE[batch] if arrays and source == IN_MEMORY else advice if arrays else _dropna_advice(ds)
+                detail = detail.replace(advice, "") + remedy
+        if not loaded:
+            if detail == exc.detail:
+                raise
+            raise DataError(detail, path=source) from None
         raise DataError(f"{detail} (changed in memory after impedax.load read the file, which passed this check)", path=source) from None
 
 

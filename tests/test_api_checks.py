@@ -128,7 +128,7 @@ def test_a_loaded_file_changed_in_memory_is_not_blamed(tmp_path):
     with pytest.raises(ix.DataError) as built:  # (data built in a session: no such note)
         ix.fit(RC, ix.make_spectrum(FREQ, rc_impedance(FREQ)).assign(Z=("frequency", np.where(FREQ == FREQ[3], np.nan, rc_impedance(FREQ)))))
     assert "changed in memory" not in str(built.value)
-    assert str(built.value).endswith("(point 3): (nan+0j); leave that point out of the file (Python: out of the arrays given to make_spectrum)")
+    assert str(built.value).endswith("(point 3): (nan+0j); ds.dropna('frequency') leaves it out")  # (no file: Python's remedy, tests/test_api_nan_in_memory.py)
     assert "leave that point out" not in str(info.value)  # (the file passed: no advice to edit it)
     z = np.stack([rc_impedance(FREQ), rc_impedance(FREQ)])
     z[1, 3] = np.nan  # (a stack padded with NaN: what to do, 2026-12-03)
