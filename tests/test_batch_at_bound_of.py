@@ -53,3 +53,12 @@ def test_labels_are_given_by_keyword(batch):
 def test_the_readme_loop_over_every_spectrum(batch):
     """README.md's one line for every spectrum's names runs as written."""
     assert {key: batch.at_bound_of(**labels) for key, labels in batch.spectrum_keys()} == {"cycle=1": (), "cycle=2": ("R1",), "cycle=3": ()}
+
+
+def test_a_global_fit_gives_each_spectrums_names_too(stack):
+    """A global fit (C1 shared over cycle: the spectra are written with other C1s, so
+    their shared value fits none exactly) is a batch result too: the bound R1 = 120 Ω still holds
+    only the spectrum of R1 = 150 Ω."""
+    shared = ix.fit(MODEL, stack, shared=["C1"], over="cycle", bounds=BOUNDS, n_starts=1)
+    assert [shared.at_bound_of(cycle=c) for c in (1, 2, 3)] == [(), ("R1",), ()]
+    assert [row["at_bound"] for row in shared.summary()["spectra"]] == [[], ["R1"], []]
