@@ -22,11 +22,10 @@ import re
 from pathlib import Path
 
 import numpy as np
-
 import xarray as xr
 
-from ...errors import DataError
 from ...data import format_frequency
+from ...errors import DataError
 from .._common import cut_short_note, frequency_plan_note, head_text, read_text, stack
 from ..registry import Reader
 from ..table import NoLayout, detect_layout, spectrum_from_rows
@@ -155,11 +154,13 @@ def _count_note(freq, spacing: dict[str, str], initial, final) -> str | None:
         if announced is None or announced == rows:
             return None
         return f"header says 'Number of Points={announced}'; the file holds {rows} rows" + (" (sweep stopped early?)" if rows < announced else "")
-    planned = None
+    planned, exact = None, False
     if isinstance(initial, float) and isinstance(final, float) and min(initial, final) > 0:
-        steps = abs(np.log10(initial / final)) * per_decade
-        planned = (f"{round(steps) + 1}" if abs(steps - round(steps)) < 1e-6 else f"about {int(steps) + 1}") + f" points planned from {format_frequency(initial)} to {format_frequency(final)}"
-    if (announced is None or announced == rows) and (planned is None or planned.startswith(f"{rows} ")):
+        steps = abs(np.log10(initial / final)) * per_decade  # (a whole number when the band holds whole steps)
+        exact = abs(steps - round(steps)) < 1e-6
+        planned = round(steps) + 1 if exact else int(steps) + 1
+    # (a band of a fraction of a step ends on either side of it: both counts match)
+    if (announced is None or announced == rows) and (planned is None or rows in ((planned,) if exact else (planned, planned + 1))):
         return None
     span = (float(freq[0]), float(freq[-1]))
     decades = abs(np.log10(span[0] / span[1])) if rows > 1 else 0.0
@@ -169,7 +170,8 @@ def _count_note(freq, spacing: dict[str, str], initial, final) -> str | None:
     # (the rows' own spacing is the evidence that Points Per Decade, not Number of Points, set them)
     evidence = f" (the rows step by 1/{per_decade:g} decade, as Points Per Decade sets)" if measured and abs(measured / per_decade - 1) < 0.02 else ""
     unused = f"; its 'Number of Points={announced}' is not this sweep's count{evidence}" if announced is not None and announced != rows else ""
-    head = f"Point Spacing=Logarithmic, Points Per Decade={per_decade:g}" + (f": {planned}" if planned else "")
+    plan = f": {'' if exact else 'about '}{planned} points planned from {format_frequency(initial)} to {format_frequency(final)}" if planned else ""
+    head = f"Point Spacing=Logarithmic, Points Per Decade={per_decade:g}{plan}"
     return f"{head}; {own}{unused}"
 
 
