@@ -199,7 +199,9 @@ NON_FINITE_ARRAYS_ADVICE = {
 def validate_spectrum(ds: xr.Dataset, *, source: str | None = None) -> xr.Dataset:
     """Check the data model; raise `DataError` naming the problem. Returns ``ds`` unchanged.
     Data `impedax.load` read from ``source`` passed these checks then: a failure now says that
-    they were changed in memory since, so that no one looks for the fault in the file."""
+    they were changed in memory since, so that no one looks for the fault in the file. A
+    non-finite Z of a Dataset built in Python (no reader's ``attrs["format"]``) is answered with
+    the ``ds.dropna('frequency')`` that leaves it out (`_checked`)."""
     if not isinstance(ds, xr.Dataset):  # (before ds.attrs: a list would end in AttributeError)
         raise DataError(f"expected an xarray.Dataset, got {type(ds).__name__}", path=source or "dataset")
     return _checked(ds, source or str(ds.attrs.get("source", "dataset")), arrays=False)
