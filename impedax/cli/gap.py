@@ -138,6 +138,8 @@ def register(sub) -> None:
     p.add_argument("--no-area-check", action="store_true", help="analyse any positive --area, e.g. a contact other than a fingertip: one outside 1e-6–1e-2 m² gives a warning instead of an error")
     p.add_argument("--v0", type=number_option, help="drive amplitude V0 [V], peak; default: the one voltage the total spectra carry (a --select voltage=500 "
                    "or a scalar coordinate or attribute named voltage, V0, drive_voltage, ... in V), else 75 (Sirin et al.)")
+    p.add_argument("--eps-gap", type=number_option, metavar="EPS", help="relative permittivity ε_gap of the gap's medium in u = ε0 ε_gap A/C_gap and the force "
+                   "(default 1.00059, air, as Sirin et al.); e.g. 3.4 for a polyimide film in a gripper pad's gap; at least 1")
     p.add_argument("--ep", type=_ep_branch, metavar="{CPE,C}", choices=("CPE", "C"), default="CPE", help="electrode-polarization branch: R_EP || CPE_EP (default; Q, the circuit language's alias of CPE, names it too) or R_EP || C_EP (its C_EP and C_gap are seen only as their sum, so C gives u's lower bound: analysed as R_EP || C_gap)")
     p.add_argument("--method", choices=("hierarchical", "pooled"), help="hierarchical model over the trials (default) or the pooled analysis of the trial means")
     p.add_argument("--pooled", action="store_true", help="same as --method pooled")
@@ -161,6 +163,8 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
+    from ..arguments import relative_permittivity_number
+    from ..constants import EPSILON_AIR
     from ..errors import ParameterError
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
     from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
@@ -177,6 +181,7 @@ def run(args) -> int:
         raise ParameterError(f"--area must be positive (m²), got {args.area:g}")
     if args.v0 is not None and not args.v0 > 0:
         raise ParameterError(f"--v0 must be positive (V), got {args.v0:g}")
+    eps_gap = EPSILON_AIR if args.eps_gap is None else relative_permittivity_number(args.eps_gap, "--eps-gap")
     if not args.no_area_check:
         check_fingertip_area(args.area)  # (an option's error before any file's: gap_analysis checks it again)
     check_band_options(args.fmin, args.fmax)
@@ -203,7 +208,7 @@ def run(args) -> int:
         print(f"impedax gap: note: {drive.note}", file=sys.stderr)
     for note in [*drive.warnings, *condition_notes(total, skin, touchscreen, default_v0=drive.value if drive.source == "default" else None)]:  # (the report and JSON repeat them)
         print(f"impedax gap: warning: {note}", file=sys.stderr)
-    result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check)
+    result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check, eps_gap=eps_gap)
     source = shown_path(args.total) + (f" [{', '.join(args.select)}]" if args.select else "")  # (the figure's default title: the total file and the selection)
     used = {**(getattr(result, "settings", None) or {}), "v0": getattr(result, "v0", args.v0)}  # (--v0 as run: given, the data's or the default)
     record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in used.items()})

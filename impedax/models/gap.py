@@ -604,6 +604,7 @@ class GapAnalysis(FrozenResult):
             lines.insert(-1, "gap voltage     |ΔV_gap| (amplitude) at each force maximum: " + "; ".join(
                 f"{what}: {_volts_with_interval(v)} at {format_frequency(v['frequency_hz'])}" for what, v in voltages))
         lines.append(f"drive V0        {self._drive.description}")
+        lines.append(f"gap medium      {medium_text((self.settings or {}).get('eps_gap', EPSILON_AIR))}")
         bound_line = self._force_bound_line()
         if bound_line:
             lines.insert(next(k for k, line in enumerate(lines) if line.startswith("force (peak")) + 1, bound_line)
@@ -970,6 +971,17 @@ def _trials_text(name: str, used: dict) -> str:
     _, selected, selection = str(used.get("source") or "").partition(" [")  # (`select_spectra`'s ``path [DIM=LABEL]``)
     picked = f" [selected {selection}" if selected else ""
     return f"{name} {used['count']}" + (f" ({what} {shown})" if labels else "") + picked
+
+
+def medium_text(eps_gap: float) -> str:
+    """The report's ``gap medium`` line: the relative permittivity ε_gap of u = ε0 ε_gap A/C_gap
+    and of the force (eq 1), and where it came from: air's 1.00059 (Sirin et al.), the default,
+    or given (``impedax gap --eps-gap``; Python ``eps_gap``), e.g. a dielectric film in a
+    gripper pad's gap. u scales with it: the same C_gap gives 3.4× the gap in a film of ε_r 3.4."""
+    used = "in u = ε0 ε_gap A/C_gap and the force (eq 1)"
+    if eps_gap == EPSILON_AIR:
+        return f"ε_gap = {eps_gap:g} (air, the default: Sirin et al.), {used}; --eps-gap (Python: eps_gap) sets another medium's"
+    return f"ε_gap = {eps_gap:.6g} (given: --eps-gap; Python: eps_gap), {used}"
 
 
 def gap_bounds(area: float, eps_gap: float = EPSILON_AIR) -> tuple[float, float]:
