@@ -295,6 +295,39 @@ def _plot_text(model: str, params: dict[str, float], convention: str) -> tuple[s
     return title, f"{drive}; {values}"
 
 
+_SYMBOLS = {"v_a": "V_A", "v_m": "V_m", "area": "A"}
+
+
+def _value_text(name: str, value: float) -> str:
+    """One parameter's value for the stderr line: SI prefixes where the unit takes them (``140 V``,
+    ``1.7 nF``, ``90 µm``), an area in mm², a permittivity as a number."""
+    if name == "area":
+        return f"{value * 1e6:.4g} mm²"
+    unit = _UNITS.get(name, "")
+    if unit in ("F", "Ω", "V", "m"):
+        return format_quantity(value, unit, 4)
+    return f"{value:.4g} {unit}".rstrip()
+
+
+def _conditions_text(model: str, params: dict[str, float]) -> str:
+    """What the force is computed for, on the stderr line: the drive amplitude and the contact
+    area, then whose values the rest are and which differ from the paper's, each with the
+    paper's value (``at V_A = 100 V, A = 50.27 mm² (thesis eq 3.13 values except V_A: 140 V in
+    the thesis)``)."""
+    meyer = model == "meyer"
+    defaults = _defaults(model, _variant_of(params), params.get("CPE_sc.alpha")) if meyer else _defaults(model)
+    drive = "v_a" if meyer else "v_m"
+    base, where = ("thesis eq 3.13 values", "the thesis") if meyer else ("Table 2 values", "Table 2")
+    if meyer and _variant_of(params) == "cpe":
+        base += f", R_sc ∥ CPE_sc with α = {params['CPE_sc.alpha']:.4g}"
+    head = f"{_SYMBOLS[drive]} = {_value_text(drive, params[drive])}, A = {_value_text('area', params['area'])}"
+    changed = _changed(model, params)
+    if not changed:
+        return f"at {head} ({base})"
+    listed = "; ".join(f"{_SYMBOLS.get(k, k)}: {_value_text(k, defaults[k])} in {where}" for k in changed)
+    return f"at {head} ({base} except {listed})"
+
+
 def _figure(model: str, freq, force, peak: dict, params: dict[str, float], convention: str, notes: list[str]):
     """The force plot: `plot_force_spectrum` titled by `_plot_text`, with the warnings of
     `_notes` (Vezzoli eq 8's validity) under the axes."""
@@ -399,5 +432,5 @@ def run(args) -> int:
         print(f"impedax force {args.model}: warning: {note}", file=sys.stderr)
     if not args.json:  # (the JSON holds the peak)
         what = "time-averaged force" if args.convention == "time-average" else "peak force (largest over a period)"
-        print(f"impedax force {args.model}: {what}; {_peak_text(peak)}", file=sys.stderr)
+        print(f"impedax force {args.model}: {what} {_conditions_text(args.model, params)}; {_peak_text(peak)}", file=sys.stderr)
     return 0
