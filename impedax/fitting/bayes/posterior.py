@@ -366,6 +366,16 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             out["circuit_params"] = _quantiles_by_name(cq, self.reparametrization.replaces)
         return out
 
+    def _reparametrization_lines(self) -> list[str]:
+        """The report's ``reparam`` line: which sampled quantities stand in for which circuit
+        parameters, and the map with its constants (`Reparametrization.description`: for the
+        air gap, C_gap = ε0·ε_r·A/u with the area and permittivity used); none without one."""
+        rp = self.reparametrization
+        if rp is None:
+            return []
+        what = f"{', '.join(rp.names)} in place of {', '.join(rp.replaces)}"
+        return [f"reparam    {what}: {rp.description}" if rp.description else f"reparam    {what}"]
+
     def report(self) -> str:
         """A readable table of the posterior."""
         q = self.quantiles()
@@ -378,6 +388,7 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             f"model      {self.model}",
             f"noise      {self.noise}: {NOISE_MODELS[self.noise]}" + (f"; here {self.settings['sigma_origin']}" if self.settings.get("sigma_origin") else ""),
             f"sampler    emcee, {walkers_text(self.n_walkers, self.stragglers)}, {self.settings.get('steps')} steps ({length_text(self.settings)}burn {self.settings.get('burn')}, thin {self.settings.get('thin')}), {self.n_walkers * self.n_draws} draws, acceptance {self.mean_acceptance:.3f}",
+            *self._reparametrization_lines(),
             self._evidence_line(),
             *([f"           {self.waic_note}"] if self.waic_note else []),
             "",
