@@ -114,7 +114,7 @@ def test_simulate_quiet_writes_the_same_and_keeps_its_notes(tmp_path, capsys):
     assert code == 0
     code, quiet, quiet_err = run(capsys, "simulate", MODEL, "--param", "R0=10", "--points", "5", "--quiet")
     assert code == 0 and quiet == loud and quiet_err == loud_err
-    assert quiet_err.strip() == "impedax simulate: defaults used for R1=100, C1=1e-06"
+    assert quiet_err.strip() == "impedax simulate: defaults used for R1 = 100 Ω, C1 = 1 µF"
 
 
 def test_kk_takes_quiet_as_the_other_analysis_commands(capsys):

@@ -162,7 +162,7 @@ def test_a_noise_level_given_to_sample_and_a_noise_model_given_to_diagnose_say_w
 
 def test_simulate_names_its_defaults_once_it_succeeded(capsys):
     code, out, err = run(["simulate", "R0 + C1", "--param", "R0=5", "--points", "2", "--fmin", "1", "--fmax", "10"], capsys)
-    assert code == 0 and err == "impedax simulate: defaults used for C1=1e-06\n"
+    assert code == 0 and err == "impedax simulate: defaults used for C1 = 1 µF\n"
     assert out.splitlines()[0] == "frequency_hz,z_real_ohm,z_imag_ohm"
 
 

@@ -96,5 +96,8 @@ def run(args) -> int:
     elif not args.out:
         sys.stdout.write(write_csv(ds))
     if defaulted:  # (said once the spectrum is out: not before an error)
-        print(f"impedax simulate: defaults used for {', '.join(f'{n}={params[n]:g}' for n in defaulted)}", file=sys.stderr)
+        from ..data import format_bound
+
+        # (each with its unit in SI prefixes, as format_bound writes a value exactly: C1 = 1 µF, not C1=1e-06)
+        print(f"impedax simulate: defaults used for {', '.join(f'{n} = {format_bound(float(params[n]), specs[n].unit)}' for n in defaulted)}", file=sys.stderr)
     return 0
