@@ -90,3 +90,13 @@ def test_chains_that_agree_raise_no_alarm():
     assert not [w for w in post.warnings if "R-hat" in w]
     assert _analysis(post).alarms == ()
     assert _analysis(post).summary()["sampling"]["rhat_max"] < 1.05
+
+
+def test_the_json_s_sampling_carries_the_mean_acceptance_the_report_line_shows():
+    """The report's sampling line says "mean acceptance 0.85"; the JSON's ``sampling`` had the
+    divergences, draws, R-hat and ESS but not it (a walkthrough, 2026-12-07). The posterior
+    here has ``mean_acceptance=0.85`` by construction."""
+    analysis = _analysis(_posterior(alpha_apart=0.0))
+    assert analysis.summary()["sampling"]["acceptance"] == 0.85
+    (line,) = [ln for ln in analysis.report().splitlines() if ln.startswith("sampling ")]
+    assert f"mean acceptance {analysis.summary()['sampling']['acceptance']:.2f}" in line

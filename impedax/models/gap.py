@@ -491,12 +491,14 @@ class GapAnalysis(FrozenResult):
         """Hierarchical: the NUTS diagnostics (divergent transitions of all draws, the largest
         R-hat and the smallest ESS of every sampled quantity: μ and the spreads, the shared
         parameters and δ, `HierarchicalPosterior.mixing`, as its warnings and report line read
-        them); None when pooled."""
+        them; ``acceptance``, NUTS's mean acceptance probability, which the report's sampling
+        line gives); None when pooled."""
         post = self.hierarchical
         if post is None:
             return None
         rhat, ess = post.mixing()
-        return {"divergences": post.divergences, "draws": post.n_draws, "rhat_max": max(rhat.values()), "ess_min": min(ess.values()), "rhat": rhat, "ess": ess}
+        return {"divergences": post.divergences, "draws": post.n_draws, "rhat_max": max(rhat.values()), "ess_min": min(ess.values()), "rhat": rhat, "ess": ess,
+                "acceptance": float(post.mean_acceptance)}
 
     def _sampling_unreliable(self) -> bool:
         """Hierarchical: more than `SAMPLING_DIVERGENT_MAX` of the draws divergent, or an R-hat
@@ -680,7 +682,7 @@ class GapAnalysis(FrozenResult):
             verdict = (f"FAILED its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX * 100:.0f} % divergent): see SAMPLING UNRELIABLE above"
                        if self._sampling_unreliable() else f"passed its checks (R-hat < {SAMPLING_RHAT_MAX:g}, at most {SAMPLING_DIVERGENT_MAX * 100:.0f} % divergent)")
             return (f"{head}hierarchical NUTS, {d['draws']} draws: {d['divergences']} divergent, R-hat up to {d['rhat_max']:.3f}, ESS down to {d['ess_min']:.0f} "
-                    f"(of every sampled quantity), mean acceptance {self.hierarchical.mean_acceptance:.2f}: {verdict}")
+                    f"(of every sampled quantity), mean acceptance {d['acceptance']:.2f}: {verdict}")
         c = self._pooled_chain_summary()
         stopped = {"converged": f", automatic: stopped at {CHAIN_TAU_MULTIPLE} τ", "cap": ", automatic: stopped at its cap"}.get(c["stopped"], "")
         line = f"{head}emcee, {c['walkers']} walkers × {c['steps']} steps (burn {c['burn']}{stopped}), acceptance {c['acceptance']:.2f}, "
