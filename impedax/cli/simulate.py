@@ -20,13 +20,31 @@ POINT_BYTES = 1024
 #: ``--title`` is followed by it).
 LEGEND_MODEL_CHARS = 40
 
+#: Paper models MODEL may name (any case): Meyer's finger-on-screen circuit, thesis Fig 3.3 (rc)
+#: or its fractional variant of Fig 5.3 (cpe), with the thesis's eq 3.13 values as the defaults
+#: (`impedax.models.meyer_model`; the cpe variant's α = 0.8 and Q from C_sc at 1 kHz).
+PAPER_MODELS = {"meyer": "rc", "meyer-rc": "rc", "meyer-cpe": "cpe"}
+
+
+def paper_model(model: str | None) -> tuple[str | None, dict[str, float]]:
+    """(the name of the paper model ``model`` names, its parameter values) for a name of
+    `PAPER_MODELS`; (None, {}) for a circuit."""
+    name = (model or "").strip().lower()
+    if name not in PAPER_MODELS:
+        return None, {}
+    from ..models.meyer import meyer_model
+
+    return name, dict(meyer_model(PAPER_MODELS[name]).params)
+
 
 def register(sub) -> None:
-    p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description=("Evaluate MODEL at log-spaced frequencies (both ends included; or at a spectrum file's own, --frequencies FILE) and write frequency_hz,z_real_ohm,z_imag_ohm: "
+    p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description=("Evaluate MODEL (a circuit, or a paper's model by name: meyer, meyer-cpe, "
+                                "Meyer's finger-on-screen circuit with the thesis's eq 3.13 values as defaults) at log-spaced frequencies (both ends included; or at a spectrum file's own, --frequencies FILE) and write frequency_hz,z_real_ohm,z_imag_ohm: "
                                 "those three columns on standard output; a --out FILE.csv adds the provenance columns after them (impedax_version, "
                                 "written_utc, command, source, data_files, then setting_* for each option: docs/io.md, \"Provenance\"); "
                                 "impedax reads the file back as a spectrum."))
     add_model_argument(p, positional=True)
+    p.set_defaults(circuit_model=False)  # (run reads another notation itself, after a paper model's name: meyer-cpe is no impedance.py series)
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="parameter value; several after one --param (--param R0=10 C1=1u) or --param repeated; unspecified ones take their defaults")
     p.add_argument("--fmin", type=number_option, default=None, help=f"lowest frequency [Hz] (default {DEFAULT_FMIN:g})")
     p.add_argument("--fmax", type=number_option, default=None, help=f"highest frequency [Hz] (default {DEFAULT_FMAX:g})")
@@ -47,6 +65,16 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..io import write_csv
 
+    paper, paper_values = paper_model(args.model)
+    if paper is not None:
+        from ..models.meyer import meyer_circuit
+
+        args.model = str(meyer_circuit(PAPER_MODELS[paper]))
+    else:
+        from .common import read_impedance_py_model
+
+        args.circuit_model = True
+        read_impedance_py_model(args, "simulate")
     circuit, specs, given = model_and_values(args.model, args.param, "--param", args.registry)
     check_json_with_spectrum_out(args.json, args.out, "simulate")
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.frequencies] if args.frequencies else (),
@@ -66,14 +94,15 @@ def run(args) -> int:
         points = check_points(args.points, args.fmin, args.fmax, default=61)
         check_memory("--points", points * POINT_BYTES, f"a spectrum of {points} frequencies")
         freq = log_frequencies(args.fmin, args.fmax, points)
-    params = {**circuit.defaults(args.registry), **given}
+    params = {**circuit.defaults(args.registry), **paper_values, **given}
     defaulted = [n for n in specs if n not in given]
     fn = compile_circuit(circuit, args.registry)
     z = np.asarray(fn(params, freq))
     bad = np.flatnonzero(~np.isfinite(z))
     if bad.size:
         raise ParameterError(f"the model's impedance is not finite (overflow) at {freq[bad[0]]:g} Hz and {bad.size - 1} other frequencies; check the parameter values ({', '.join(f'{n}={params[n]:g}' for n in specs)})")
-    ds = make_spectrum(freq, z, attrs={"model": str(circuit), "synthetic": "simulated by impedax simulate"}, source="impedax simulate")
+    attrs = {"model": str(circuit), "synthetic": "simulated by impedax simulate", **({"paper_model": paper} if paper else {})}
+    ds = make_spectrum(freq, z, attrs=attrs, source="impedax simulate")
     text = str(circuit)
     in_legend = len(text) <= LEGEND_MODEL_CHARS
 
@@ -92,12 +121,16 @@ def run(args) -> int:
     written = outputs.save({"--out": spectrum_writer(lambda: ds, record, args.out), "--plot": plot})
     if args.json:  # (what a pipeline reads of the run; docs/robustness.md, "JSON for programs")
         emit_json({"command": "simulate", "written": [p for p in written if p != "-"], "model": str(circuit), "parameters": {n: float(params[n]) for n in specs},
-                   "parameter_units": {n: specs[n].unit for n in specs}, "defaulted": defaulted, **spectrum_summary(ds), "provenance": record})
+                   "parameter_units": {n: specs[n].unit for n in specs}, "defaulted": defaulted, **({"paper_model": paper} if paper else {}), **spectrum_summary(ds), "provenance": record})
     elif not args.out:
         sys.stdout.write(write_csv(ds))
     if defaulted:  # (said once the spectrum is out: not before an error)
         from ..data import format_bound
 
         # (each with its unit in SI prefixes, as format_bound writes a value exactly: C1 = 1 µF, not C1=1e-06)
-        print(f"impedax simulate: defaults used for {', '.join(f'{n} = {format_bound(float(params[n]), specs[n].unit)}' for n in defaulted)}", file=sys.stderr)
+        values = ", ".join(f"{n} = {format_bound(float(params[n]), specs[n].unit)}" for n in defaulted)
+        if paper:
+            print(f"impedax simulate: {paper} is {circuit} with the thesis's eq 3.13 values: {values}", file=sys.stderr)
+        else:
+            print(f"impedax simulate: defaults used for {values}", file=sys.stderr)
     return 0

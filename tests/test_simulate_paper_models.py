@@ -1,0 +1,56 @@
+"""`impedax simulate meyer` / `meyer-cpe`: Meyer's finger-on-screen circuit with the thesis's
+eq 3.13 values as its defaults. Typed as a circuit, `C_s + C_i + R_sc || C_sc + R_f` took the
+elements' generic defaults (1 µF, 100 Ω), a spectrum of no finger. The oracle is the thesis's
+series impedance written here in numpy (docs/physics.md, "Meyer"):
+Z = 1/(jωC_s) + 1/(jωC_i) + R_sc/(1 + jωR_sc C_sc) + R_f, the CPE variant with
+R_sc/(1 + R_sc Q (jω)^α)."""
+
+import json
+
+import numpy as np
+import pytest
+
+from cli_run import run
+
+C_S, C_I, R_SC, C_SC, R_F = 140e-12, 1.7e-9, 130e3, 2.2e-9, 500.0  # thesis eq 3.13, rounded
+
+
+def _spectrum(stdout):
+    rows = np.array([[float(x) for x in line.split(",")] for line in stdout.splitlines()[1:]])
+    return rows[:, 0], rows[:, 1] + 1j * rows[:, 2]
+
+
+def test_meyer_is_the_thesis_circuit_with_its_values(capsys):
+    code, out, err = run(["simulate", "meyer", "--fmin", "10", "--fmax", "1M", "--points", "9"], capsys)
+    assert code == 0, err
+    f, z = _spectrum(out)
+    s = 2j * np.pi * f
+    expected = 1 / (s * C_S) + 1 / (s * C_I) + R_SC / (1 + s * R_SC * C_SC) + R_F
+    np.testing.assert_allclose(z, expected, rtol=1e-12)
+    assert err == ("impedax simulate: meyer is C_s + C_i + R_sc || C_sc + R_f with the thesis's eq 3.13 values: "
+                   "C_s = 140 pF, C_i = 1.7 nF, R_sc = 130 kΩ, C_sc = 2.2 nF, R_f = 500 Ω\n")
+
+
+def test_meyer_cpe_takes_q_from_c_sc_at_1_khz_and_a_param_overrides(capsys):
+    code, out, err = run(["simulate", "meyer-cpe", "--param", "C_s=100p", "--fmin", "10", "--fmax", "1M", "--points", "9"], capsys)
+    assert code == 0, err
+    f, z = _spectrum(out)
+    alpha = 0.8
+    q = C_SC * (2 * np.pi * 1e3) ** (1 - alpha)  # the CPE's |Z| equals C_sc's at 1 kHz
+    jw = 2j * np.pi * f
+    expected = 1 / (jw * 100e-12) + 1 / (jw * C_I) + R_SC / (1 + R_SC * q * jw**alpha) + R_F
+    np.testing.assert_allclose(z, expected, rtol=1e-12)
+    assert "C_s = 140 pF" not in err and "C_i = 1.7 nF" in err and "CPE_sc.alpha = 0.8" in err
+
+
+def test_the_json_says_which_paper_model_ran(tmp_path, capsys):
+    code, out, err = run(["simulate", "MEYER", "--points", "3", "--out", tmp_path / "m.csv", "--json"], capsys)
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["model"] == "C_s + C_i + R_sc || C_sc + R_f" and summary["paper_model"] == "meyer"
+    assert summary["parameters"] == pytest.approx({"C_s": C_S, "C_i": C_I, "R_sc": R_SC, "C_sc": C_SC, "R_f": R_F}, rel=1e-15)
+
+
+def test_a_circuit_is_no_paper_model(capsys):
+    code, out, err = run(["simulate", "R0 + C1", "--points", "2"], capsys)
+    assert code == 0 and "thesis" not in err
