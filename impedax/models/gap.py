@@ -592,7 +592,7 @@ class GapAnalysis(FrozenResult):
         bounds = f"(bounds {_gap_range(p.gap_lower, p.gap_upper)} from the lowest/highest impedances{'; no interval for u, see the warning' if self.paper_bounds_no_interval else ''})" if self.paper_has_bounds else "bounds n/a (one trial)"
         lines += [
             f"paper method    u = {_gap_length(p.gap)}{f' ({NO_AIR_GAP})' if self.paper_gap_implausible is not None else ''}  {bounds}",
-            f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)}",
+            f"C_gap{' (prior-set)' if self._prior_set else '          '} = {_capacitance_with_interval(c)}; paper method {format_quantity(p.c_gap, 'F', CAPACITANCE_DIGITS)} (mean |Y_R|/ω at and above {p.cutoff_hz:g} Hz, Sirin §2.3)",
             f"fits            naive C_gap: rms_rel {format_percent(self.naive_fit.rms_rel)};  {self.edl_fit.model}: rms_rel {format_percent(self.edl_fit.rms_rel)}{_edl_chi2_text(self.edl_fit, self.remaining)}",
             self._sampling_line(),
             f"force (peak, V0 = {self.v0:.4g} V){self._force_qualifier()} with EP: {force_maximum_text(peak)}; without EP: {force_maximum_text(bare)}",
