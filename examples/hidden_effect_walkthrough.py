@@ -32,7 +32,7 @@ def synthetic_finger(seed: int = 7):
     jw = 2j * np.pi * f
     z = 150.0 + 1.0 / (1.0 / 40e3 + 2e-8 * jw**0.75) + 1.0 / (1.0 / 3e3 + jw * 5e-9)
     z = z + 0.01 * np.abs(z) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))
-    return ix.make_spectrum(f, z, attrs={"synthetic": "R_s + R_sc || CPE(alpha 0.75) + R_2 || C_2, 1% noise, seed 7"})
+    return ix.make_spectrum(f, z, attrs={"synthetic": "R_s + R_sc || CPE(alpha 0.75) + R_2 || C_2, 1 % noise, seed 7"})
 
 
 def main(argv=None):

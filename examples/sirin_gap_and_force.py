@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 import _example
-from impedax.data import format_frequency
+from impedax.data import format_frequency, format_percent
 from impedax.models import example_spectra, gap_thickness
 from impedax.models.gap import gap_analysis
 from impedax.models.synthetic import SIRIN_SYNTHETIC_TRUTH
@@ -47,8 +47,8 @@ def main(argv=None):
     result = gap_analysis(spectra["total_sliding"], spectra["skin"], spectra["touchscreen"], area=130e-6, v0=75.0, steps=300 if args.fast else 2000, progress=True)
     g, p = result.gap, result.paper
     print(f"paper method     C_gap = {p.c_gap * 1e12:.1f} pF   u = {p.gap * 1e6:.3f} µm   bounds {p.gap_lower * 1e6:.3f}–{p.gap_upper * 1e6:.3f} µm")
-    print(f"Bayesian         u = {g['value'] * 1e6:.3f} µm   90% interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm   ({result.edl_fit.model})")
-    print(f"naive C_gap fit  rms_rel {result.naive_fit.rms_rel:.3g}   EDL fit rms_rel {result.edl_fit.rms_rel:.3g}")
+    print(f"Bayesian         u = {g['value'] * 1e6:.3f} µm   90 % interval {g['q05'] * 1e6:.3f}–{g['q95'] * 1e6:.3f} µm   ({result.edl_fit.model})")
+    print(f"naive C_gap fit  rms_rel {format_percent(result.naive_fit.rms_rel)}   EDL fit rms_rel {format_percent(result.edl_fit.rms_rel)}")
     force = result.force
     freq = force["frequency"].values
     for target in (1.0, 10.0, 30.0, 250.0, 1e5):
@@ -59,7 +59,7 @@ def main(argv=None):
     top, at_250 = int(np.argmax(with_ep)), int(np.argmin(np.abs(np.log(freq / 250.0))))
     # why not at 250 Hz: docs/models.md, "Fig 2f"; the circuit numbers are computed there with numpy
     print(
-        f"Fig 2f: with EP the force peaks at {freq[top]:.3g} Hz here (at 250 Hz: {with_ep[at_250] / with_ep[top]:.0%} of the peak), not at the paper's 250 Hz;"
+        f"Fig 2f: with EP the force peaks at {freq[top]:.3g} Hz here (at 250 Hz: {with_ep[at_250] / with_ep[top] * 100:.0f} % of the peak), not at the paper's 250 Hz;"
         " in the paper's own circuit (Fig 2d) the gap is parallel to the EP branch, so the force rises until EP fades (≈ 30 Hz, paper)"
         " and falls as the screen takes a share: with C_gap = 413 pF and an EP corner at 30 Hz it peaks near 48 Hz,"
         " and a 250 Hz peak would need the corner near 420 Hz (docs/models.md)"

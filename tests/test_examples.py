@@ -271,6 +271,9 @@ def test_example_runs_and_reproduces_the_papers_numbers(script, tmp_path):
         assert path.is_file(), f"{script} did not write {name}"
         assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert not [p.name for p in out.iterdir() if p.name.startswith(".")], "a temporary file was left behind"
+    # a percentage as the reports write it, "90 %" (sirin_gap_and_force printed "90% interval" and "{:.0%}")
+    glued = re.findall(r".{0,20}\d%", output)
+    assert not glued, f"{script}: a number glued to its % sign: {glued}"
     for pattern, check in checks:
         if pattern is None:  # a check on the whole output
             assert check(output), f"{script}: {check.__name__} failed on:\n{output}"

@@ -30,8 +30,8 @@ DATA_COLOUR, MODEL_COLOUR, PREDICTIVE_COLOUR = "C0", "C1", "0.35"
 def plot_posterior_bands(frequency, z_data, model_frequency, z_draws, *, title: str, n_lines: int = 40, z_predictive=None, figsize=None):
     """Data (``frequency`` [Hz], ``z_data`` [Ω]) with the model's draws ``z_draws`` (draws,
     ``model_frequency``): Nyquist with ``n_lines`` draws as thin lines and the median, and Bode
-    |Z| and phase with the 68% and 90% credible bands; ``z_predictive`` (draws with the noise
-    added, same shape) adds the 90% posterior predictive band as dashed lines. ``figsize``
+    |Z| and phase with the 68 % and 90 % credible bands; ``z_predictive`` (draws with the noise
+    added, same shape) adds the 90 % posterior predictive band as dashed lines. ``figsize``
     (width, height) [in]: the figure's size (`spectrum_layout`)."""
     n_lines = count(0)(n_lines, "n_lines")
     f, zs, z = np.asarray(model_frequency, float), np.asarray(z_draws, complex), np.asarray(z_data, complex)
@@ -80,7 +80,7 @@ def _median(zs: np.ndarray) -> np.ndarray:
 def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
     """One spectrum's data ``z`` at ``frequency`` and its posterior draws ``zs`` (draws, ``f``)
     on (Nyquist, |Z|, phase) ``axes``: ``n_lines`` draws and the median on the Nyquist panel,
-    the 68% and 90% credible bands and the median on the Bode panels, and the 90% posterior
+    the 68 % and 90 % credible bands and the median on the Bode panels, and the 90 % posterior
     predictive band of ``z_predictive`` (None: none) as dashed lines."""
     ax_nyq, ax_mod, ax_ph = axes
     med = _median(zs)
@@ -94,11 +94,11 @@ def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
     for ax, values, data_values, transform in ((ax_mod, np.abs(zs), np.abs(z), np.abs), (ax_ph, np.degrees(np.angle(zs)), np.degrees(np.angle(z)), lambda v: np.degrees(np.angle(v)))):
         if zp is not None:
             qp = np.quantile(transform(zp), [0.05, 0.95], axis=0)
-            ax.plot(f, qp[0], "--", color=PREDICTIVE_COLOUR, lw=1.0, label="90% predictive (model + noise)")
+            ax.plot(f, qp[0], "--", color=PREDICTIVE_COLOUR, lw=1.0, label="90 % predictive (model + noise)")
             ax.plot(f, qp[1], "--", color=PREDICTIVE_COLOUR, lw=1.0)
         q = np.quantile(values, BAND_QUANTILES, axis=0)
-        ax.fill_between(f, q[0], q[4], color=MODEL_COLOUR, alpha=0.18, lw=0, label="90% band")
-        ax.fill_between(f, q[1], q[3], color=MODEL_COLOUR, alpha=0.35, lw=0, label="68% band")
+        ax.fill_between(f, q[0], q[4], color=MODEL_COLOUR, alpha=0.18, lw=0, label="90 % band")
+        ax.fill_between(f, q[1], q[3], color=MODEL_COLOUR, alpha=0.35, lw=0, label="68 % band")
         ax.plot(f, q[2], "-", color=MODEL_COLOUR, lw=1.2, label="median")
         ax.plot(frequency, data_values, "o", ms=3.5, mfc="none", color=DATA_COLOUR, label="data")
         ax.set_xscale("log")

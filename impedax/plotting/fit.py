@@ -120,7 +120,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
         ax_nyq = fig.add_subplot(grid[rows, :] if own_row else grid[rows - 1, cols - left :])
         _plot_fits(ax_nyq, ds, batch.dims, labels, batch.circuit.compile(batch.registry), phase)
     converged = float(ds["converged"].mean()) * 100
-    fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}{sharing_text(batch)}, {converged:.0f}% converged, {batch.weighting} weighting", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
+    fig.suptitle(title or wrap_model(f"{batch.model}: {batch.n_spectra} spectr{'um' if batch.n_spectra == 1 else 'a'}{sharing_text(batch)}, {converged:.0f}\u00a0% converged, {batch.weighting} weighting", characters_across(fig.get_figwidth() if figsize else 3.2 * cols, font_size("suptitle", 12))))
     if series is None:  # (on the final layout: the first and last spectrum inside the frame)
         frame_spectra(axes, batch.n_spectra)
     return fig

@@ -70,7 +70,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     if wide:
         ax.set_xscale("log")
     g = gap.gap
-    ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90% credible interval")
+    ax.axvspan(g["q05"] * 1e6, g["q95"] * 1e6, color="tab:blue", alpha=0.15, label="90 % credible interval")
     # (the lengths in the SI prefix of their size, as the report gives them: a paper method's 504 pm read "0.00 µm")
     ax.axvline(gap.paper.gap * 1e6, color="k", label=f"paper method {format_quantity(gap.paper.gap, 'm', 4)}")
     if gap.paper_has_bounds:  # (one trial of each: no interval)
@@ -90,7 +90,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     ax.set(xlabel="gap thickness u [µm]", ylabel="draws" if wide else "probability density [1/µm]", title=title)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[2]
-    unit = _force_axis(ax, gap.force, ep_label="with EP branch", alpha=0.2, suffix="median, 90% band")
+    unit = _force_axis(ax, gap.force, ep_label="with EP branch", alpha=0.2, suffix="median, 90 % band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"peak force F_e [{unit}]", title=f"electrostatic force, V0 = {gap.v0:.4g} V (Sirin eq 1, peak)" + _force_title_note(gap))
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 7))
     for a in axes:
@@ -204,7 +204,7 @@ def plot_force_bands(gap):
 
     fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
     # (60, 200, 400 as the other log axes read, where matplotlib wrote 6×10¹, 2×10², 4×10²; the gap figure's force panel alike)
-    unit = _force_axis(ax, gap.force, ep_label="with electrode polarization (refined model)", alpha=0.25, suffix="median and 90% band")
+    unit = _force_axis(ax, gap.force, ep_label="with electrode polarization (refined model)", alpha=0.25, suffix="median and 90 % band")
     ax.set(xlabel="frequency [Hz]", ylabel=f"electrostatic force [{unit}] (peak, Sirin eq 1)", title=f"Force on the finger for V0 = {gap.v0:g} V (Sirin Fig 2f story; SYNTHETIC data)")
     ax.grid(alpha=0.3, which="both")
     _legend(ax, _gap_voltage_axis(ax, gap.force), font_size("legend", 8))
