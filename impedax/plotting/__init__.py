@@ -1012,7 +1012,7 @@ def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True) 
     return f"{x / scale:g}{prefix}"
 
 
-def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bool = False) -> None:
+def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bool = False, minor_labels: bool = False) -> None:
     """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40,
     10k, 1M) instead of 2×10⁻¹ or 1e+06 (`_plain_number`): percentages read as they are
     printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
@@ -1033,7 +1033,12 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bo
     ``own_prefix``: with no Nyquist panel (the Z-HIT figure), the axis counts in the prefix of
     its own view (`view_prefix` of the axis alone), the same rule as ``nyquist``'s: a battery's
     |Z| of 15 – 45 mΩ reads ``|Z| [mΩ]``, ticks 20, 30, 40, as the fit and KK figures of the
-    same spectrum read it, not 0.02, 0.03, 0.04 Ω."""
+    same spectrum read it, not 0.02, 0.03, 0.04 Ω.
+
+    ``minor_labels``: label the minor ticks (thinned to fit) up to two decade ticks in view, where
+    matplotlib labels the decades alone from one up: a range widened to 1 – 10 kΩ reads 1, 2, 3,
+    4, 6, 10, and a refinement's rms_rel from 20.5 % to 0.54 % (REAL VersaStudio) reads 0.2, 0.3, 0.4,
+    0.6, 1, 2, 3, 4, 6, 10, 20, 30, not 1 and 10 alone."""
     from matplotlib.ticker import LogFormatter
 
     prefix_of = (nyquist.xaxis, nyquist.yaxis) if nyquist is not None else (axis,) if own_prefix else None
@@ -1070,6 +1075,8 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bo
 
     axis.set_major_formatter(_Plain())
     axis.set_minor_formatter(_MinorLogLabels(labelOnlyBase=False))
+    if minor_labels:
+        axis.get_minor_formatter().minor_thresholds = (2, 0.4)
 
 
 def _integer_mantissa(x: float) -> bool:
@@ -1135,11 +1142,8 @@ def magnitude_axis(axis, *, nyquist=None, own_prefix: bool = False) -> None:
     after this (a zoom) is left as it is. Every |Z| panel of impedax's figures is made so (fit,
     KK, DRT, diagnosis, comparison, posterior bands, Z-HIT, the gap analysis' |Z_R|).
     ``own_prefix``: no Nyquist panel, the prefix of the axis' own view (`plain_log_ticks`)."""
-    plain_log_ticks(axis, nyquist=nyquist, own_prefix=own_prefix)
+    plain_log_ticks(axis, nyquist=nyquist, own_prefix=own_prefix, minor_labels=True)
     axis.set_minor_locator(MagnitudeMinorLocator())
-    # (minor labels up to two decade ticks in view, thinned to fit: a range widened to 1 – 10 kΩ
-    # reads 1, 2, 3, 4, 6, 10, where matplotlib's threshold of one labelled the decades alone)
-    axis.get_minor_formatter().minor_thresholds = (2, 0.4)
     ax = axis.axes
     state = {"ours": None if ax.get_autoscaley_on() else tuple(sorted(ax.get_ylim()))}
     ax.apply_aspect = types.MethodType(functools.partial(_spanning_aspect, state=state), ax)

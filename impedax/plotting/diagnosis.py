@@ -228,7 +228,7 @@ def plot_refinement(refinement, *, title: str | None = None):
         ax.legend(fontsize=font_size("legend", 8), loc="best")
     ax.set_xlabel("refinement step")
     ax.set_ylabel("rms_rel [%]")
-    plain_log_ticks(ax.yaxis)
+    plain_log_ticks(ax.yaxis, minor_labels=True)  # (REAL VersaStudio's steps, 20.5 % to 0.54 %, read against 1 and 10 alone)
     ax.set_xticks(range(n))
     ax.set_xlim(-0.5, n - 0.5)
     ax.grid(alpha=0.3, which="both")
