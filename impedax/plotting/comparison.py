@@ -52,7 +52,9 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     residual_axis(ax_res, np.concatenate([np.ravel(r.residuals) for r in comparison.fits]))
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
-    ax_res.legend(fontsize=font_size("legend", 7))
+    # (no legend of its own: the Nyquist panel's names each model in the colour and line style of its
+    # residuals; the same legend again, moved above the panel for four models on REAL exampleData.csv,
+    # took a third of the height of the |Z|, phase and residual panels)
     title = f"model comparison — best by AIC: {getattr(comparison, 'best_label_with_ties', comparison.best)} ({comparison.fits[0].weighting} weighting)"  # ("X (tied with Y)": `Comparison.best_label_with_ties`)
     undetermined = comparison.undetermined_best() if hasattr(comparison, "undetermined_best") else None
     if undetermined:  # (as the report says it: REAL exampleData.csv's best, R0 + R1 || CPE1, leaves R1 undetermined, the data hold R0 + CPE1)
