@@ -105,3 +105,29 @@ def test_the_remaining_impedance_panel_wears_the_fit_figure_colours(figure):
     assert to_rgba(edl.get_color()) == to_rgba(model_line.get_color())
     assert to_rgba(naive.get_color())[:3] == to_rgba("0.5")[:3] and naive.get_linestyle() == "--"
     plt.close(fit_fig)
+
+
+def test_no_legend_lies_over_the_posteriors_bars_or_the_points(figure):
+    """u's draws here fill the histogram panel from 0.7 µm to the prior's bound: its legend of
+    three entries lay over the bars at 0.8–5 µm (2026-12-07 walkthrough). Oracle: a 5 × 5 grid over
+    every bar with a height, and the lines' points, against each legend's box after the layout."""
+    from matplotlib.container import BarContainer
+
+    figure.canvas.draw()
+    bars = [b for ax in figure.axes for c in ax.containers if isinstance(c, BarContainer) for b in c.patches if b.get_height() > 0]
+    assert len(bars) > 20  # (the histogram of u)
+    t = np.linspace(0.0, 1.0, 5)
+    for ax in figure.axes:
+        legend = ax.get_legend()
+        if legend is None:
+            continue
+        box = legend.get_window_extent()
+        points = [line.get_transform().transform(line.get_xydata()) for line in ax.get_lines() if line.get_marker() not in ("None", "", " ", None)]
+        for b in (b for b in bars if b.axes is ax):
+            x, y = np.meshgrid(b.get_x() + b.get_width() * t, b.get_y() + b.get_height() * t)
+            points.append(b.get_transform().transform(np.column_stack([x.ravel(), y.ravel()])))
+        xy = np.concatenate(points) if points else np.empty((0, 2))
+        frame = ax.get_window_extent()
+        xy = xy[(xy[:, 0] >= frame.x0) & (xy[:, 0] <= frame.x1) & (xy[:, 1] >= frame.y0) & (xy[:, 1] <= frame.y1)]
+        under = (xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)
+        assert not under.any(), f"{int(under.sum())} points under the legend of {ax.get_title()!r}"

@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "bar_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -601,9 +601,10 @@ def refresh_legend(ax) -> None:
 def drawn_points(ax) -> np.ndarray:
     """The display coordinates (N, 2) of what ``ax`` draws inside its frame: every point of its
     lines, with points put along each segment (a line between two markers crosses what lies
-    between), and the offsets of its scatter collections. Shaded bands and the frame are not data."""
+    between), the offsets of its scatter collections, and the bars of its histograms (`bar_points`).
+    Shaded bands and the frame are not data."""
     inside = ax.get_window_extent()
-    parts = []
+    parts = [bar_points(ax)]
     for line in ax.get_lines():
         if not line.get_visible():
             continue
@@ -617,11 +618,29 @@ def drawn_points(ax) -> np.ndarray:
         offsets = np.asarray(collection.get_offsets(), float)
         if offsets.size and collection.get_visible():
             parts.append(collection.get_offset_transform().transform(offsets))
-    if not parts:
-        return np.empty((0, 2))
     xy = np.concatenate(parts)
     keep = (xy[:, 0] >= inside.x0) & (xy[:, 0] <= inside.x1) & (xy[:, 1] >= inside.y0) & (xy[:, 1] <= inside.y1)
     return xy[keep]
+
+
+def bar_points(ax) -> np.ndarray:
+    """The display coordinates (N, 2) of a grid over each bar ``ax`` draws (its `BarContainer`s:
+    a histogram's, ``ax.bar``'s; not the shaded bands of ``axvspan``), 5 across and 5 up, edges
+    included: a legend over the bars lies on at least one of them (the gap figure's legend of u
+    covered the posterior's bars on REAL data.dfr, whose draws fill the panel)."""
+    from matplotlib.container import BarContainer
+
+    t = np.linspace(0.0, 1.0, 5)
+    grid = np.stack(np.meshgrid(t, t), axis=-1).reshape(-1, 2)
+    parts = []
+    for container in ax.containers:
+        if not isinstance(container, BarContainer):
+            continue
+        for bar in container.patches:
+            if bar.get_visible() and bar.get_height() != 0:
+                x0, y0, w, h = bar.get_x(), bar.get_y(), bar.get_width(), bar.get_height()
+                parts.append(bar.get_transform().transform(np.column_stack([x0 + w * grid[:, 0], y0 + h * grid[:, 1]])))
+    return np.concatenate(parts) if parts else np.empty((0, 2))
 
 
 def legends_off_data(fig) -> None:

@@ -25,7 +25,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     import matplotlib.pyplot as plt
 
     from ..data import format_percent
-    from . import magnitude_axis, model_curve
+    from . import legends_off_data, magnitude_axis, model_curve
 
     fig, axes = plt.subplots(1, 3, figsize=figure_size(figsize, "figsize") or GAP_FIGSIZE, layout="constrained")
     f = gap.remaining["frequency"].values
@@ -100,6 +100,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
         import textwrap
 
         fig.suptitle("\n".join(line for alarm in alarms for line in textwrap.wrap(alarm, 150)), color="tab:red", fontweight="bold", fontsize=font_size("title", 10))
+    legends_off_data(fig)  # (u's legend lay over its posterior's bars on REAL data.dfr, whose draws fill the panel)
     return fig
 
 
