@@ -13,10 +13,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import pytest  # noqa: E402
 
 import impedax as ix  # noqa: E402
 from impedax.plotting.diagnosis import plot_refinement  # noqa: E402
+from test_refinement_figure_steps_shown import fit  # noqa: E402,F401  (the fixture: a SYNTHETIC R0 + R1 ∥ C1 fit)
 from tick_labels import labels_in_view  # noqa: E402
 
 
@@ -32,14 +32,6 @@ class _FitAt:
 
 def _values(axis, renderer) -> list[float]:
     return sorted(float(text.replace("−", "-")) for text, _ in labels_in_view(axis, renderer))
-
-
-@pytest.fixture(scope="module")
-def fit():
-    f = np.geomspace(0.1, 1e5, 40)
-    z = 60.0 + 1400.0 / (1 + 2j * np.pi * f * 1400.0 * 2e-5)  # SYNTHETIC R0 + R1 ∥ C1
-    z = z * (1 + 0.003 * np.random.default_rng(2).standard_normal(f.size))
-    return ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z), progress=False)
 
 
 def test_the_refinement_error_panel_labels_values_between_its_decades(fit):
