@@ -1,5 +1,5 @@
 """Coverage of the DRT's 90 % credible band over the whole measured window and near the peaks,
-and the bias of the peak height (docs/drt.md, "Credible band and calibration"; 2026-12-01).
+and the bias of the peak height (docs/drt.md, "Credible band and calibration"; 2026-12-07).
 
 SYNTHETIC spectra from numpy formulas: 71 points, 10 mHz–100 kHz, the cases of
 tests/test_drt.py::test_credible_band_is_calibrated, complex noise of relative σ `level`,

@@ -1,6 +1,6 @@
 """The report's second line says when the credible band is not at γ's λ, and what that means. On
 the REAL exampleDataParstat.txt (impedance.py, MIT) γ is at the floor λ = 10⁻⁴ and the band at
-the evidence's λ ≈ 29, 5.5 decades above: the band of a much smoother γ, widened to contain the
+the evidence's λ ≈ 12, 5 decades above: the band of a much smoother γ, widened to contain the
 γ shown, whose width then says nothing about that γ; the line said only "credible band at λ =
 29 (evidence; …)". Oracles: the JSON's ``lambda`` and ``band_lambda`` (which λ is larger decides
 "smoother" or "rougher")."""

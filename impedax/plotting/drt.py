@@ -25,7 +25,7 @@ def counted_peaks(peaks) -> list:
 def band_label(result) -> str:
     """The credible band's legend entry: "90 % band", and where the band's λ is not γ's (the
     evidence's, `DRTResult.band_lambda`) that λ and "noise only", as the report says: on the REAL
-    exampleDataZPlot.z the band at λ = 2.5×10⁻⁷ beside γ at 10⁻⁴ rose to 0.4 kΩ where γ is 0,
+    exampleDataZPlot.z the band at λ = 1.8×10⁻⁷ beside γ at 10⁻⁴ rose to 0.4 kΩ where γ is 0,
     under a legend that called it the band of the curve drawn."""
     lam, band_lam = float(getattr(result, "lam", np.nan)), float(getattr(result, "band_lambda", np.nan))
     if not (np.isfinite(lam) and np.isfinite(band_lam)) or abs(band_lam - lam) <= 0.01 * lam:

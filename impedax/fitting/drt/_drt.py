@@ -31,9 +31,12 @@ _TAIL_WIDTH = math.sqrt(math.log(1e5))  # the output grid reaches this far past 
 
 
 @functools.lru_cache(maxsize=8)
-def _stored_solve(method: str, signed: bool, max_iter: int) -> StoredProgram:
+def _stored_solve(method: str, signed: bool, n_series: int, max_iter: int) -> StoredProgram:
     """`tikhonov.solve_batch` for these options, kept across processes (`stored`)."""
-    return StoredProgram("drt-solve", (method, signed, max_iter), functools.partial(solve_batch, method=method, signed=signed, max_iter=max_iter), compiler_options=QUICK_COMPILE)
+    return StoredProgram(
+        "drt-solve", (method, signed, n_series, max_iter), functools.partial(solve_batch, method=method, signed=signed, n_series=n_series, max_iter=max_iter),
+        compiler_options=QUICK_COMPILE,
+    )
 
 
 @functools.lru_cache(maxsize=16)
@@ -256,7 +259,7 @@ def drt(
     weights = 1.0 / np.abs(zn)
     # a fixed λ goes in as a finite fixed_log (NaN: chosen by lam_method): one compiled solve serves both
     fixed_log = np.full(flat.shape[0], math.log(fixed) if fixed is not None else math.nan)
-    out = _stored_solve(lam_method, bool(signed), int(max_iter))(
+    out = _stored_solve(lam_method, bool(signed), len(names), int(max_iter))(
         design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, fixed_log, math.log(_LAMBDA_FLOOR),
     )
     out = {k: np.asarray(v) for k, v in out.items()}
@@ -333,7 +336,7 @@ def drt(
             )
         )
     if fixed is not None and any(r.misfits for r in results):
-        results = _with_automatic_lambda(results, lambda log_lambda: _stored_solve(lam_method, bool(signed), int(max_iter))(
+        results = _with_automatic_lambda(results, lambda log_lambda: _stored_solve(lam_method, bool(signed), len(names), int(max_iter))(
             design_re, design_im, weights, zn.real, zn.imag, gamma_penalty, r_inv, mask, phi, _LOG_LAMBDA_GRID, log_lambda, math.log(_LAMBDA_FLOOR),
         ), design_re, design_im, flat, z_ref)
     if not dims:

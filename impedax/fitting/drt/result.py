@@ -315,7 +315,7 @@ class DRTResult(FrozenResult):
         """What λ is relative to, and the credible band's λ: where it is not γ's (beyond 1 %, the
         figure legend's rule, `plotting.drt.band_label`), γ's λ beside it and what the band then
         is: the band of a smoother (larger λ) or rougher γ, widened to contain the γ shown, so its
-        width is not that γ's uncertainty (REAL exampleDataParstat.txt: band at λ = 29, γ at 10⁻⁴)."""
+        width is not that γ's uncertainty (REAL exampleDataParstat.txt: band at λ = 12, γ at 10⁻⁴)."""
         scale = f"λ is relative to max|Z|² = ({format_quantity(self.z_ref, 'Ω')})² (residuals relative to |Z|, penalty on γ/max|Z|; γ is reported in Ω); "
         noise = "noise only: it leaves out the smoothing that lowers peaks, docs/drt.md"
         band = f"credible band at λ = {format_lambda(self.band_lambda, 2)}"

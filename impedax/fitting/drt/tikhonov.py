@@ -33,18 +33,25 @@ active set cycles (ill-conditioned H at small λ), Lawson–Hanson's NNLS takes 
 point, which converges finitely (capped at ``max_iter`` added coefficients and reported).
 
 Credible band (docs/drt.md, "Credible band and calibration"): the Bayesian reading of the same
-problem, b ~ N(Ax, σ²I) with the smoothness prior x ~ N(0, (σ²/λ) Γ⁻¹) (MacKay, "Bayesian
-interpolation", Neural Comput. 4 (1992) 415), with λ chosen by the evidence
+problem, b ~ N(Ax, σ²I) with the smoothness prior x_γ ~ N(0, (σ²/λ) Γ⁻¹) on the RBF weights
+(MacKay, "Bayesian interpolation", Neural Comput. 4 (1992) 415) and a flat prior on the n_s
+series terms, with λ chosen by the evidence
 
-    ln p(b | λ) = ½ Σ_i ln(λ/(s_i² + λ)) − (2N/2) ln(‖r_λ‖² + λ‖R x_λ‖²) + const
+    ln p(b | λ) = ½ Σ_i ln(λ/(s_i² + λ)) − (n_s/2) ln λ − ((2N − n_s)/2) ln(‖r_λ‖² + λ‖R x_λ‖²) + const
 
-(σ² integrated out under a Jeffreys prior), maximised on the same grid and refined by a
+(σ² integrated out under a Jeffreys prior; the flat prior on the series terms is what Wahba's
+GML/REML criterion gives the penalty's null space: the −(n_s/2) ln λ removes the ½ ln λ each
+series column's s_i² ≈ ‖a_i‖²/η ≫ λ brings into the sum, which would otherwise treat η, a device
+to factor Γ, as a λ-scaled prior and push λ up; tests/test_drt_evidence_lambda.py checks the
+optimum against the Gaussian marginal likelihood written out), maximised on the same grid and refined by a
 parabola. At λ_ev the posterior is Gaussian, x ~ N(H⁻¹Aᵀb, σ̂² H⁻¹) with H = AᵀA + λ_ev Γ and
-σ̂² = (‖r‖² + λ_ev‖Rx‖²)/2N; γ = Φx, and its 5 %/95 % quantiles are clipped at 0 when γ ≥ 0.
+σ̂² = (‖r‖² + λ_ev‖Rx‖²)/(2N − n_s); γ = Φx, and its 5 %/95 % quantiles are clipped at 0 when γ ≥ 0.
 GCV's λ (above) oversmooths on purpose, so that γ ≥ 0 does not split broad peaks; the band
 at that λ is dominated by the smoothing bias and covered the true γ at only 40–75 % of τ.
-The evidence λ is smaller (less bias, more variance); its band covers 87 % on average
-(78–100 % per case and noise level) on the calibration set of docs/drt.md.
+The evidence λ is smaller (less bias, more variance); its band covers 88 % on average
+(80–100 % per case and noise level) on the calibration set of docs/drt.md. On a spectrum that
+is not a DRT + R_∞ + L within its noise, σ̂ takes the misfit for noise and λ_ev grows large
+(REAL Parstat: 12, σ̂ 17 % against 0.56 % first-difference noise; docs/drt.md).
 """
 
 from __future__ import annotations
@@ -75,11 +82,14 @@ def _criteria(s, beta, rss0, log_lam, n_rows):
     return gcv, rss, penalty
 
 
-def _log_evidence(s, rss, penalty, log_lam, n_rows):
-    """ln p(b | λ) over the grid, up to a constant (module docstring)."""
+def _log_evidence(s, rss, penalty, log_lam, n_rows, n_series):
+    """ln p(b | λ) over the grid, up to a constant (module docstring): the first sum runs over
+    every column, the series ones included (their s_i² ≈ ‖a_i‖²/η ≫ λ, so each adds ½ ln λ
+    whatever η is), and −(n_series/2) ln λ takes those terms back out."""
     lam = jnp.exp(log_lam)[:, None]
     s2 = (s * s)[None, :]
-    return 0.5 * jnp.sum(jnp.log(lam / (s2 + lam)), axis=1) - 0.5 * n_rows * jnp.log(rss + lam[:, 0] * penalty)
+    occam = 0.5 * jnp.sum(jnp.log(lam / (s2 + lam)), axis=1) - 0.5 * n_series * log_lam
+    return occam - 0.5 * (n_rows - n_series) * jnp.log(rss + lam[:, 0] * penalty)
 
 
 def _parabola_min(log_lam, values, k):
@@ -196,13 +206,14 @@ def _lawson_hanson(H, c, constrained, x_start, max_iter):
     return x, passive, done
 
 
-@functools.partial(jax.jit, static_argnames=("method", "signed", "max_iter"))
-def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv, constrained, phi, log_grid, fixed_log_lambda, log_floor, *, method, signed, max_iter=100):
+@functools.partial(jax.jit, static_argnames=("method", "signed", "n_series", "max_iter"))
+def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv, constrained, phi, log_grid, fixed_log_lambda, log_floor, *, method, signed, n_series, max_iter=100):
     """Regularised DRT solve of B spectra on one frequency grid.
 
     design_re/design_im (N, P): unweighted Re/Im design; weights, z_re, z_im (B, N) in the
     caller's normalised units; gamma_penalty (P, P) = Γ + ηI and r_inv = R⁻¹ with Γ + ηI = RᵀR;
-    constrained (P,) bool; phi (K, P) maps x to γ on the output grid; log_grid the ln λ grid;
+    constrained (P,) bool; the first ``n_series`` columns are the series terms (R_∞, L, 1/C),
+    which the smoothness prior leaves free; phi (K, P) maps x to γ on the output grid; log_grid the ln λ grid;
     fixed_log_lambda: ln λ (B,) used when ``method == "fixed"``, and with "gcv"/"lcurve" for
     the spectra where it is finite (NaN: chosen by ``method``; so a fixed λ and an automatic
     one share one compilation); log_floor: the smallest ln λ an automatic choice may return.
@@ -251,13 +262,13 @@ def solve_batch(design_re, design_im, weights, z_re, z_im, gamma_penalty, r_inv,
         gamma = phi @ x
         gamma_sd = jnp.sqrt(jnp.maximum(sigma2 * jnp.einsum("kp,pq,kq->k", phi, cov, phi), 0.0))
         # the credible band: Gaussian posterior at the evidence-chosen λ (module docstring)
-        log_evidence = _log_evidence(s, rss_curve, penalty_curve, log_grid, n_rows)
+        log_evidence = _log_evidence(s, rss_curve, penalty_curve, log_grid, n_rows, n_series)
         log_lam_band = _parabola_min(log_grid, -log_evidence, jnp.argmax(log_evidence))
         lam_band = jnp.exp(log_lam_band)
         factor_band = jsl.cho_factor(AtA + lam_band * gamma_penalty, lower=True)
         x_band = jsl.cho_solve(factor_band, c)
         r_band = A @ x_band - b
-        sigma2_band = (r_band @ r_band + lam_band * x_band @ gamma_penalty @ x_band) / n_rows
+        sigma2_band = (r_band @ r_band + lam_band * x_band @ gamma_penalty @ x_band) / (n_rows - n_series)
         phi_l = jsl.solve_triangular(factor_band[0], phi.T, lower=True)  # L⁻¹Φᵀ: Φ H⁻¹ Φᵀ = ‖L⁻¹Φᵀ‖² per column
         band_mean = phi @ x_band
         band_sd = jnp.sqrt(jnp.maximum(sigma2_band * jnp.sum(phi_l * phi_l, axis=0), 0.0))
