@@ -28,8 +28,6 @@ _SAMPLES = 200  # Gaussian draws for the peaks' standard deviations
 _TAIL_WIDTH = math.sqrt(math.log(1e5))  # the output grid reaches this far past the outer centres, in units of 1/ε
 
 
-
-
 @functools.lru_cache(maxsize=8)
 def _stored_solve(method: str, signed: bool, n_series: int, max_iter: int) -> StoredProgram:
     """`tikhonov.solve_batch` for these options, kept across processes (`stored`)."""
