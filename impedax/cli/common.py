@@ -401,7 +401,7 @@ def with_source(summary: dict, source: str | None, provenance: Mapping | None = 
 # what `command_provenance` leaves out of a command's settings: where the outputs go, how they look and how
 # the run talks (not how the result was made), and the data files (its ``data_files``: DATA, FILE, gap's three)
 # (and what `--plugin` made: the files stay, as ``plugin``, when given)
-_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "corner_params", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen", "registry", "readers", "circuit_model"})  # (circuit_model: a parser flag, no option)
+_NOT_SETTINGS = frozenset({"run", "command", "json", "out", "plot", "corner", "corner_params", "dpi", "title", "quiet", "remaining", "data", "file", "files", "total", "skin", "touchscreen", "registry", "readers", "circuit_model", "paper_values"})  # (circuit_model: a parser flag, no option; paper_values: a paper model's, its name kept)
 
 
 def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **used) -> dict:
@@ -413,6 +413,8 @@ def command_provenance(args, *, source=None, data_files: Sequence[str] = (), **u
     from ..io.provenance import provenance
 
     settings = {k: v for k, v in vars(args).items() if k not in _NOT_SETTINGS and not callable(v)}
+    if not any(settings.get("paper_model") or ()):  # (a paper model's name when MODEL gave one; no key for a circuit)
+        settings.pop("paper_model", None)
     if settings.get("plugin"):  # (the --plugin files a run used, as absolute paths)
         settings["plugin"] = [os.path.abspath(p) for p in settings["plugin"]]
     else:
@@ -471,7 +473,8 @@ def add_model_argument(parser, *, positional: bool = False, default: str | None 
     """MODEL (``positional``: first argument, or --model as the commands that fit take it) or
     --model, required unless a ``default`` is given."""
     help_text = ("circuit text, e.g. 'R0 + R1 || C1', or the same in impedance.py's, AutoEIS's, CDC or EC-Lab notation: "
-                 "'R0-p(R1,C1)', 'R0-[R1,C1]', 'R(RC)', 'R0+R1/C1' (quote it in the shell)")
+                 "'R0-p(R1,C1)', 'R0-[R1,C1]', 'R(RC)', 'R0+R1/C1' (quote it in the shell); or a paper model's name: "
+                 f"{', '.join(PAPER_MODELS)} (Meyer's finger-on-screen circuit with the thesis's eq 3.13 values, docs/models.md)")
     parser.set_defaults(circuit_model=True)  # (read by `read_impedance_py_model`)
     if positional:
         add_positional_model(parser, help=help_text)
@@ -499,12 +502,83 @@ def looks_like_impedance_py(text: str) -> bool:
     return re.search(r"(?<![A-Za-z0-9_])p\s*\(", text) is not None or re.search(r"[A-Za-z0-9_)]\s*-\s*[A-Za-z(]", text) is not None
 
 
+#: Paper models a MODEL may name (any case), in every command that takes one: Meyer's
+#: finger-on-screen circuit, thesis Fig 3.3 (rc) or its fractional variant of Fig 5.3 (cpe), with
+#: the thesis's eq 3.13 values (`impedax.models.meyer_model`; the cpe variant's α = 0.8 and Q from
+#: C_sc at 1 kHz): the defaults of ``simulate``, the starting values of the commands that fit.
+PAPER_MODELS = {"meyer": "rc", "meyer-rc": "rc", "meyer-cpe": "cpe"}
+
+
+def paper_model(model: str | None) -> tuple[str | None, dict[str, float]]:
+    """(the name of the paper model ``model`` names, its parameter values) for a name of
+    `PAPER_MODELS`; (None, {}) for a circuit."""
+    name = (model or "").strip().lower() if isinstance(model, str) else ""
+    if name not in PAPER_MODELS:
+        return None, {}
+    from ..models.meyer import meyer_model
+
+    return name, dict(meyer_model(PAPER_MODELS[name]).params)
+
+
+def paper_circuit(name: str) -> str:
+    """The circuit text of the paper model ``name`` (a key of `PAPER_MODELS`)."""
+    from ..models.meyer import meyer_circuit
+
+    return str(meyer_circuit(PAPER_MODELS[name]))
+
+
+def paper_start(values: Mapping[str, float], init: Mapping[str, float], *, held: Iterable[str] = ()) -> dict[str, float]:
+    """The starting values of a fit of a paper model: its ``values`` (`paper_model`) under the
+    ``init`` given (--init overrides), none for a parameter ``held`` (--fix, --bound: the user's
+    own value or range)."""
+    held = set(held)
+    return {**{k: v for k, v in values.items() if k not in held}, **init}
+
+
+def paper_start_note(command: str, name: str, circuit: str, values: Mapping[str, float], init: Mapping[str, float] | None = None, *, starts: bool = True) -> str:
+    """The stderr line of a command that fits the paper model ``name``: its circuit, and that
+    the thesis's eq 3.13 ``values`` are starting values, not fixed ones (``starts`` False: the
+    command takes no start, and its fit guesses one from the data); those ``init`` overrides
+    are named."""
+    from ..data import format_bound
+    from ..circuits import DEFAULT_REGISTRY, parse
+
+    init = init or {}
+    specs = parse(circuit).parameter_specs(DEFAULT_REGISTRY)
+    shown = ", ".join(f"{n} = {format_bound(float(v), specs[n].unit)}" for n, v in values.items() if n not in init)
+    if not starts:
+        return f"impedax {command}: {name} is {circuit}; the fit starts from values guessed from the data (the thesis's eq 3.13 values are simulate's defaults, not used here)"
+    given = f" (--init gives {', '.join(init)})" if init else ""
+    return f"impedax {command}: {name} is {circuit}, fitted from the thesis's eq 3.13 values as starting values, not fixed ones: {shown}{given}"
+
+
+def resolve_paper_model(args) -> None:
+    """``args.model`` that names a paper model (`PAPER_MODELS`) as its circuit text, with
+    ``args.paper_model`` (its name, else None) and ``args.paper_values`` (its values, else {})
+    set for the command to start from; a list of models (``compare``) each read alike, the
+    names and values then lists."""
+    model = getattr(args, "model", None)
+    if isinstance(model, list):
+        read = [paper_model(m) for m in model]
+        args.paper_model = [name for name, _ in read]
+        args.paper_values = [values for _, values in read]
+        args.model = [paper_circuit(name) if name else m for m, (name, _) in zip(model, read)]
+        return
+    name, values = paper_model(model)
+    args.paper_model, args.paper_values = name, values
+    if name:
+        args.model = paper_circuit(name)
+
+
 def read_impedance_py_model(args, command: str) -> None:
     """``args.model`` of a command that takes a circuit (`add_model_argument`) as impedax text
     (`impedax_text`: a string in another notation read by its reader, with the elements of
-    ``args.registry``, the --plugin files' too)."""
+    ``args.registry``, the --plugin files' too); a paper model's name (`PAPER_MODELS`) as its
+    circuit (`resolve_paper_model`)."""
+    if getattr(args, "circuit_model", False):
+        resolve_paper_model(args)
     model = getattr(args, "model", None)
-    if getattr(args, "circuit_model", False) and isinstance(model, str):
+    if getattr(args, "circuit_model", False) and isinstance(model, str) and not getattr(args, "paper_model", None):
         args.model, notation = impedax_text(model, command, getattr(args, "registry", None))
         if notation == IMPEDANCE_PY_NOTATION:
             note_impedance_py_weighting(command, getattr(args, "weighting", None))

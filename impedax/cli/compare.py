@@ -4,6 +4,7 @@ spectrum or spectrum by spectrum over several (`BatchComparison`)."""
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import replace
 
 
@@ -20,7 +21,7 @@ def register(sub) -> None:
     )
     p.add_argument("data", metavar="DATA", help=data_help("spectrum file: one spectrum, or several (compared spectrum by spectrum and summed)"))
     add_select_option(p)
-    p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text, or in impedance.py's, AutoEIS's, CDC or EC-Lab notation (give two or more)")
+    p.add_argument("--model", action="append", required=True, metavar="MODEL", help="circuit text, or in impedance.py's, AutoEIS's, CDC or EC-Lab notation, or a paper model's name (meyer, meyer-rc, meyer-cpe: the thesis's eq 3.13 values its starting values); give two or more")
     p.add_argument("--fix", action="append", metavar="NAME=VALUE", help="hold a parameter fixed in every model that has it; several after one --fix (--fix R1=1M R0=20) or --fix repeated")
     p.add_argument("--init", action="append", metavar="NAME=VALUE", help="starting value in every model that has the parameter; several after one --init (--init R1=43k C2=5u) or --init repeated")
     add_bound_option(p, " in every model that has the parameter")
@@ -44,12 +45,13 @@ def run(args) -> int:
     from ..fitting.batch_comparison import FIT_COMMAND_WORDS
     from ..fitting.problem import open_spectrum
     from ..arguments import closest_name
-    from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, json_in_command_words, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, result_writer, skipped_rows, with_source, WithSummaryKeys
+    from .common import check_bounds, checked_bound_options, command_provenance, data_source, each_spectrum_written, emit_json, exclude_points, figure_options, figure_writer, impedax_text, IMPEDANCE_PY_NOTATION, json_in_command_words, load_selected, note_impedance_py_weighting, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, progress_printer, resolve_paper_model, result_writer, skipped_rows, with_source, WithSummaryKeys
     from .fit import check_max_steps
 
     if len(args.model) < 2:
         raise ParameterError("compare needs at least two --model options")
-    read = [impedax_text(m, "compare", args.registry) for m in args.model]
+    resolve_paper_model(args)  # (each MODEL may name a paper model: its circuit, its values the starting values)
+    read = [(m, None) if paper else impedax_text(m, "compare", args.registry) for m, paper in zip(args.model, args.paper_model)]
     args.model = [text for text, _ in read]
     if any(notation == IMPEDANCE_PY_NOTATION for _, notation in read):  # (the weighting said once)
         note_impedance_py_weighting("compare", args.weighting)
@@ -80,6 +82,21 @@ def run(args) -> int:
     def own(flag, ns):
         return {k: v for k, v in given[flag].items() if k in ns} or None
 
+    for paper, values, text, ns in zip(args.paper_model, args.paper_values, args.model, names):  # (said once per named model, before any fit)
+        if paper:
+            from .common import paper_start_note
+
+            print(paper_start_note("compare", paper, text, values, own("--init", ns) or {}), file=sys.stderr)
+
+    def start(i, ns):
+        """Model ``i``'s --init; a paper model's values under it (`paper_start`)."""
+        init = own("--init", ns)
+        if not args.paper_model[i]:
+            return init
+        from .common import paper_start
+
+        return paper_start(args.paper_values[i], init or {}, held=[*given["--fix"], *given["--bound"]])
+
     progress = progress_printer(quiet=args.quiet)  # (three models took 6-12 s without a word)
     fits: list = [None] * len(circuits)
     started_from: dict[int, int] = {}
@@ -87,7 +104,7 @@ def run(args) -> int:
     try:
         for step, i in enumerate(nesting_order(circuits, args.registry, held)):
             c, ns, own_bounds = circuits[i], names[i], bounds[i]
-            init = own("--init", ns)
+            init = start(i, ns)
             contained = None if init is not None else largest_contained(i, circuits, fits, args.registry, held)
             if contained is not None:  # (its optimum carried in: the larger model never ends above it, `fit(init=)`)
                 started_from[i], init = contained, fits[contained]
@@ -102,7 +119,9 @@ def run(args) -> int:
     finally:
         progress.close()
     started = [{"model": str(circuits[i]), "from": str(circuits[j])} for i, j in sorted(started_from.items())]
-    comparison = WithSummaryKeys(compare(fits), {"skipped_rows": skipped_rows(data), "started_from_contained": started})  # (the JSON's, as fit's and inspect --json's)
+    comparison = WithSummaryKeys(compare(fits), {"skipped_rows": skipped_rows(data), "started_from_contained": started,
+                                                      # (each model a paper model's name gave: its circuit → the name)
+                                                      **({"paper_model": {str(c): p for c, p in zip(circuits, args.paper_model) if p}} if any(args.paper_model) else {})})  # (the JSON's, as fit's and inspect --json's)
     # (--out: .csv `Comparison.to_table`, .json `Comparison.summary`, as `impedax.io.write_result` writes them; a `BatchComparison`'s alike)
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data])

@@ -153,6 +153,11 @@ def run_spectrum_command(args, command: str, analyse, **settings):
     # the first line, before the fitting code is imported (the solver's step limit and --effects'
     # catalog need it) and the baseline fit compiles: a diagnose run on a loaded 2-core machine
     # said nothing for 17–21 s
+    paper = getattr(args, "paper_model", None)
+    if paper:  # (the name read as its circuit; the baseline fit guesses its start as for any circuit: the decisions are the circuit's)
+        from .common import paper_start_note
+
+        print(paper_start_note(command, paper, args.model, args.paper_values, starts=False), file=sys.stderr)
     progress = progress_printer(quiet=args.quiet)
     try:
         progress(f"{'diagnosing' if command == 'diagnose' else 'refining'} {args.model} on {shown_path(args.data)}: loading the fitting code, then the baseline fit "
@@ -166,7 +171,7 @@ def run_spectrum_command(args, command: str, analyse, **settings):
                          fixed=fixed or None, bounds=bounds or None, registry=args.registry, mask=not args.keep_all_points, **settings)
         source = data_source(data)
         record = command_provenance(args, source=source, data_files=[args.data])
-        read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's)
+        read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"paper_model": paper} if paper else {})})  # (the JSON's, as fit's and inspect --json's)
         if args.plot:  # (refine's figure, a residual panel per step with each model's curve, took 39 s after its last line on a 2-core machine at load 8, REAL CH Instruments)
             progress(f"drawing {args.plot}")
         outputs.save({"--out": result_writer(read, source, record), "--plot": figure_writer(result.plot, source, **figure_options(args))})

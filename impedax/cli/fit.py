@@ -152,6 +152,12 @@ def run(args) -> int:
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
         check_parameter_names(given, names, flag, args.model, args.registry)
     bounds = checked_bound_options(given_bounds, circuit.parameter_specs(args.registry), init=init, fixed=fixed)
+    paper = getattr(args, "paper_model", None)
+    if paper:  # (a paper model's values start the fit, --init over them; said once)
+        from .common import paper_start, paper_start_note
+
+        print(paper_start_note("fit", paper, args.model, args.paper_values, init, starts=not sharing), file=sys.stderr)
+        init = init if sharing else paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     plot_params = args.plot_params
     if plot_params is not None:
         if not args.plot:
@@ -180,7 +186,7 @@ def run(args) -> int:
     # (hints: a single fit's misfit that looks small and is many times what the data allow, `misfit_hint`)
     hint = misfit_hint(result) if isinstance(result, FitResult) else None
     batch_hints = result.misfit_hints() if isinstance(result, BatchFitResult) else None
-    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {}),
+    read = WithSummaryKeys(result, {"skipped_rows": skipped_rows(data), **({"paper_model": paper} if paper else {}), **({"hints": [hint] if hint else []} if isinstance(result, FitResult) else {}),
                                     # (a batch's hint under a single fit's key too: the text of the report's "hint:" line)
                                     **({"misfit_hints": batch_hints, "hints": [batch_hints["note"]] if batch_hints else []} if isinstance(result, BatchFitResult) else {})})  # (the JSON's, as inspect --json's)
     outputs.save({"--out": latex_writer(result) if latex else result_writer(read, source, record), "--plot": figure_writer(result.plot if plot_params is None and args.plot_x is None else lambda: result.plot(params=plot_params, x=args.plot_x), source, **figure_options(args)),

@@ -218,6 +218,12 @@ def run(args) -> int:
         raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is available")
     if sharing and bounds:
         raise ParameterError("--bound is not available with --shared (the joint posterior samples within the elements' own bounds); --fix is available")
+    paper = getattr(args, "paper_model", None)
+    if paper:  # (a paper model's values start the least-squares start fit, --init over them; said once)
+        from .common import paper_start, paper_start_note
+
+        print(paper_start_note("sample", paper, args.model, args.paper_values, init, starts=not sharing), file=sys.stderr)
+        init = init if sharing else paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
     if corner_names is not None:  # (before the data are read, the start fitted and the sampler compiled)
         check_corner_names(corner_names, circuit.parameter_names(args.registry), fixed, sharing.get("shared"), args.noise)
@@ -242,7 +248,7 @@ def run(args) -> int:
     if getattr(posterior, "n_walkers", None) is not None:
         settled["walkers_used"] = chain.get("walkers", posterior.n_walkers)  # (the run's: with straggler walkers left out, the draws hold fewer)
     record = command_provenance(args, source=source, data_files=[args.data], **settled)
-    read = WithSummaryKeys(posterior, {"skipped_rows": skipped_rows(data)})  # (the JSON's, as fit's and inspect --json's)
+    read = WithSummaryKeys(posterior, {"skipped_rows": skipped_rows(data), **({"paper_model": paper} if paper else {})})  # (the JSON's, as fit's and inspect --json's)
     if corner_names is not None:  # (before any output is written)
         from ..plotting.bayes import corner_params
 

@@ -7,7 +7,8 @@ import sys
 import numpy as np
 
 from .common import (JSON_SUMMARY_HELP, data_help, add_model_argument, add_select_option, append_title_line, check_band_options, add_quiet_option, add_output_options, check_json_with_spectrum_out, check_memory, check_points, command_provenance, emit_json, figure_options, figure_writer,
-                     load_selected, model_and_values, number_option, plan_outputs, spectrum_summary, spectrum_writer)
+                     load_selected, model_and_values, number_option, paper_circuit, paper_model, plan_outputs, spectrum_summary, spectrum_writer)
+from .common import PAPER_MODELS as PAPER_MODELS  # (the names MODEL takes in every command: `common.paper_model`)
 
 DEFAULT_FMIN, DEFAULT_FMAX = 1.0, 1e6  # Hz: the band without --fmin, --fmax (or --frequencies)
 
@@ -19,23 +20,6 @@ POINT_BYTES = 1024
 #: the half-width |Z| panel, is named there "model" (the figure's title names it whole, and a
 #: ``--title`` is followed by it).
 LEGEND_MODEL_CHARS = 40
-
-#: Paper models MODEL may name (any case): Meyer's finger-on-screen circuit, thesis Fig 3.3 (rc)
-#: or its fractional variant of Fig 5.3 (cpe), with the thesis's eq 3.13 values as the defaults
-#: (`impedax.models.meyer_model`; the cpe variant's α = 0.8 and Q from C_sc at 1 kHz).
-PAPER_MODELS = {"meyer": "rc", "meyer-rc": "rc", "meyer-cpe": "cpe"}
-
-
-def paper_model(model: str | None) -> tuple[str | None, dict[str, float]]:
-    """(the name of the paper model ``model`` names, its parameter values) for a name of
-    `PAPER_MODELS`; (None, {}) for a circuit."""
-    name = (model or "").strip().lower()
-    if name not in PAPER_MODELS:
-        return None, {}
-    from ..models.meyer import meyer_model
-
-    return name, dict(meyer_model(PAPER_MODELS[name]).params)
-
 
 def register(sub) -> None:
     p = sub.add_parser("simulate", help="write a model's spectrum as CSV", description=("Evaluate MODEL (a circuit, or a paper's model by name: meyer, meyer-cpe, "
@@ -67,9 +51,7 @@ def run(args) -> int:
 
     paper, paper_values = paper_model(args.model)
     if paper is not None:
-        from ..models.meyer import meyer_circuit
-
-        args.model = str(meyer_circuit(PAPER_MODELS[paper]))
+        args.model = paper_circuit(paper)
     else:
         from .common import read_impedance_py_model
 
