@@ -3,6 +3,7 @@ the total alone, a single contact (a gripper pad), nothing subtracted."""
 
 from __future__ import annotations
 
+import math
 import sys
 
 
@@ -148,6 +149,8 @@ def register(sub) -> None:
         help="MCMC draws per chain after as many warm-up steps (hierarchical; auto: 500) or emcee steps (pooled; auto: until the chain is "
         f"50 autocorrelation times long, as impedax sample); at least {GAP_MIN_STEPS} (default auto)",
     )
+    p.add_argument("--cutoff-hz", type=number_option, metavar="HZ", help="the paper method's cutoff [Hz]: C_gap = mean |Y_R|/ω over the frequencies at and above HZ "
+                   "(Sirin §2.3; default 30, the paper's); positive and inside the data's band")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument(
         "--select", action="append", metavar="DIM=LABEL",
@@ -185,9 +188,13 @@ def run(args) -> int:
     if not args.no_area_check:
         check_fingertip_area(args.area)  # (an option's error before any file's: gap_analysis checks it again)
     check_band_options(args.fmin, args.fmax)
-    if args.fmax is not None and args.fmax < SIRIN_CUTOFF_HZ:  # (the paper's C_gap reads |Y_R|/ω above 30 Hz: gap_analysis's cutoff_hz)
-        raise ParameterError(f"--fmax {args.fmax:g} Hz leaves no frequency above {SIRIN_CUTOFF_HZ:g} Hz, where the paper's method reads C_gap = |Y_R|/ω "
-                             f"(Sirin §2.3: the remainder is the gap's capacitance there) and the EDL model's C_gap shows; keep --fmax above {SIRIN_CUTOFF_HZ:g} Hz")
+    cutoff = SIRIN_CUTOFF_HZ if args.cutoff_hz is None else args.cutoff_hz
+    if not (math.isfinite(cutoff) and cutoff > 0):
+        raise ParameterError(f"--cutoff-hz must be a positive, finite frequency [Hz], got {cutoff:g}")
+    if args.fmax is not None and args.fmax < cutoff:  # (the paper's C_gap reads |Y_R|/ω at and above the cutoff: gap_analysis's cutoff_hz)
+        given = f" (--cutoff-hz {cutoff:g})" if args.cutoff_hz is not None else ""
+        raise ParameterError(f"--fmax {args.fmax:g} Hz leaves no frequency above {cutoff:g} Hz{given}, where the paper's method reads C_gap = |Y_R|/ω "
+                             f"(Sirin §2.3: the remainder is the gap's capacitance there) and the EDL model's C_gap shows; keep --fmax above {cutoff:g} Hz")
     steps = args.steps
     check_steps(steps)  # (as impedax sample's --steps)
     outputs = plan_outputs(
@@ -202,13 +209,14 @@ def run(args) -> int:
     read = files_without_points(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.exclude)  # (before the band, as fit takes them)
     total, skin, touchscreen = (*files_in_band(read, list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
+    check_cutoff_in_band(args.cutoff_hz, total, shown_path(args.total))  # (the band --fmin/--fmax/--exclude left)
     check_not_a_remainder(total, skin, touchscreen)  # (gap_analysis checks it again; here before the notes on the drive)
     drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)
     if drive.note:
         print(f"impedax gap: note: {drive.note}", file=sys.stderr)
     for note in [*drive.warnings, *condition_notes(total, skin, touchscreen, default_v0=drive.value if drive.source == "default" else None)]:  # (the report and JSON repeat them)
         print(f"impedax gap: warning: {note}", file=sys.stderr)
-    result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check, eps_gap=eps_gap)
+    result = gap_analysis(total, skin, touchscreen, area=args.area, v0=args.v0, ep=args.ep, steps=steps, seed=args.seed, method=args.method, progress=not args.quiet, check_area=not args.no_area_check, eps_gap=eps_gap, cutoff_hz=cutoff)
     source = shown_path(args.total) + (f" [{', '.join(args.select)}]" if args.select else "")  # (the figure's default title: the total file and the selection)
     used = {**(getattr(result, "settings", None) or {}), "v0": getattr(result, "v0", args.v0)}  # (--v0 as run: given, the data's or the default)
     record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in used.items()})
@@ -224,6 +232,24 @@ def run(args) -> int:
     if args.json and (result.warnings or getattr(result, "alarms", ())):
         print(f"impedax gap: {_json_pointer(result.warnings, getattr(result, 'alarms', ()))}", file=sys.stderr)
     return 0
+
+
+def check_cutoff_in_band(cutoff: float | None, total, path: str) -> None:
+    """``--cutoff-hz`` (None: not given, the paper's 30 Hz is the method's own) inside the band
+    of the ``total`` spectra read from ``path`` (after --fmin/--fmax/--exclude): a
+    `ParameterError` naming the option and the band otherwise (above it no frequency is left for
+    the paper's mean, below it the cutoff cuts nothing the data hold)."""
+    if cutoff is None:
+        return
+    import numpy as np
+
+    from ..errors import ParameterError
+
+    freq = np.asarray(total["frequency"].values, float)
+    low, high = float(freq.min()), float(freq.max())
+    if not low <= cutoff <= high:
+        raise ParameterError(f"--cutoff-hz {cutoff:g} Hz is outside the band of {path}, {low:g}–{high:g} Hz: "
+                             "the paper's C_gap is the mean |Y_R|/ω over the frequencies at and above it; give a cutoff inside that band")
 
 
 def _json_pointer(warnings, alarms) -> str:

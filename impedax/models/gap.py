@@ -386,6 +386,7 @@ class GapAnalysis(FrozenResult):
                 "gap_bounds_um": [self.paper.gap_lower * 1e6, self.paper.gap_upper * 1e6] if self.paper_has_bounds else None,
                 "gap_trials_um": [self.paper.gap_trial_min * 1e6, self.paper.gap_trial_max * 1e6] if np.isfinite(self.paper.gap_trial_min) else None,
                 "gap_implausible": self.paper_gap_implausible,
+                "cutoff_hz": self.paper.cutoff_hz,  # (the mean |Y_R|/ω is over the frequencies at and above it)
             },
             "force_conditions": self.force_conditions,
             "model": self.edl_fit.model,
