@@ -120,3 +120,21 @@ def test_diagnose_reads_the_name_and_says_its_start_is_the_datas(synthetic, caps
     summary = json.loads(out)
     assert summary["paper_model"] == "meyer"
     assert f"meyer is {MEYER}; the fit starts from values guessed from the data" in err
+
+
+def test_force_takes_meyer_rc_and_meyer_cpe_as_meyers_variants(capsys):
+    """force's MODEL takes the same names: meyer-rc is thesis Fig 3.4's force (164 mN peak near
+    37 kHz with eq 3.13's values), meyer-cpe is meyer --variant cpe."""
+    code, out, err = run(["force", "Meyer-RC", "--json"], capsys)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["model"] == "meyer" and doc["variant"] == "rc"
+    assert doc["peak"]["force_n"] == pytest.approx(0.164, abs=0.5e-3) and doc["peak"]["frequency_hz"] == pytest.approx(37e3, rel=0.03)
+    code, out, err = run(["force", "meyer-cpe", "--json"], capsys)
+    assert code == 0, err
+    named = json.loads(out)
+    code, out, err = run(["force", "meyer", "--variant", "cpe", "--json"], capsys)
+    assert code == 0, err
+    assert named["variant"] == "cpe" and named["peak"] == json.loads(out)["peak"]
+    code, out, err = run(["force", "meyer-rc", "--variant", "cpe"], capsys)
+    assert code == 2 and "--variant cpe names the other" in err and len(err.strip().splitlines()) == 1

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..arguments import number_text
 from ..data import format_band, format_frequency, format_quantity
-from .common import accept_negative_numbers, add_output_options, add_positional_model, check_band_options, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
+from .common import PAPER_MODELS, accept_negative_numbers, add_output_options, add_positional_model, check_band_options, check_memory, check_parameter_names, check_points, command_provenance, figure_options, figure_writer, number_option, parse_assignments, plan_outputs, to_jsonable
 
 _MODELS = ("meyer", "vezzoli")
 _RANGES = {"meyer": (10.0, 1e9), "vezzoli": (1.0, 1e6)}
@@ -84,7 +84,7 @@ def register(sub) -> None:
         "vezzoli warns when C_i/C_s = eps_i h_s/(eps_s h_i) exceeds 0.1 (eq 8 assumes C_i << C_s).",
     )
     accept_negative_numbers(p)  # (--fmin -10: the value, refused by name, not argparse's "expected one argument")
-    add_positional_model(p, choices=_MODELS, help="which paper's model")
+    add_positional_model(p, type=str.lower, choices=_MODELS + tuple(n for n in PAPER_MODELS if n not in _MODELS), help="which paper's model (meyer-rc, meyer-cpe: meyer with --variant rc, cpe, as the names MODEL takes in every command)")
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="override a parameter; several after one --param (--param v_a=100 area=1e-4) or --param repeated; an area outside 1e-6–1e-2 m² (as impedax gap) or a meyer capacitance or resistance beyond 1000× either way of the thesis value (for CPE_sc.Q: its capacitance at 1 kHz, Q (2π·1 kHz)^(alpha−1), against C_sc's) is refused as a likely unit slip unless --no-param-check; a drive v_a or v_m outside 1 V–2 kV (as impedax gap --v0) or vezzoli's h_i outside 100 nm–900 µm, h_s outside 10 µm–5 mm or rho_s outside 300–3e6 ohm m gives a warning; meyer's area given alone scales the force as 1/A (C_i, C_sc, R_sc keep the thesis's values: a warning gives them scaled to the area)")
     p.add_argument("--variant", type=str.lower, choices=MEYER_VARIANTS, help="meyer's stratum corneum: rc (R_sc || C_sc, thesis Fig 3.3) or cpe (R_sc || CPE_sc, the fractional variant of Fig 5.3; parameters CPE_sc.Q, CPE_sc.alpha); default: cpe when a --param names CPE_sc.Q or CPE_sc.alpha, else rc")
     p.add_argument("--no-param-check", action="store_true", help="compute with any positive --param value: an implausible one gives a warning instead of an error")
@@ -391,9 +391,23 @@ def _csv_text(freq, force, model: str, convention: str, variant: str | None, par
     return "\n".join(lines) + "\n"
 
 
+def named_variant(args) -> None:
+    """MODEL meyer-rc or meyer-cpe (`common.PAPER_MODELS`) as meyer with its ``--variant``;
+    a `ParameterError` when --variant names the other."""
+    if args.model not in PAPER_MODELS or args.model in _MODELS:
+        return
+    variant = PAPER_MODELS[args.model]
+    if args.variant is not None and args.variant != variant:
+        from ..errors import ParameterError
+
+        raise ParameterError(f"MODEL {args.model} is meyer --variant {variant}, and --variant {args.variant} names the other: give one")
+    args.model, args.variant = "meyer", variant
+
+
 def run(args) -> int:
     from ..data import log_frequencies
 
+    named_variant(args)
     params, given, param_notes = _parameters(args.model, args.param, check=not args.no_param_check, variant=args.variant)
     out = _out_path(args.out)
     outputs = plan_outputs([("--out", out, "result"), ("--plot", args.plot, "figure")])
