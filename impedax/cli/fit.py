@@ -156,8 +156,8 @@ def run(args) -> int:
     if paper:  # (a paper model's values start the fit, --init over them; said once)
         from .common import paper_start, paper_start_note
 
-        print(paper_start_note("fit", paper, args.model, args.paper_values, init, starts=not sharing), file=sys.stderr)
-        init = init if sharing else paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
+        print(paper_start_note("fit", paper, args.model, args.paper_values, init), file=sys.stderr)
+        init = paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     plot_params = args.plot_params
     if plot_params is not None:
         if not args.plot:
