@@ -164,9 +164,9 @@ def test_the_comparison_legend_says_by_how_much_each_model_trails():
     comparison = ix.compare([ix.fit("R0 + R1 || C1", (f, z)), ix.fit("R0 + R1 || CPE1", (f, z))])
     table = {}
     for line in str(comparison.report()).splitlines():
-        parts = line.split()
+        parts = line.split("←")[0].split()  # (the best's row ends "← best")
         if line.startswith("R0 + R1 ||") and len(parts) >= 13 and parts[5].isdigit():  # (a table row: k after the model)
-            table[" ".join(parts[:5])] = parts[11]  # (model, k, rms_rel, chi2_red, AIC, AICc, BIC, ΔAIC, weight)
+            table[" ".join(parts[:5])] = parts[-2]  # (model, k, rms_rel %, chi2_red, AIC, AICc, BIC, ΔAIC, weight)
     fig = comparison.plot()
     texts = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
     assert len(table) == 2, table

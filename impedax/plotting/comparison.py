@@ -40,7 +40,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
         ax_nyq.plot(z_model.real, -z_model.imag, ls=ls, color=colour, label=label)
         ax_mod.loglog(f_model, np.abs(z_model), ls=ls, color=colour, label=label)
         ax_ph.semilogx(f_model, np.degrees(np.angle(z_model)), ls=ls, color=colour, label=label)
-        ax_res.semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, color=colour, label=label)
+        ax_res.semilogx(f, np.abs(r.residuals) * 100, ".", ls=ls, color=colour)  # (named in the Nyquist legend, below)
     ax_nyq.set(xlabel="Z' [Ω]", ylabel="−Z'' [Ω]", title="Nyquist")
     nyquist_view(ax_nyq, z, *curves, frequency=f, frame=nyquist_frame(z, *curves))
     ax_nyq.legend(fontsize=font_size("legend", 7), loc="best")  # (data and every model; the Bode panels draw them alike)
@@ -49,12 +49,14 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]")
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
     plain_log_ticks(ax_res.yaxis)
-    residual_axis(ax_res, np.concatenate([np.ravel(r.residuals) for r in comparison.fits]))
+    if residual_axis(ax_res, np.concatenate([np.ravel(r.residuals) for r in comparison.fits])):
+        ax_res.legend(fontsize=font_size("legend", 7))  # (the rounding-level note alone)
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
         ax.grid(alpha=0.3, which="both")
-    # (no legend of its own: the Nyquist panel's names each model in the colour and line style of its
-    # residuals; the same legend again, moved above the panel for four models on REAL exampleData.csv,
-    # took a third of the height of the |Z|, phase and residual panels)
+    # (the residual panel has no legend of the models, only the rounding-level note when there is one:
+    # the Nyquist panel's names each model in the colour and line style of its residuals; the same
+    # legend again, moved above the panel for four models on REAL exampleData.csv, took a third of
+    # the height of the |Z|, phase and residual panels)
     title = f"model comparison — best by AIC: {getattr(comparison, 'best_label_with_ties', comparison.best)} ({comparison.fits[0].weighting} weighting)"  # ("X (tied with Y)": `Comparison.best_label_with_ties`)
     undetermined = comparison.undetermined_best() if hasattr(comparison, "undetermined_best") else None
     if undetermined:  # (as the report says it: REAL exampleData.csv's best, R0 + R1 || CPE1, leaves R1 undetermined, the data hold R0 + CPE1)
