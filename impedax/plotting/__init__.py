@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "bar_points", "plain_log_ticks", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "bar_points", "plain_log_ticks", "labelled_log_ticks", "LabelledLogLocator", "LOG_LABEL_ROOM_EM", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -1056,8 +1056,8 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bo
 
     ``minor_labels``: label the minor ticks (thinned to fit) up to two decade ticks in view, where
     matplotlib labels the decades alone from one up: a range widened to 1 – 10 kΩ reads 1, 2, 3,
-    4, 6, 10, and a refinement's rms_rel from 20.5 % to 0.54 % (REAL VersaStudio) reads 0.2, 0.3, 0.4,
-    0.6, 1, 2, 3, 4, 6, 10, 20, 30, not 1 and 10 alone."""
+    4, 6, 10 (`magnitude_axis`). An axis that must read two labels or more at any range (rms_rel,
+    a batch's parameters) is ticked by `labelled_log_ticks`."""
     from matplotlib.ticker import LogFormatter
 
     prefix_of = (nyquist.xaxis, nyquist.yaxis) if nyquist is not None else (axis,) if own_prefix else None
@@ -1096,6 +1096,84 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bo
     axis.set_minor_formatter(_MinorLogLabels(labelOnlyBase=False))
     if minor_labels:
         axis.get_minor_formatter().minor_thresholds = (2, 0.4)
+
+
+# the least distance between the centres of neighbouring labels of a `LabelledLogLocator`
+# axis [em of its tick labels' font]: the font's height and a gap (a y axis), or a label's width
+# and `LABEL_GAP_EM` (an x axis)
+LOG_LABEL_ROOM_EM = 1.5
+
+
+class LabelledLogLocator(Locator):
+    """Major ticks of a log axis, each labelled (`labelled_log_ticks`): the richest of
+    1 … 9 × 10ⁿ and the mantissas of `MINOR_LABEL_CHOICES` (1, 2, 3, 4, 6; 1, 2, 5; 1, 3; the
+    decades, every k-th where they crowd) that puts two ticks or more in view with their labels
+    `LOG_LABEL_ROOM_EM` apart (the widest label's width and `LABEL_GAP_EM` on an x axis); with fewer than `LINEAR_BELOW_MARKS` of 1 … 9 × 10ⁿ in view
+    (under about half a decade, as `MagnitudeMinorLocator`), evenly spaced round values
+    (`MaxNLocator`, as many as fit).
+    matplotlib's log ticks labelled one value alone on a short range (a panel from 0.068 to
+    0.195 % read "0.1") and the decades alone over three decades or more (a refinement's step at
+    0.426 % stood against 1, 10 and 100)."""
+
+    def __call__(self):
+        return self.tick_values(*self.axis.get_view_interval())
+
+    def _room(self, values) -> float:
+        """The distance [pt] the labels of ``values`` need between their centres."""
+        size = tick_label_size(self.axis)
+        if self.axis is not None and self.axis is self.axis.axes.xaxis:
+            widest = max((len(_plain_number(v)) for v in values), default=1)
+            return (widest * LABEL_CHAR_EM + LABEL_GAP_EM) * size
+        return LOG_LABEL_ROOM_EM * size
+
+    def tick_values(self, vmin, vmax):
+        lo, hi = sorted((float(vmin), float(vmax)))
+        if not (lo > 0 and math.isfinite(hi) and hi > lo):
+            return LogLocator().tick_values(vmin, vmax)
+        length = axis_length_pt(self.axis)
+        per_decade = length / math.log10(hi / lo)
+        decades = range(math.floor(math.log10(lo)) - 1, math.ceil(math.log10(hi)) + 1)
+        values = []
+        if len(_marks_between(lo, hi)) >= LINEAR_BELOW_MARKS:
+            for marks in (range(1, 10), *MINOR_LABEL_CHOICES):
+                values = [m * 10.0**d for d in decades for m in marks if lo * (1 - 1e-9) <= m * 10.0**d <= hi * (1 + 1e-9)]
+                if len(values) >= 2 and np.all(np.diff(np.log10(values)) * per_decade >= self._room(values)):
+                    return np.array(values)
+        if len(values) >= 2:  # decades too close for their labels: every k-th
+            step = math.ceil(self._room(values) / per_decade)
+            return np.array(values[::step] if len(values[::step]) >= 2 else values[:: max(len(values) - 1, 1)])
+        for bins in range(max(2, int(length / self._room([lo, hi]))), 0, -1):  # (the most that fit)
+            linear = MaxNLocator(nbins=bins, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)
+            linear = linear[(linear >= lo * (1 - 1e-9)) & (linear <= hi * (1 + 1e-9)) & (linear > 0)]
+            if len(linear) >= 2 and np.all(np.diff(np.log10(linear)) * per_decade >= self._room(linear)):
+                break
+        return linear
+
+
+class _PlainLogLabels(Formatter):
+    """Every tick of a `labelled_log_ticks` axis as a plain number (`_plain_number`): an SI
+    prefix from 10⁴ up and below 10⁻³ where ``prefixes``, none on an axis in % (`percent_axis`)."""
+
+    def __init__(self, prefixes: bool = True):
+        self.prefixes = prefixes
+
+    def __call__(self, x, pos=None):
+        return _plain_number(float(x), prefixes=self.prefixes and not percent_axis(self.axis))
+
+
+def labelled_log_ticks(axis, *, prefixes: bool = True) -> None:
+    """Tick a log-scaled ``axis`` of values read off a figure (rms_rel [%], a batch's fitted
+    parameters) at the labelled major ticks of `LabelledLogLocator`: two labels or more at any
+    range, none running into the next, each a plain number (`_plain_number`; ``prefixes`` as
+    `plain_log_ticks`'); unlabelled minor ticks at 2 … 9 × 10ⁿ for the grid. The one rule of
+    the rms_rel panels (refinement, batch fit, KK and DRT batch) and of a batch's parameter
+    panels."""
+    from matplotlib.ticker import NullFormatter
+
+    axis.set_major_locator(LabelledLogLocator())
+    axis.set_major_formatter(_PlainLogLabels(prefixes))
+    axis.set_minor_locator(LogLocator(subs=np.arange(2, 10)))
+    axis.set_minor_formatter(NullFormatter())
 
 
 def _integer_mantissa(x: float) -> bool:
@@ -1298,7 +1376,8 @@ def percent_axis(axis) -> bool:
 
 
 # the sets of mantissas a log axis' minor ticks are labelled at, from the most to the fewest,
-# tried in turn after matplotlib's own choice until the labels fit (`_thin_minor_labels`)
+# tried in turn after matplotlib's own choice until the labels fit (`_thin_minor_labels`; the
+# major ticks of `LabelledLogLocator` after 1 … 9 × 10ⁿ)
 MINOR_LABEL_CHOICES = ((1, 2, 3, 4, 6), (1, 2, 5), (1, 3), (1,))
 
 

@@ -3,15 +3,11 @@ the DRT fit on Nyquist and Bode, and Z-HIT's reconstruction. Every function retu
 
 from __future__ import annotations
 
-
-import math
-
 import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.ticker import FuncFormatter, Locator, LogLocator, MaxNLocator, NullFormatter
 
 from ..data import counted, format_lambda, format_percent, format_quantity, format_time
-from . import FLAT_NYQUIST, axis_length_pt, dense_model, drawn_label, font_size, frame_points, frame_spectra, label_spectra_axis, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands, tick_label_size
+from . import FLAT_NYQUIST, LabelledLogLocator, dense_model, drawn_label, font_size, frame_points, frame_spectra, label_spectra_axis, labelled_log_ticks, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -231,47 +227,14 @@ def gamma_map(ax, batch, window: tuple[float, float]):
     return mesh, (bool(np.nanmax(gamma) > scale), bool(np.nanmin(gamma) < low))
 
 
-def _plain_percent(value: float, pos=None) -> str:
-    """A tick of the rms_rel panel as a plain number of 3 significant digits (0.07, 0.15, 120)."""
-    return np.format_float_positional(float(f"{value:.3g}"), trim="-")
-
-
-class RmsRelLocator(Locator):
-    """Major ticks of the batch figure's log rms_rel axis [%], each labelled (`rms_rel_ticks`):
-    the richest of 1 … 9 × 10ⁿ, 1, 2, 5 × 10ⁿ and the decades (every k-th where they crowd)
-    that puts two ticks or more in view with their labels 1.5 em apart; with fewer in view,
-    evenly spaced round values (`MaxNLocator`). matplotlib's log ticks labelled one value alone
-    on a panel from 0.068 to 0.195 (0.1, at one point) and none on others."""
-
-    def __call__(self):
-        return self.tick_values(*self.axis.get_view_interval())
-
-    def tick_values(self, vmin, vmax):
-        lo, hi = sorted((float(vmin), float(vmax)))
-        if not (lo > 0 and math.isfinite(hi) and hi > lo):
-            return LogLocator().tick_values(vmin, vmax)
-        room = 1.5 * tick_label_size(self.axis)  # [pt] between neighbouring labels
-        per_decade = axis_length_pt(self.axis) / math.log10(hi / lo)
-        decades = range(math.floor(math.log10(lo)) - 1, math.ceil(math.log10(hi)) + 1)
-        for marks in (range(1, 10), (1, 2, 5), (1,)):
-            values = [m * 10.0**d for d in decades for m in marks if lo <= m * 10.0**d <= hi]
-            if len(values) >= 2 and np.all(np.diff(np.log10(values)) * per_decade >= room):
-                return np.array(values)
-        if len(values) >= 2:  # decades too close for their labels: every k-th
-            step = math.ceil(room / per_decade)
-            return np.array(values[::step] if len(values[::step]) >= 2 else values[:: max(len(values) - 1, 1)])
-        bins = max(2, int(axis_length_pt(self.axis) / (2 * room)))
-        linear = MaxNLocator(nbins=bins, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)
-        return linear[(linear >= lo * (1 - 1e-9)) & (linear <= hi * (1 + 1e-9)) & (linear > 0)]
+# the batch figure's rms_rel axis is ticked as every log axis of values read off a figure
+# (`labelled_log_ticks`); these names stay for code that ticked an axis with them
+RmsRelLocator = LabelledLogLocator
 
 
 def rms_rel_ticks(axis) -> None:
-    """The log rms_rel [%] ``axis`` of the batch figure: labelled major ticks of `RmsRelLocator`
-    (plain numbers, `_plain_percent`), unlabelled minor ticks at 2 … 9 × 10ⁿ for the grid."""
-    axis.set_major_locator(RmsRelLocator())
-    axis.set_major_formatter(FuncFormatter(_plain_percent))
-    axis.set_minor_locator(LogLocator(subs=np.arange(2, 10)))
-    axis.set_minor_formatter(NullFormatter())
+    """The log rms_rel [%] ``axis`` of the batch figure: `labelled_log_ticks`."""
+    labelled_log_ticks(axis)
 
 
 def plot_drt_batch(batch, *, title: str | None = None):

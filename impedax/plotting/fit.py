@@ -31,7 +31,7 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
     spectra have a capacitive tail, `phase_panel`). Returns a matplotlib Figure."""
     import matplotlib.pyplot as plt
 
-    from . import characters_across, frame_spectra, label_spectra_axis, nyquist_panel_height, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, wrap_model
+    from . import characters_across, frame_spectra, label_spectra_axis, labelled_log_ticks, nyquist_panel_height, nyquist_shape, plain_linear_ticks, prefixable_unit, prefixed_axis, wrap_model
 
     figsize = figure_size(figsize, "figsize")
     ds = batch.dataset
@@ -95,10 +95,10 @@ def plot_batch(batch, *, title: str | None = None, figsize: tuple[float, float] 
         spread = scaled if scaled.size else y[np.isfinite(y)]  # (every value undetermined: all of them)
         if spread.size and np.all(spread > 0) and spread.max() > 20 * spread.min():
             ax.set_yscale("log")
-            # (1M, 2M, 500k as on every other log axis, the minor labels thinned until they fit;
-            # matplotlib's "4×10⁶" ran into "3×10⁶" on R2 over 1.5 decades; between the decades up to
-            # two in view: REAL battery cycles' CPE2.Q of 0.48 read against 1 and 10 alone)
-            plain_log_ticks(ax.yaxis, minor_labels=True)
+            # (1M, 2M, 500k as on every other log axis, labels as many as fit, two at least:
+            # matplotlib's "4×10⁶" ran into "3×10⁶" on R2 over 1.5 decades, and REAL battery
+            # cycles' CPE2.Q of 0.48 read against 1 and 10 alone)
+            labelled_log_ticks(ax.yaxis)
         if loose.any():
             # (the rule on its own line: on one, the legend was wider than the panel)
             _mark_undetermined(ax, index[loose], y[loose], scaled, f"undetermined\n({batch.UNDETERMINED_RULE})")
@@ -438,7 +438,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     from matplotlib.colors import Normalize
     from matplotlib.patches import Patch
 
-    from . import PlainTicks, characters_across, frame_spectra, frequency_cell_edges, label_spectra_axis, plain_linear_ticks, plain_log_ticks, wrap_model
+    from . import PlainTicks, characters_across, frame_spectra, frequency_cell_edges, label_spectra_axis, labelled_log_ticks, plain_linear_ticks, plain_log_ticks, wrap_model
 
     ds = batch.dataset
     dims = tuple(batch.dims)
@@ -497,7 +497,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     rms_shown = rms[np.isfinite(rms)]
     if rms_shown.size and np.all(rms_shown > 0) and rms_shown.max() > 20 * rms_shown.min():
         ax_rms.set_yscale("log")
-        plain_log_ticks(ax_rms.yaxis)
+        labelled_log_ticks(ax_rms.yaxis)
     else:
         _window_flat(ax_rms, rms_shown)
         plain_linear_ticks(ax_rms.yaxis)

@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib.transforms import blended_transform_factory
 
 from ..data import format_percent
-from . import MagnitudeMinorLocator, dense_model, drawn_label, drawn_points, font_size, label_bode_above_residuals, legends_off_data, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
+from . import dense_model, drawn_label, drawn_points, font_size, label_bode_above_residuals, legends_off_data, nyquist_shape, plot_bode, plot_nyquist, plot_residuals, refresh_legend, shade_bands, spectrum_layout
 
 
 def plot_kk(result, *, title: str | None = None):
@@ -143,7 +143,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
 
-    from . import frame_points, frame_spectra, frequency_cell_edges, label_spectra_axis, plain_log_ticks
+    from . import frame_points, frame_spectra, frequency_cell_edges, label_spectra_axis, labelled_log_ticks, plain_log_ticks
     from .fit import MAP_VECTOR_CELLS
 
     results = batch.results
@@ -184,10 +184,10 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     ax_rms.plot(x, noise, "--", color="0.3", lw=0.9, label="noise estimate", **({"marker": "_", "ms": 14, "mew": 1.2} if n == 1 else {}))
     ax_rms.set_yscale("log")
     ax_rms.set_ylabel("rms_rel, noise [%]")
-    plain_log_ticks(ax_rms.yaxis)
-    # (under about half a decade, ticked at evenly spaced round values, each labelled, as a |Z|
-    # axis is: the REAL battery cycles' 0.11–0.32 % read 0.2 and 0.3 alone, none by the noise curve)
-    ax_rms.yaxis.set_minor_locator(MagnitudeMinorLocator())
+    # (two labels or more at any range, `labelled_log_ticks`: matplotlib's ticks read the REAL
+    # battery cycles' 0.11–0.32 % as 0.2 and 0.3 alone, none by the noise curve; with the noise
+    # curve in the frame, 0.07–0.6 %, the panel reads 0.1, 0.2, 0.5)
+    labelled_log_ticks(ax_rms.yaxis)
     ax_rms.grid(alpha=0.3, which="both")
     ax_rms.legend(fontsize=font_size("legend", 7), ncols=3, loc="best")
     label_spectra_axis(ax_rms, [", ".join(drawn_label(v) for v in where.values()) for where in batch.labels()], batch.dims)
