@@ -15,6 +15,16 @@ def register(sub) -> None:
     p.set_defaults(run=run)
 
 
+#: Where a paper model's values (`common.PAPER_MODELS`, Meyer's) come from: the thesis's eq 3.13,
+#: but for the cpe variant's CPE_sc (impedax's choice, docs/physics.md and docs/models.md).
+PAPER_VALUE_SOURCE = "Meyer 2012 thesis, eq 3.13"
+PAPER_VALUE_SOURCES = {
+    "CPE_sc.Q": "|Z| of eq 3.13's C_sc = 2.2 nF at 1 kHz for this alpha",
+    "CPE_sc.alpha": "impedax's choice for the fractional Fig 5.3 variant",
+}
+PAPER_DEFAULTS_LINE = "the values of Meyer's 2012 thesis: simulate's defaults, the starting values of the commands that fit"
+
+
 def run(args) -> int:
     from .. import parse
     from ..data import column_width, unit_text
@@ -22,6 +32,8 @@ def run(args) -> int:
 
     registry = args.registry  # (the default one with the --plugin files' elements)
     circuit = parse(args.model, registry)
+    paper = getattr(args, "paper_model", None)  # (a paper model's name: its values are simulate's defaults and fit's starts)
+    paper_values = getattr(args, "paper_values", None) or {}
     rows = []
     for e in circuit.elements():
         spec = registry[e.symbol]
@@ -31,19 +43,25 @@ def run(args) -> int:
                 "unit": p.unit, "default": p.default, "lower": p.lower, "upper": p.upper,
                 "upper_inclusive": p.upper_inclusive, "description": p.description,
             })
+            if paper:
+                name = p.full_name(e.name)
+                rows[-1].update(paper_value=float(paper_values[name]), paper_value_source=PAPER_VALUE_SOURCES.get(name, PAPER_VALUE_SOURCE))
     # each kind of element in the circuit, once, in order, with its formula (a
     # user's element and a built-in Gerischer or Havriliak–Negami too, not by name only)
     kinds = list({registry[e.symbol].symbol: registry[e.symbol] for e in circuit.elements()}.values())  # (an alias, Q1 beside CPE2, is its element's kind)
     elements = [{"symbol": spec.symbol, "element_kind": spec.name, "equation": spec.equation} for spec in kinds]
     if args.json:
-        emit_json({"model": str(circuit), "parameters": rows, "elements": elements})
+        emit_json({"model": str(circuit), "parameters": rows, "elements": elements, **({"paper_model": paper} if paper else {})})
         return 0
-    print(f"model: {circuit}")
+    print(f"model: {paper} = {circuit}" if paper else f"model: {circuit}")
+    if paper:
+        print(f"default: {PAPER_DEFAULTS_LINE} (source in [ ]; the elements' own defaults are --json's \"default\")")
     width = column_width((r["name"] for r in rows), "parameter")
     print(f"{'parameter':<{width}}  {'unit':<14} {'default':>10}  bounds          description")
     for r, p in zip(rows, (p for e in circuit.elements() for p in registry[e.symbol].parameters)):
         described = f"{r['element_kind']}: {r['description']}" if r["description"].strip() else r["element_kind"]  # (a user's element may declare none)
-        print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {r['default']:>10.4g}  {p.bounds_text():<15} {described}")
+        default, source = (r["paper_value"], f" [{r['paper_value_source']}]") if paper else (r["default"], "")
+        print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {default:>10.4g}  {p.bounds_text():<15} {described}{source}")
     symbol_width = column_width((k["symbol"] for k in elements), "element")
     kind_width = column_width((k["element_kind"] for k in elements), "kind")
     print(f"{'element':<{symbol_width}}  {'kind':<{kind_width}}  equation (ω = 2πf)")
