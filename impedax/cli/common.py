@@ -2070,7 +2070,7 @@ OPTION_OF_KEYWORD_BY_COMMAND: dict[str, dict[str, str]] = {
     "diagnose": {"fixed": "--fix", "bounds": "--bound", "noise": "--noise", "effects": "--effects", "max_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "refine": {"fixed": "--fix", "bounds": "--bound", "noise": "--noise", "effects": "--effects", "max_effects": "--max-effects", "solver_steps": "--max-steps", "fmin": "--fmin", "fmax": "--fmax", "weighting": "--weighting"},
     "force": {"points": "--points", "fmin": "--fmin", "fmax": "--fmax"},
-    "gap": {"area": "--area", "v0": "--v0", "steps": "--steps", "seed": "--seed"},
+    "gap": {"area": "--area", "v0": "--v0", "steps": "--steps", "seed": "--seed", "cutoff_hz": "--cutoff-hz"},
     "stack": {"dim": "--dim", "coords": "--coords"},
 }
 

@@ -3,7 +3,6 @@ the total alone, a single contact (a gripper pad), nothing subtracted."""
 
 from __future__ import annotations
 
-import math
 import sys
 
 
@@ -150,7 +149,7 @@ def register(sub) -> None:
         f"50 autocorrelation times long, as impedax sample); at least {GAP_MIN_STEPS} (default auto)",
     )
     p.add_argument("--cutoff-hz", type=number_option, metavar="HZ", help="the paper method's cutoff [Hz]: C_gap = mean |Y_R|/ω over the frequencies at and above HZ "
-                   "(Sirin §2.3; default 30, the paper's); positive and inside the data's band")
+                   "(Sirin §2.3; default 30, the paper's); positive and at most the data's highest frequency (below the band: every point, with a warning)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument(
         "--select", action="append", metavar="DIM=LABEL",
@@ -170,7 +169,7 @@ def run(args) -> int:
     from ..constants import EPSILON_AIR
     from ..errors import ParameterError
     from ..fitting.bayes.chain import AUTO_STEPS, auto_step_cap
-    from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_fingertip_area, gap_analysis
+    from ..models.gap import HIERARCHICAL_AUTO_DRAWS, check_cutoff, check_fingertip_area, gap_analysis
     from ..models.gap_inputs import check_not_a_remainder, condition_notes, drive_voltage
     from ..models.sirin import SIRIN_CUTOFF_HZ
     from .sample import check_steps
@@ -189,8 +188,7 @@ def run(args) -> int:
         check_fingertip_area(args.area)  # (an option's error before any file's: gap_analysis checks it again)
     check_band_options(args.fmin, args.fmax)
     cutoff = SIRIN_CUTOFF_HZ if args.cutoff_hz is None else args.cutoff_hz
-    if not (math.isfinite(cutoff) and cutoff > 0):
-        raise ParameterError(f"--cutoff-hz must be a positive, finite frequency [Hz], got {cutoff:g}")
+    check_cutoff(cutoff)  # (gap_analysis's own check and words, cutoff_hz read as --cutoff-hz: before any file is read)
     if args.fmax is not None and args.fmax < cutoff:  # (the paper's C_gap reads |Y_R|/ω at and above the cutoff: gap_analysis's cutoff_hz)
         given = f" (--cutoff-hz {cutoff:g})" if args.cutoff_hz is not None else ""
         raise ParameterError(f"--fmax {args.fmax:g} Hz leaves no frequency above {cutoff:g} Hz{given}, where the paper's method reads C_gap = |Y_R|/ω "
@@ -209,7 +207,7 @@ def run(args) -> int:
     read = files_without_points(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.exclude)  # (before the band, as fit takes them)
     total, skin, touchscreen = (*files_in_band(read, list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
-    check_cutoff_in_band(args.cutoff_hz, total, shown_path(args.total))  # (the band --fmin/--fmax/--exclude left)
+    check_cutoff(cutoff, total)  # (the band --fmin/--fmax/--exclude left; gap_analysis checks it again, here before the notes on the drive; below the band: its warning)
     check_not_a_remainder(total, skin, touchscreen)  # (gap_analysis checks it again; here before the notes on the drive)
     drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)
     if drive.note:
@@ -232,24 +230,6 @@ def run(args) -> int:
     if args.json and (result.warnings or getattr(result, "alarms", ())):
         print(f"impedax gap: {_json_pointer(result.warnings, getattr(result, 'alarms', ()))}", file=sys.stderr)
     return 0
-
-
-def check_cutoff_in_band(cutoff: float | None, total, path: str) -> None:
-    """``--cutoff-hz`` (None: not given, the paper's 30 Hz is the method's own) inside the band
-    of the ``total`` spectra read from ``path`` (after --fmin/--fmax/--exclude): a
-    `ParameterError` naming the option and the band otherwise (above it no frequency is left for
-    the paper's mean, below it the cutoff cuts nothing the data hold)."""
-    if cutoff is None:
-        return
-    import numpy as np
-
-    from ..errors import ParameterError
-
-    freq = np.asarray(total["frequency"].values, float)
-    low, high = float(freq.min()), float(freq.max())
-    if not low <= cutoff <= high:
-        raise ParameterError(f"--cutoff-hz {cutoff:g} Hz is outside the band of {path}, {low:g}–{high:g} Hz: "
-                             "the paper's C_gap is the mean |Y_R|/ω over the frequencies at and above it; give a cutoff inside that band")
 
 
 def _json_pointer(warnings, alarms) -> str:

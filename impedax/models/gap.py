@@ -1032,9 +1032,32 @@ def _ep_rule(value, name):
     return branch
 
 
+_cutoff_rule = real(positive=True)
+
+
+def check_cutoff(cutoff_hz: float, total: xr.Dataset | None = None) -> list[str]:
+    """``cutoff_hz`` of `gap_analysis` (the paper method's, Sirin §2.3) checked against the
+    ``total`` spectra (None: the number alone): a `ParameterError` naming ``cutoff_hz`` when it is
+    not a positive finite number or lies above the highest frequency (no point is left for the
+    paper's mean); a cutoff below the band is taken (the mean then runs over every point) and the
+    list holds the warning that says so, else it is empty."""
+    cutoff_hz = _cutoff_rule(cutoff_hz, "cutoff_hz")
+    if total is None:
+        return []
+    freq = np.asarray(total["frequency"].values, float)
+    low, high = float(freq.min()), float(freq.max())
+    if cutoff_hz > high:
+        raise ParameterError(f"cutoff_hz must be at most {high:g} Hz, the highest frequency of the total spectra ({low:g}–{high:g} Hz), got {cutoff_hz:g}: "
+                             "the paper's C_gap is the mean |Y_R|/ω over the frequencies at and above it")
+    if cutoff_hz < low:
+        return [f"the paper method's cutoff {format_frequency(cutoff_hz)} lies below the band of the total spectra ({format_band(low, high)}): "
+                f"its C_gap is the mean |Y_R|/ω over every measured frequency, where electrode polarization may add to it (Sirin §2.3 reads it above {format_frequency(SIRIN_CUTOFF_HZ)})"]
+    return []
+
+
 @quiet_beneath
 @checked_arguments(
-    area=real(positive=True), v0=real(positive=True, optional=True), ep=_ep_rule, eps_gap=relative_permittivity_number, cutoff_hz=real(positive=True),
+    area=real(positive=True), v0=real(positive=True, optional=True), ep=_ep_rule, eps_gap=relative_permittivity_number, cutoff_hz=_cutoff_rule,
     steps=_gap_steps, walkers=count(2, MAX_WALKERS, optional=True), seed=seed, progress=flag, check_area=flag,
 )
 def gap_analysis(
@@ -1109,6 +1132,7 @@ def gap_analysis(
     notes += _subtraction_notes(remaining)
     if method == "hierarchical":
         _check_hierarchical_trials(remaining)
+    notes += check_cutoff(cutoff_hz, total)
     paper = paper_gap_estimate(total, skin, touchscreen, area=area, cutoff_hz=cutoff_hz, eps_gap=eps_gap)
     weighting = "sigma" if "sigma" in remaining else "modulus"
     requested = remainder_circuit(ep) if remainder is None else parse(remainder)
