@@ -10,6 +10,7 @@ program compiles once per discrepancy setting."""
 
 import os
 
+import jax
 import numpy as np
 import pytest
 import xarray as xr
@@ -124,6 +125,9 @@ def test_progress_counts_every_step_once_and_changes_nothing(clean, clean_post, 
     err = capsys.readouterr().err
     phases = ["tracing and compiling the sampler", "compiled in", "warm-up done", f"drawing {SETTINGS['draws']} draws"]
     assert all(p in err for p in phases) and [err.index(p) for p in phases] == sorted(err.index(p) for p in phases)
+    # the compilation's time says for which machine, and where the cache that makes the next run fast is (conftest's)
+    assert "30–70 s on a quiet 2-core machine, longer on a busy one" in err
+    assert f"JAX's persistent cache in {jax.config.jax_compilation_cache_dir} keeps it for the next run" in err
 
 
 @pytest.mark.slow  # (slow: 9 s; the fast suite keeps test_progress_counts_every_step_once_and_changes_nothing, whose run also takes blocks of one step)

@@ -406,6 +406,22 @@ def _trial_error_components(data: xr.Dataset, z: np.ndarray, nu: np.ndarray, n_f
 _jitted_log_density = jax.jit(_log_density, static_argnums=(2, 3))
 
 
+def _compile_time_words() -> str:
+    """What the compilation of the sampler costs and what makes the next one fast, for its
+    progress line: 30–70 s the first time on a quiet 2-core machine (the Sirin remainders),
+    longer under load (156 s at a load of 6–9), then a few seconds from JAX's persistent cache,
+    named where it is (``use_compilation_cache``; none set: how to set one)."""
+    import os
+
+    folder = jax.config.jax_compilation_cache_dir
+    first = "the first time 30–70 s on a quiet 2-core machine, longer on a busy one"
+    if not folder:
+        return f"{first}, and again in every new process: impedax.use_compilation_cache() keeps it on disk, as the impedax command does"
+    home = os.path.expanduser("~")
+    shown = "~" + folder[len(home):] if home not in ("", "~", os.sep) and folder.startswith(home + os.sep) else folder
+    return f"{first}; then a few seconds: JAX's persistent cache in {shown} keeps it for the next run"
+
+
 class _Phases:
     """One line on stderr at each change of phase of a hierarchical run, around its progress
     line ``bar`` (steps are passed on to it): the compilation ends at the first step (tracing
@@ -1344,7 +1360,7 @@ def sample_hierarchical(
         session_spread_scale=session_spread_scale, chains=chains, parameterisation=parameterisation, seed=seed, registry=registry, init=init, progress=progress,
     )
     keys = jax.random.split(jax.random.PRNGKey(seed), chains)
-    announce(f"hierarchical: tracing and compiling the sampler ({chains} chains; 30–70 s the first time, a few seconds once JAX's persistent cache holds it) …", progress)
+    announce(f"hierarchical: tracing and compiling the sampler ({chains} chains; {_compile_time_words()}) …", progress)
     bar = ProgressLine(int(warmup) + int(draws), progress, label=f"impedax hierarchical ({chains} chains, warm-up {warmup} + draws {draws})", settle=_first_metric_step(int(warmup)))
     phases = _Phases(bar, int(warmup), int(draws))
     try:
