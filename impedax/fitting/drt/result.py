@@ -285,7 +285,31 @@ class DRTResult(FrozenResult):
         then `shape.shape_notes` (a diffusion tail, peaks broader than one R‖C's)."""
         from .shape import shape_notes
 
-        return self._flat_notes() + self._negative_l_notes() + shape_notes(self)
+        return self._flat_notes() + self._band_lambda_edge_notes() + self._negative_l_notes() + shape_notes(self)
+
+    @property
+    def band_lambda_at_grid_edge(self) -> str | None:
+        """``"bottom"`` or ``"top"`` when the credible band's λ (``band_lambda``, the evidence's
+        optimum on ``lambda_grid``) is an end of that grid, where the evidence's maximum lies
+        there or beyond, so no optimum; None inside it (or with no band λ)."""
+        grid = np.asarray(self.lambda_grid, float)
+        if not (math.isfinite(self.band_lambda) and grid.size):
+            return None
+        if self.band_lambda <= grid[0] * (1 + 1e-9):
+            return "bottom"
+        if self.band_lambda >= grid[-1] * (1 - 1e-9):
+            return "top"
+        return None
+
+    def _band_lambda_edge_notes(self) -> tuple[str, ...]:
+        edge = self.band_lambda_at_grid_edge
+        if edge is None:
+            return ()
+        grid = np.asarray(self.lambda_grid, float)
+        beyond, kind = ("below", "roughest") if edge == "bottom" else ("above", "smoothest")
+        return (f"the credible band's λ = {format_lambda(self.band_lambda)} (the evidence's) is at the {edge} of its search grid, "
+                f"{format_lambda(float(grid[0]))}–{format_lambda(float(grid[-1]))}: not an optimum, the evidence's maximum is there or {beyond}, "
+                f"so the band is that of the {kind} γ the grid holds (γ, its λ and the peaks do not depend on it)",)
 
     @property
     def flat(self) -> bool:
@@ -412,6 +436,7 @@ class DRTResult(FrozenResult):
             "lambda_scale": "relative to z_ref_ohm^2 (z_ref_ohm = max|Z|; residuals relative to |Z|)",
             "z_ref_ohm": self.z_ref,
             "band_lambda": self.band_lambda,
+            "band_lambda_at_grid_edge": self.band_lambda_at_grid_edge,
             "min_peak_fraction": self.options.get("min_peak_fraction"),
             "dropped_peaks": [{"tau_s": p.tau_s, "r_ohm": p.r_ohm, "inside_window": p.inside_window} for p in self.dropped_peaks],
             "dropped_r_ohm": float(sum(p.r_ohm for p in self.dropped_peaks)),
