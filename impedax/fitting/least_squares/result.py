@@ -43,6 +43,24 @@ FIT_STATISTICS = ("rms_rel", "chi2", "chi2_red", "aic", "bic")
 CSV table (`FitResult.to_table`) and of a batch's (`batch.SPECTRUM_STATISTICS`)."""
 
 
+class _WrittenByImpedax(dict):
+    """A dict attr of a result's ``to_xarray`` Dataset: equal to the dict and printed as it, but
+    its repr, which xarray quotes when ``ds.to_netcdf`` refuses the first attr netCDF cannot hold
+    (a dict; then the complex ``Z``), says how such a Dataset is written."""
+
+    def __repr__(self) -> str:
+        return (f"{dict.__repr__(self)} (impedax: netCDF holds neither dict attrs nor the complex Z; write the result with "
+                "impedax.write_result(result, 'fit.nc'), or this Dataset with impedax.io.write_netcdf(ds, 'fit.nc'))")
+
+    __str__ = dict.__repr__
+
+
+def netcdf_advising_attrs(attrs: dict) -> dict:
+    """``attrs`` of a ``to_xarray`` Dataset with each dict value a `_WrittenByImpedax` (equal to
+    it), so that ``ds.to_netcdf``'s TypeError names `impedax.write_result`."""
+    return {k: _WrittenByImpedax(v) if isinstance(v, dict) else v for k, v in attrs.items()}
+
+
 def bounds_attr(bounds) -> dict[str, list[float]]:
     """User bounds (name → (lower, upper)) as a JSON- and netCDF-attribute value (name →
     [lower, upper]); `stored_bounds` reads it back."""
@@ -484,8 +502,9 @@ class FitResult(FrozenResult):
     def to_xarray(self) -> xr.Dataset:
         """Parameters (with stderr), covariance and the spectra as a Dataset; ``unit`` along
         ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``). Its attrs are Python
-        objects (lists of warnings and groups, a dict of bounds) that ``.to_netcdf`` refuses: a
-        file is written with ``impedax.write_result(result, "fit.nc")``, which encodes them."""
+        objects (lists of warnings and groups, a dict of bounds) that ``.to_netcdf`` refuses, its
+        error saying so: a file is written with ``impedax.write_result(result, "fit.nc")``, which
+        encodes them (`netcdf_advising_attrs`)."""
         names = list(self.values)
         free = list(self.free_names)
         specs = self.circuit.parameter_specs(self.registry)
@@ -503,13 +522,13 @@ class FitResult(FrozenResult):
                 "residual_rel": ("frequency", self.residuals, {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
             },
             coords={"param": names, "unit": ("param", [specs[n].unit for n in names], {"long_name": PARAMETER_UNIT_NAME}), "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
-            attrs={
+            attrs=netcdf_advising_attrs({
                 "impedax_kind": "fit", "model": self.model, "weighting": self.weighting, "rms_rel": self.rms_rel, "chi2": self.chi2,
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
                 "bounds": bounds_attr(self.bounds), "notes": list(self.notes), **note_value_attrs(self, flag=int),
-            },
+            }),
         ).copy(deep=True)  # (the user's to edit: the result's own arrays are read-only)
 
     @classmethod
