@@ -41,3 +41,13 @@ def test_band_lambda_inside_the_grid_gives_no_note():
     assert grid[0] * 1.01 < result.band_lambda < grid[-1] / 1.01
     assert not any("search grid" in n for n in result.notes)
     assert result.summary()["band_lambda_at_grid_edge"] is None
+
+
+def test_a_batch_report_counts_the_spectra_whose_band_lambda_is_at_an_end():
+    """The REAL data.ods holds the same spectrum on 4 sheets: its batch report says, once, on how
+    many of them the band's λ is at the grid's bottom; the JSON's rows each keep the note."""
+    batch = ix.drt(ix.load(str(REAL.with_suffix(".ods"))))
+    lines = [ln for ln in batch.report().splitlines() if "search grid" in ln]
+    assert lines == ["note: the credible band's λ (the evidence's) is at the bottom of its search grid, 10⁻⁸–100, on 4 of 4 spectra: "
+                     "not an optimum, the evidence's maximum is there or below (γ, its λ and the peaks do not depend on it)"], lines
+    assert [row["band_lambda_at_grid_edge"] for row in batch.summary()["spectra"]] == ["bottom"] * 4

@@ -627,8 +627,22 @@ class DRTBatchResult(ResultGrid):
         if hinted:  # (as the KK batch report's hint line: the first spectrum's hint, the others counted)
             listed = "; ".join(", ".join(f"{d}={label_text(v)}" for d, v in where.items()) for where, _ in hinted[:3]) + ("; …" if len(hinted) > 3 else "")
             lines.append(f"warning: in {len(hinted)} of {counted(len(self.results), 'spectrum', 'spectra')} ({listed}): {hinted[0][1]}")
+        lines += self._band_edge_notes()
         lines += self._misfit_warnings()
         return "\n".join(lines)
+
+    def _band_edge_notes(self) -> list[str]:
+        """One note per end of the λ grid that holds the credible band's λ of some spectra
+        (`DRTResult.band_lambda_at_grid_edge`), counting them."""
+        out = []
+        grid = np.asarray(self.results[0].lambda_grid, float)
+        for edge, beyond in (("bottom", "below"), ("top", "above")):
+            count = sum(r.band_lambda_at_grid_edge == edge for r in self.results)
+            if count:
+                out.append(f"note: the credible band's λ (the evidence's) is at the {edge} of its search grid, {format_lambda(float(grid[0]))}–{format_lambda(float(grid[-1]))}, "
+                           f"on {count} of {counted(len(self.results), 'spectrum', 'spectra')}: not an optimum, the evidence's maximum is there or {beyond} "
+                           "(γ, its λ and the peaks do not depend on it)")
+        return out
 
     def _misfit_warnings(self) -> list[str]:
         """The report's warnings on sparse data (`DRTResult.sparse_warning`, one grid for all), then
