@@ -9,6 +9,7 @@ line writes (``stack … --out days.nc``) is there for the next (``fit days.nc``
 
 from __future__ import annotations
 
+import functools
 import glob
 import json
 import re
@@ -89,7 +90,9 @@ def _comment(text: str) -> str:
 def doc_lines() -> list[DocLine]:
     """Every ``impedax …`` command line of the shell blocks of README.md and docs/*.md: in a
     block with ``$`` prompts the prompted lines (the others are their output), else every line
-    that starts with ``impedax `` at its first column (an indented one is output text)."""
+    that starts with ``impedax `` at its first column (an indented one is output text); and the
+    command of a report's ``next: … impedax …`` line shown in such a block, up to its
+    parenthesised comment."""
     found = []
     for path in DOC_FILES:
         doc = path.relative_to(ROOT).as_posix()
@@ -102,6 +105,8 @@ def doc_lines() -> list[DocLine]:
                 number, text = body[k]
                 k += 1
                 command = text[2:] if prompted and text.startswith("$ ") else (None if prompted else text)
+                if text.startswith("next: ") and "impedax " in text:  # (a report's advice, to be pasted as it is)
+                    command = text[text.index("impedax "):].split(" (")[0]
                 if command is None or not command.startswith("impedax "):
                     continue
                 while command.rstrip().endswith("\\") and k < len(body):
@@ -262,16 +267,28 @@ def test_the_docs_hold_the_command_lines_this_module_checks():
         assert sum(line.doc == doc and line.text.startswith(start) for line in LINES) == 1, (doc, start)
     words = {word for line in LINES for word in line.words}
     for name in STAND_INS:
-        assert name in words or name == "lab.py" and "lab.py" in words or any(w.startswith(name.split("*")[0]) for w in words), name
+        assert name in words, name
+
+
+@functools.cache
+def _parser(command: str | None):
+    """impedax's parser with ``command`` built in full (None: every command)."""
+    from impedax.cli import build_parser
+
+    return build_parser(command)
+
+
+def _options(command: str) -> set[str]:
+    """The option words of ``impedax COMMAND`` (and impedax's own, such as ``--plugin``)."""
+    parser = _parser(command)
+    sub = next(a for a in parser._actions if a.dest == "command").choices[command]
+    return set(sub._option_string_actions) | set(parser._option_string_actions)
 
 
 def _parsed(words: list[str]):
-    """``impedax *words`` through impedax's parser (no run): (namespace, unknown words), or the
-    SystemExit argparse raised with its message."""
-    from impedax.cli import build_parser
-
-    parser = build_parser(words[0])
-    return parser.parse_known_args(words)
+    """``impedax *words`` through impedax's parser (no run): (namespace, unknown words); argparse's
+    refusal is its SystemExit."""
+    return _parser(words[0]).parse_known_args(words)
 
 
 @pytest.mark.parametrize("line", [line for line in LINES if not line.synopsis], ids=lambda line: line.where)
@@ -290,13 +307,69 @@ def test_each_command_line_parses(line, capsys):
 def test_each_synopsis_names_options_of_its_command(line):
     """A usage synopsis (``impedax fit DATA --model M [--json] …``) names only options its
     command has."""
-    from impedax.cli import build_parser
-
-    parser = build_parser(line.command)
-    sub = next(a for a in parser._actions if a.dest == "command").choices[line.command]
-    flags = set(re.findall(r"(?<![\w-])--[a-z][a-z0-9-]*", line.text))
+    flags = _flags(line.text)
     assert flags, line.text
-    assert flags <= set(sub._option_string_actions), f"{line.where}: not options of impedax {line.command}: {sorted(flags - set(sub._option_string_actions))}"
+    assert flags <= _options(line.command), f"{line.where}: not options of impedax {line.command}: {sorted(flags - _options(line.command))}"
+
+
+def _flags(text: str) -> set[str]:
+    return set(re.findall(r"(?<![\w-])--[a-z][a-z0-9-]*", text))
+
+
+def inline_spans() -> list[tuple[str, int, str]]:
+    """(doc, line, text) of every inline code span of README.md and docs/*.md outside the fenced
+    blocks that starts ``impedax `` (a span wrapped over lines joined)."""
+    spans = []
+    for path in DOC_FILES:
+        lines = path.read_text(encoding="utf-8").splitlines()
+        for start, _, body in _blocks(path):  # (the blocks' lines blanked, the line numbers kept)
+            for number in range(start, (body[-1][0] if body else start) + 2):
+                lines[number - 1] = ""
+        text = "\n".join(lines)
+        for span in re.finditer(r"(?<!`)`(impedax [^`]+)`(?!`)", text):
+            spans.append((path.relative_to(ROOT).as_posix(), text.count("\n", 0, span.start()) + 1, " ".join(span.group(1).split())))
+    return spans
+
+
+# inline spans that show impedax refusing a word (its message explained beside them): the doc, the span
+SHOWN_REFUSED = {
+    ("docs/bayesian.md", "impedax sample --weighting sigma"),
+    ("docs/migrating.md", "impedax fit FILE --model 'R0-p(R1,CPE1)' --bounds CPE1_1=0.5:1"),
+    ("docs/robustness.md", "impedax gap --fix"),
+    ("docs/robustness.md", "impedax compare FILE --models A"),
+    ("docs/robustness.md", "impedax info R1 --bogus"),
+    ("docs/robustness.md", "impedax fitt {good} --model R1"),
+    ("docs/robustness.md", "impedax fit {good} --model R1 --maxsteps 5"),
+    ("docs/robustness.md", "impedax inspect {good} --bogus"),
+    ("docs/robustness.md", "impedax demo --bogus"),
+    ("docs/robustness.md", "impedax bogus"),
+}
+# the words after ``impedax`` that stand for any command in the docs' prose, or are no command
+# (``impedax netCDF``, the format's name)
+NOT_COMMANDS = {"COMMAND", "CMD", "netCDF"}
+
+
+def test_each_inline_command_names_a_command_and_its_options():
+    """Every inline ``impedax CMD …`` span of the docs' prose (a command line, an option or a
+    message quoted) names a command of impedax and only options it has, but the spans that show
+    impedax refusing them (`SHOWN_REFUSED`)."""
+    spans = inline_spans()
+    assert len(spans) >= 300, len(spans)
+    commands = set(next(a for a in _parser(None)._actions if a.dest == "command").choices)
+    wrong = []
+    for doc, number, text in spans:
+        words = text.split()[1:]
+        while words and words[0] == "--plugin":  # (impedax's own option before the command)
+            words = words[2:]
+        command = words[0].rstrip(":,") if words else ""
+        if command in NOT_COMMANDS or (doc, text) in SHOWN_REFUSED:
+            continue
+        if command not in commands:
+            wrong.append(f"{doc}:{number}: `{text}`: {command!r} is no command of impedax")
+        elif _flags(text) - _options(command):
+            wrong.append(f"{doc}:{number}: `{text}`: not options of impedax {command}: {sorted(_flags(text) - _options(command))}")
+    assert not wrong, "\n".join(wrong)
+    assert {(doc, text) for doc, _, text in spans} >= SHOWN_REFUSED, SHOWN_REFUSED - {(doc, text) for doc, _, text in spans}
 
 
 # ---------------------------------------------------------------------------------------------
