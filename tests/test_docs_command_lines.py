@@ -232,14 +232,14 @@ def _expanded(words) -> list[str]:
     """The words as the shell gives them: a word with ``*`` becomes the files it matches, sorted."""
     out = []
     for word in words:
-        out += sorted(glob.glob(word)) or [word] if "*" in word else [word]
+        out += (sorted(glob.glob(word)) or [word]) if "*" in word else [word]
     return out
 
 
 def _shown_error(line: DocLine) -> str | None:
     """The error message the block shows below ``line`` (``impedax X: error: …``), or None."""
     for text in line.shown:
-        if text.startswith(f"impedax {line.command}: error: ") or text.startswith(f"impedax: error: "):
+        if text.startswith(f"impedax {line.command}: error: ") or text.startswith("impedax: error: "):
             return text
     return None
 
