@@ -130,6 +130,32 @@ NOT_RUN = {
     ("docs/io.md", "impedax refine cycles.nc"): "long: parsed only (refine of a REAL battery cycle: 365 s on the 2-core machine at load 12)",
 }
 
+
+def _labels(path: str, dim: str) -> list[str]:
+    import impedax as ix
+
+    return [str(v) for v in ix.load(path)[dim].values]
+
+
+# What a line's comment (or the sentence after its block) says it prints or writes, checked on
+# its run: (doc, start of the line) → (the claim, a check of (stdout, stderr) in the line's folder).
+CLAIMS = {
+    ("docs/io.md", "impedax fit cycles.nc"): ("31 spectra, batch fit", lambda out, err: json.loads(out)["n_spectra"] == 31),
+    ("docs/io.md", "impedax kk cycles.nc --select cycle=3,5,9"): (
+        "three lines, in that order", lambda out, err: re.findall(r"^cycle=(\d+) ", out, re.M) == ["3", "5", "9"]),
+    ("docs/io.md", "impedax drt cycles.nc --select cycle=100:"): (
+        "cycle 100 and every later one", lambda out, err: re.findall(r"^  cycle=(\d+):", out, re.M) == [str(c) for c in range(100, 130)]),
+    ("docs/kk.md", "impedax kk cycles.nc  "): (
+        "a file of several spectra: one line each", lambda out, err: re.findall(r"^cycle=(\d+) ", out, re.M) == [str(c) for c in range(130)]),
+    ("docs/io.md", "impedax stack data/day*.csv --dim day --out"): (
+        "labels day01 … day10", lambda out, err: _labels("days.nc", "day") == [f"day{d:02d}" for d in range(1, 11)]),
+    ("docs/io.md", "impedax stack data/day*.csv --dim day --coords"): (
+        "labels 1 … 10", lambda out, err: _labels("days.nc", "day") == [str(d) for d in range(1, 11)]),
+    ("docs/io.md", "impedax stack glass.nc"): (
+        "Z over (material, voltage, frequency), 9 spectra",
+        lambda out, err: _labels("edl.nc", "material") == ["glass", "wood", "paper"] and _labels("edl.nc", "voltage") == ["50.0", "100.0", "150.0"]),
+}
+
 # The files of the user's own that the docs name, each stood in for by a file of the same kind:
 # name in the folder → (what stands in, why). A shipped file is copied; "synthetic: …" is made by
 # `_make_synthetic`.
@@ -263,7 +289,7 @@ def test_the_docs_hold_the_command_lines_this_module_checks():
     nothing), and every entry of `NOT_RUN` and `STAND_INS` names something that is there."""
     assert len(LINES) >= 40, [line.where for line in LINES]
     assert {line.doc for line in LINES} >= {"README.md", "docs/kk.md", "docs/io.md", "docs/models.md"}
-    for (doc, start), _ in NOT_RUN.items():
+    for doc, start in [*NOT_RUN, *CLAIMS]:
         assert sum(line.doc == doc and line.text.startswith(start) for line in LINES) == 1, (doc, start)
     words = {word for line in LINES for word in line.words}
     for name in STAND_INS:
@@ -398,6 +424,9 @@ def test_each_block_runs_as_written(lines, stand_ins, tmp_path, monkeypatch, cap
     for line in lines:
         if _not_run_reason(line):
             continue
+        written = [w for option, w in zip(line.words, line.words[1:]) if option in ("--out", "-o") and w != "-"]
+        for path in written:  # (a stand-in of that name goes: what is read after the run is the line's)
+            Path(path).unlink(missing_ok=True)
         code, out, err = run(_expanded(line.words), capsys)
         shown = _shown_error(line)
         expected = 2 if shown else 0
@@ -413,6 +442,11 @@ def test_each_block_runs_as_written(lines, stand_ins, tmp_path, monkeypatch, cap
                     failures.append(f"{line.where}: {line.text}\n  shown:   {shown}\n  printed: {printed}\n  (missing: {part!r})")
                     break
                 position = found + len(part)
+        if code == 0 and not all(Path(path).is_file() for path in written):
+            failures.append(f"{line.where}: {line.text}\n  exit 0 and no {written}")
+        claim, holds = next((claim for (doc, start), claim in CLAIMS.items() if line.doc == doc and line.text.startswith(start)), (None, None))
+        if claim and not holds(out, err):
+            failures.append(f"{line.where}: {line.text}\n  the docs say {claim!r}; printed:\n{out[:1500]}")
         for word in _json_words(line.comment) if "--json" in line.words else []:
             summary = json.loads(out)
             if word not in summary and word not in {v for v in summary.values() if isinstance(v, str)}:
