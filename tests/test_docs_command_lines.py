@@ -191,6 +191,8 @@ def _spectrum(r0, r1, q, alpha, frequency=_SYNTHETIC_FREQUENCY):
 
 
 def _make_synthetic(what: str, path: Path) -> None:
+    """The SYNTHETIC stand-in ``what`` of `STAND_INS`, written to ``path`` (``days``: the ten
+    day files in ``path``'s folder)."""
     import impedax as ix
     from impedax.models import example_spectra
 
