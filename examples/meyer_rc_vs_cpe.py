@@ -35,6 +35,7 @@ import _example
 import impedax
 from impedax.data import format_frequency, format_quantity
 from impedax.models import meyer
+from impedax.plotting import legends_off_data
 
 TRUE_FINGER = {"R_f": 500.0, "R_sc": 130e3, "CPE_sc.alpha": 0.8, "CPE_sc.Q": 2.2e-9 * (2 * np.pi * 1e3) ** 0.2}
 """Synthetic finger: thesis R_f, R_sc; CPE equal to C_sc = 2.2 nF at 1 kHz, α = 0.8."""
@@ -141,10 +142,7 @@ def main(argv=None):
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", title="fit residuals", yscale="log")
     for ax in (ax_mod, ax_ph):
         ax.legend(fontsize=8)
-    # the residual legend sits in head room above the points (a log axis raised by 1.5 decades), not on them
-    largest = max(float(np.max(np.abs(f.residuals))) for f in fits) * 100
-    ax_res.set_ylim(top=largest * 10**1.5)
-    ax_res.legend(fontsize=8, loc="upper left")
+    ax_res.legend(fontsize=8)
     for ax in (ax_mod, ax_ph, ax_res):
         _example.decade_grid(ax)
     ax_tab.axis("off")
@@ -160,6 +158,7 @@ def main(argv=None):
     table.auto_set_column_width(list(range(-1, len(shown))))
     table.scale(1.0, 1.6)
     fig.suptitle("Meyer (2012) Fig 5.3 — RC vs fractional stratum corneum on a SYNTHETIC finger spectrum")
+    legends_off_data(fig)  # (a legend over the points goes above or below its panel)
     _example.save(fig, args, "meyer_fig5_3_rc_vs_cpe_impedance.png")
 
     force_freq = np.logspace(1.0, 6.0, 200 if args.fast else 600)
@@ -183,6 +182,7 @@ def main(argv=None):
     ax.set(xlabel="frequency [Hz]", ylabel="time-averaged force [mN]", title="Predicted force, 140 V sine: RC vs fractional model fitted to a SYNTHETIC finger\n(model predictions only — thesis Fig 5.1b is measured force, not shown)", ylim=(0, 1.08e3 * max(forces["rc"].max(), forces["cpe"].max(), bound.max(), rc_bound.max())))
     ax.legend(fontsize=8, loc="lower right")
     _example.decade_grid(ax)
+    legends_off_data(fig)
     _example.save(fig, args, "meyer_fig5_1b_force_rc_vs_cpe.png")
 
 
