@@ -22,7 +22,7 @@ import numpy as np
 
 import _example
 import impedax as ix
-from impedax.data import format_band
+from impedax.data import format_band, format_percent
 
 
 def synthetic_finger(seed: int = 7):
@@ -41,11 +41,11 @@ def main(argv=None):
 
     print("1. Compare the model with the measurements (SYNTHETIC: a finger-like spectrum written with numpy, 1 % noise)")
     naive = ix.fit("R_s + R_sc || C_sc", data)
-    print(f"   model R_s + R_sc || C_sc: rms_rel {naive.rms_rel:.3g}")
+    print(f"   model R_s + R_sc || C_sc: rms_rel {format_percent(naive.rms_rel)}")
 
     print("2. Is it the data or the model?")
     kk = ix.kk_test(data)
-    print(f"   Kramers–Kronig test: {'valid' if kk.valid else 'NOT valid'}, rms_rel {kk.rms_rel:.3g}, noise ≈ {kk.noise_estimate:.2g}")
+    print(f"   Kramers–Kronig test: {'valid' if kk.valid else 'NOT valid'}, rms_rel {format_percent(kk.rms_rel)}, noise ≈ {format_percent(kk.noise_estimate)}")
 
     print("3. Where does it fail, and which effect is missing?")
     diagnosis = ix.diagnose(naive, data=data)
@@ -53,7 +53,7 @@ def main(argv=None):
         print(f"   fails {format_band(band.f_min, band.f_max)}: {band.pattern}")
     print(f"   verdict: {diagnosis.verdict}")
     for s in diagnosis.suggestions[:4]:
-        print(f"   {s.effect:<22} ΔAIC {s.delta_aic:8.1f}   rms_rel {s.rms_rel:.3g}   {s.model}")
+        print(f"   {s.effect:<22} ΔAIC {s.delta_aic:8.1f}   rms_rel {format_percent(s.rms_rel):>7}   {s.model}")
     if diagnosis.best is not None:
         print(f"   best: {diagnosis.best.explanation}")
     _example.save(diagnosis.plot(), args, "hidden_effect_diagnosis.png")
@@ -61,7 +61,7 @@ def main(argv=None):
     print("4. Add it, refit, repeat: watch the error fall")
     refinement = ix.refine(data, "R_s + R_sc || C_sc", max_effects=2 if args.fast else 4)
     print(refinement.table())
-    print(f"   final model {refinement.final_model}: rms_rel {refinement.final.rms_rel:.3g}, verdict {refinement.verdict}")
+    print(f"   final model {refinement.final_model}: rms_rel {format_percent(refinement.final.rms_rel)}, verdict {refinement.verdict}")
     _example.save(refinement.plot(), args, "hidden_effect_refinement.png")
 
 

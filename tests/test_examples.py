@@ -102,6 +102,15 @@ def _generating_finger_force_mn(freq: float) -> float:
     return float(np.asarray(meyer.force_time_average({**script.TRUE_FINGER, **script.SCREEN}, np.array([freq]), variant="cpe"))[0]) * 1e3
 
 
+def _walkthrough_percentages_match_the_table(output: str) -> bool:
+    """hidden_effect_walkthrough.py's rms_rel of the naive and the final model [%] are those of
+    the refinement table's first and last step (the table's "N %" column, read by its rows)."""
+    steps = [float(m) for m in re.findall(r"^\s+\d+\s+" + _NUMBER + r" %\s", output, flags=re.M)]
+    naive = re.search(r"model R_s \+ R_sc \|\| C_sc: rms_rel " + _NUMBER + " %", output)
+    final = re.search(r"final model .*: rms_rel " + _NUMBER + " %", output)
+    return bool(naive and final and len(steps) >= 2 and float(naive.group(1)) == steps[0] and float(final.group(1)) == steps[-1])
+
+
 def _all_exponents_near_two(output: str) -> bool:
     exponents = [float(m) for m in re.findall(r"^\s+\d+\s+\S+\s+\S+ mN\s+" + _NUMBER + r"$", output, flags=re.M)]
     return len(exponents) == 7 and all(1.4 <= n <= 2.6 for n in exponents)
@@ -180,9 +189,15 @@ EXAMPLES = {
     "hidden_effect_walkthrough.py": (
         ["hidden_effect_diagnosis.png", "hidden_effect_refinement.png"],
         [
-            (r"model R_s \+ R_sc \|\| C_sc: rms_rel " + _NUMBER, _within(0.1, 1.0)),  # the naive model fails
-            (r"Kramers–Kronig test: valid, rms_rel " + _NUMBER, _within(0.005, 0.03)),  # the data are fine
-            (r"final model .*: rms_rel " + _NUMBER, _within(0.005, 0.02)),  # the error falls to the noise (√2·1 %)
+            # rms_rel in % as impedax prints it everywhere (it printed fractions, "rms_rel 0.243", until 2026-12-07)
+            (r"model R_s \+ R_sc \|\| C_sc: rms_rel " + _NUMBER + " %", _within(10.0, 100.0)),  # the naive model fails
+            (r"Kramers–Kronig test: valid, rms_rel " + _NUMBER + " %", _within(0.5, 3.0)),  # the data are fine
+            (r"Kramers–Kronig test: .*, noise ≈ " + _NUMBER + " %", _within(0.5, 3.0)),  # the 1 % the data were drawn with
+            (r"final model .*: rms_rel " + _NUMBER + " %", _within(0.5, 2.0)),  # the error falls to the noise (√2·1 %)
+            (None, lambda out: all(m.group(2) for m in re.finditer(r"rms_rel\s+(\d[\d.]*)( %)?", out))),  # every rms_rel in %, none a fraction
+            # the same numbers as the refinement's table prints them (its own formatting, `format_percent`):
+            # the naive model's at step 0, the final model's at the last step
+            (None, _walkthrough_percentages_match_the_table),
             (None, lambda out: "verdict adequate" in out and "verdict: missing_effect" in out),
             # the data are SYNTHETIC (the docstring says so; the output said "the measurements" only)
             (None, lambda out: "SYNTHETIC" in out.splitlines()[0]),
