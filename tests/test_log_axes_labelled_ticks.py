@@ -1,5 +1,6 @@
 """Every log axis of values read off impedax's figures (the rms_rel panels of the refinement, the
-batch fit's residual map, the KK and DRT batch figures; a batch's parameter panels) has two
+batch fit's residual map, the KK and DRT batch figures; a batch's parameter panels; the
+comparison figure's |relative residual| panel) has two
 labelled ticks or more in view at any range, labels that do not overlap, and each label reads
 back as its tick's value (`plotting.labelled_log_ticks`). matplotlib's log ticks labelled one
 value alone on short ranges (0.068–0.195 % read "0.1") and the decades alone over three or more
@@ -41,6 +42,13 @@ def _synthetic_batch():
     return ix.make_spectrum(F, z * (1 + np.array([0.0005, 0.002, 0.01, 0.04])[:, None] * np.random.default_rng(8).standard_normal(z.shape)), dims=("cell",))
 
 
+def _synthetic_comparison():
+    """Two models compared on the batch's third spectrum (1 % noise): the comparison figure's
+    |relative residual| panel (matplotlib's log ticks read 0.068–0.195 % as "0.1" alone)."""
+    data = _synthetic_batch().isel(cell=2)
+    return ix.compare([ix.fit(model, data, progress=False) for model in ("R0 + R1 || C1", "R0 + R1 || CPE1")])
+
+
 @pytest.fixture(scope="module")
 def batch_fit():
     return ix.fit("R0 + R1 || C1", _synthetic_batch(), progress=False)
@@ -60,6 +68,7 @@ def panels(fit, batch_fit):  # noqa: F811
         "residual map rms_rel": (batch_fit.plot_residual_map(), lambda fig: fig.axes[2]),
         "KK batch rms_rel": (ix.kk_test_batch(spectra).plot(), lambda fig: next(a for a in fig.axes if a.get_ylabel() == "rms_rel, noise [%]")),
         "DRT batch rms_rel": (ix.drt(spectra).plot(), lambda fig: next(a for a in fig.axes if a.get_ylabel() == "DRT fit rms_rel [%]")),
+        "comparison |residual|": (_synthetic_comparison().plot(), lambda fig: next(a for a in fig.axes if a.get_ylabel() == "|relative residual| [%]")),
     }
     yield {kind: (fig, pick(fig)) for kind, (fig, pick) in figures.items()}
     for fig, _ in figures.values():
@@ -74,7 +83,7 @@ def _labels(ax):
     return [(t.get_loc(), t.label1) for t in ticks if t.label1.get_visible() and t.label1.get_text()]
 
 
-KINDS = ["refinement rms_rel", "batch parameter R1", "residual map rms_rel", "KK batch rms_rel", "DRT batch rms_rel"]
+KINDS = ["refinement rms_rel", "batch parameter R1", "residual map rms_rel", "KK batch rms_rel", "comparison |residual|", "DRT batch rms_rel"]
 
 
 @pytest.mark.parametrize("kind", KINDS)

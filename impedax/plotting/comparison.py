@@ -13,7 +13,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
     each named with its rms_rel and ΔAIC, for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`, which
     ``figsize`` (width, height) [in] sizes). Figure."""
-    from . import legends_off_data, magnitude_axis, model_curve, nyquist_frame, nyquist_shape, nyquist_view, plain_log_ticks, residual_axis, spectrum_layout
+    from . import labelled_log_ticks, legends_off_data, magnitude_axis, model_curve, nyquist_frame, nyquist_shape, nyquist_view, residual_axis, spectrum_layout
 
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
@@ -48,7 +48,9 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     magnitude_axis(ax_mod.yaxis, nyquist=ax_nyq)  # (in the Nyquist panel's prefix: one unit across the figure)
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]")
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", yscale="log")
-    plain_log_ticks(ax_res.yaxis)
+    # (two labels or more at any range, `labelled_log_ticks`, as every rms_rel panel: matplotlib's
+    # log ticks read residuals of 0.068–0.195 % as "0.1" alone, 0.3–300 % as 1, 10, 100)
+    labelled_log_ticks(ax_res.yaxis)
     if residual_axis(ax_res, np.concatenate([np.ravel(r.residuals) for r in comparison.fits])):
         ax_res.legend(fontsize=font_size("legend", 7))  # (the rounding-level note alone)
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):
