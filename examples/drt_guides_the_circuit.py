@@ -27,7 +27,7 @@ import numpy as np
 
 import _example
 import impedax
-from impedax.data import format_band
+from impedax.data import format_band, format_percent
 from impedax.fitting.drt import unexplained_peaks
 from impedax.plotting.drt import plot_gamma
 
@@ -46,7 +46,7 @@ def main(argv=None) -> None:
     print(f"circuit from the DRT ({len(result.peaks)} peaks listed, {suggestion.n_arcs} arcs): {model}")
     print("\n".join(f"  {reason}" for reason in suggestion.reasons))
     fit = impedax.fit(model, data, init=init, n_starts=4 if args.fast else 16)
-    print(f"fit {model}: rms_rel {fit.rms_rel:.4f}")
+    print(f"fit {model}: rms_rel {format_percent(fit.rms_rel)}")
     # the fitted model's own DRT, solved as the data's was (a series CPE has no closed form)
     overlay = impedax.drt((fit.frequency, fit.z_model), lam=result.lam)
     evidence = unexplained_peaks(result, fit)

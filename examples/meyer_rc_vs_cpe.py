@@ -33,7 +33,7 @@ import numpy as np
 
 import _example
 import impedax
-from impedax.data import format_frequency, format_quantity
+from impedax.data import format_frequency, format_percent, format_quantity
 from impedax.models import meyer
 from impedax.plotting import legends_off_data
 
@@ -116,7 +116,7 @@ def main(argv=None):
     for key, f in zip(MODELS, fits):
         units = {name: spec.unit for name, spec in f.circuit.parameter_specs().items()}
         values = ", ".join(f"{k} = {format_quantity(v, units[k], 4)}" for k, v in f.values.items())
-        print(f"  {key:>3}: rms_rel {f.rms_rel:.4f}  chi2_red {f.chi2_red:.3g}  {values}")
+        print(f"  {key:>3}: rms_rel {format_percent(f.rms_rel)}  chi2_red {f.chi2_red:.3g}  {values}")
     print("model comparison (impedax.compare):")
     print("  " + comparison.table().replace("\n", "\n  "))
     print(f"best model: {comparison.best}")

@@ -15,10 +15,10 @@ C_gap alone for comparison.
 What to look for: |Y_R| follows the one-decade-per-decade line above ≈ 30 Hz (the remainder is
 the air-gap capacitor) and bends flat below it (EP conductance); the EP capacitance dominates
 at low frequency and falls below C_gap near 10 Hz; the naive C_gap fit misses the data below
-30 Hz by a factor of several (C_gap = 959.4 pF, rms_rel 0.77), and the EP branch fixes it.
+30 Hz by a factor of several (C_gap = 959.4 pF, rms_rel 77.5 %), and the EP branch fixes it.
 The fit gives C_gap = 410.5 ± 0.7 pF (u = 2.806 µm; population 413 pF, the 30 trials' own
 409–411 pF) and the EP branch (R_EP = 113 MΩ, CPE_EP Q = 4.19 nF·s^−0.7, α = 0.296; population
-100 MΩ, 4 nF·s^−0.7, 0.30) within a few standard errors, rms_rel 0.004. The paper method gives
+100 MΩ, 4 nF·s^−0.7, 0.30) within a few standard errors, rms_rel 0.43 %. The paper method gives
 C_gap = 418.6 pF, u = 2.752 µm (bounds 2.46–2.96 µm; paper: 413 pF, 2.78 µm, 2.57–3.28 µm):
 u about 1.3 % thin against the population 2.789 µm, because the EP branch's tail above 30 Hz
 adds to |Y_R|/ω — the price of an EP branch large enough to be seen below 30 Hz.
@@ -32,7 +32,7 @@ import numpy as np
 
 import _example
 import impedax
-from impedax.data import format_quantity, format_uncertain
+from impedax.data import format_percent, format_quantity, format_uncertain
 from impedax.models import example_spectra, load_example, sirin
 
 
@@ -54,11 +54,11 @@ def main(argv=None):
     c_gap_fit, c_gap_se = fit.values["C_gap"], fit.stderr["C_gap"]
     print("Sirin Figs 3d/4a/4b — SYNTHETIC example (finger sliding, 30 trials)")
     print(f"  paper method   C_gap = {paper.c_gap * 1e12:.1f} pF   u = {paper.gap * 1e6:.3f} µm   bounds {paper.gap_lower * 1e6:.2f}–{paper.gap_upper * 1e6:.2f} µm   (paper: 413 pF, 2.78 µm, 2.57–3.28 µm)")
-    print(f"  EDL fit        C_gap = {c_gap_fit * 1e12:.1f} ± {c_gap_se * 1e12:.1f} pF   u = {float(sirin.gap_thickness(c_gap_fit)) * 1e6:.3f} µm   rms_rel {fit.rms_rel:.3f}   chi2_red {fit.chi2_red:.2f}")
+    print(f"  EDL fit        C_gap = {c_gap_fit * 1e12:.1f} ± {c_gap_se * 1e12:.1f} pF   u = {float(sirin.gap_thickness(c_gap_fit)) * 1e6:.3f} µm   rms_rel {format_percent(fit.rms_rel)}   chi2_red {fit.chi2_red:.2f}")
     units = {name: spec.unit for name, spec in fit.circuit.parameter_specs().items()}
     print(f"  fit model      {fit.model}: " + ", ".join(f"{k} = {format_uncertain(v, fit.stderr[k], units[k])} (truth {format_quantity(truth[k], units[k])})" for k, v in fit.values.items()))
     below_30 = np.abs(naive.residuals)[freq < 30.0]
-    print(f"  naive C_gap    C_gap = {naive.values['C_gap'] * 1e12:.1f} pF   rms_rel {naive.rms_rel:.2f}   |relative residual| below 30 Hz {below_30.min():.2f}–{below_30.max():.2f}")
+    print(f"  naive C_gap    C_gap = {naive.values['C_gap'] * 1e12:.1f} pF   rms_rel {format_percent(naive.rms_rel)}   |relative residual| below 30 Hz {below_30.min() * 100:.3g}–{below_30.max() * 100:.3g} %")
     for warning in fit.warnings:
         print(f"  fit warning: {warning}")
 
