@@ -35,7 +35,7 @@ import _example
 import impedax
 from impedax.data import format_frequency, format_percent, format_quantity
 from impedax.models import meyer
-from impedax.plotting import legends_off_data
+from impedax.plotting import legends_off_data, magnitude_axis
 
 TRUE_FINGER = {"R_f": 500.0, "R_sc": 130e3, "CPE_sc.alpha": 0.8, "CPE_sc.Q": 2.2e-9 * (2 * np.pi * 1e3) ** 0.2}
 """Synthetic finger: thesis R_f, R_sc; CPE equal to C_sc = 2.2 nF at 1 kHz, α = 0.8."""
@@ -138,6 +138,7 @@ def main(argv=None):
         ax_res.semilogx(freq, np.abs(f.residuals) * 100, ".-", color=colors[key], label=f"{label} (rms_rel {f.rms_rel * 100:.3g} %)")
     ax_res.axhline(NOISE_REL * 100, color="0.4", ls="--", lw=1, label="noise level (2 %)")
     ax_mod.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]", title="Fig 5.3 (top): finger impedance magnitude")
+    magnitude_axis(ax_mod.yaxis)  # (impedax's |Z| rule: plain labels at or beyond both ends of the data, not 10⁴ and 10⁵ alone)
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]", title="Fig 5.3 (bottom): finger impedance phase")
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", title="fit residuals", yscale="log")
     for ax in (ax_mod, ax_ph):
