@@ -116,3 +116,18 @@ def test_fmax_below_the_cutoff_names_both(contact, capsys):
     path, _ = contact
     code, stdout, err = run(["gap", path, "--area", "130e-6", "--cutoff-hz", "1k", "--fmax", "500", "--pooled"], capsys)
     assert code == 2 and "--fmax 500 Hz leaves no frequency above 1000 Hz (--cutoff-hz 1000)" in err
+
+
+def test_data_below_the_default_cutoff_are_refused_naming_the_default(tmp_path, capsys):
+    """Without --cutoff-hz, data that end below the paper's 30 Hz (SYNTHETIC, 1–20 Hz) are refused
+    with a message that says 30 Hz is the default the user did not give, exit 2, no file written."""
+    freq = np.geomspace(1.0, 20.0, 11)
+    w = 2 * np.pi * freq
+    z = np.tile(1.0 / (1.0 / R_EP + Q_EP * (1j * w) ** ALPHA + 1j * w * C_GAP), (4, 1))
+    path = tmp_path / "low.nc"
+    ix.save(ix.make_spectrum(freq, z, dims=("trial",)), str(path))
+    out = tmp_path / "gap.json"
+    code, _, err = run(["gap", path, "--area", "130e-6", "--pooled", "--out", out], capsys)
+    assert code == 2, err
+    assert "--cutoff-hz must be at most 20 Hz" in err and "--cutoff-hz not given: 30 Hz is the paper's default" in err, err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1 and not out.exists()

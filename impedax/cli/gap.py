@@ -207,7 +207,12 @@ def run(args) -> int:
     read = files_without_points(load_selected_files(list(paths.values()), args.select, args.readers), list(paths.values()), args.exclude)  # (before the band, as fit takes them)
     total, skin, touchscreen = (*files_in_band(read, list(paths.values()), args.fmin, args.fmax), None, None)[:3]  # (a single contact: the total alone)
     check_distinct_paths(paths)  # (after reading: a bad file is named first)
-    check_cutoff(cutoff, total)  # (the band --fmin/--fmax/--exclude left; gap_analysis checks it again, here before the notes on the drive; below the band: its warning)
+    try:
+        check_cutoff(cutoff, total)  # (the band --fmin/--fmax/--exclude left; gap_analysis checks it again, here before the notes on the drive; below the band: its warning)
+    except ParameterError as error:
+        if args.cutoff_hz is not None:
+            raise
+        raise ParameterError(f"{error} (--cutoff-hz not given: {cutoff:g} Hz is the paper's default; give a lower one)") from None
     check_not_a_remainder(total, skin, touchscreen)  # (gap_analysis checks it again; here before the notes on the drive)
     drive = drive_voltage(total, args.v0)  # (gap_analysis finds the same; said here once, before minutes of sampling)
     if drive.note:
