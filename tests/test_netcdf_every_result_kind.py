@@ -3,8 +3,9 @@ KK, KK batch, Z-HIT, Z-HIT batch, DRT, DRT batch, comparison, batch comparison, 
 refinement, posterior, joint posterior, hierarchical posterior. Each `to_xarray()` holds complex
 spectra and attributes that are Python dicts, lists, None and bools, which a netCDF3 file cannot
 hold as such (the only writer the package needs is scipy's netCDF3: no complex type), so plain
-``to_xarray().to_netcdf(path)`` raises xarray's TypeError or ValueError (docs/bayesian.md,
-"Saving and loading"); `impedax.write_result` (`impedax.io.write_netcdf`) writes every one. The
+``to_xarray().to_netcdf(path)`` raises xarray's TypeError, which names the calls that write and
+read the file (docs/io.md, "A result's Dataset and `to_netcdf`"; a comparison's criteria alone
+it writes); `impedax.write_result` (`impedax.io.write_netcdf`) writes every one, or its Dataset. The
 file opens in plain xarray (any netCDF3 reader) and `read_netcdf` gives back each variable
 (dims, values, dtype but for text, attrs) and each attribute of the result's dataset.
 SYNTHETIC spectra: R0 + R1 ∥ CPE1 by formula with 1 % noise; the hierarchical posterior is
@@ -93,3 +94,39 @@ def test_a_hierarchical_posterior_reads_back_with_the_same_report(tmp_path):
     ix.write_result(post, tmp_path / "h.nc")
     back = ix.HierarchicalPosterior.from_xarray(ix.load(tmp_path / "h.nc"))
     assert back.report() == post.report() and back.new_trial("R1") == post.new_trial("R1")
+
+
+# the call that reads each kind's file back, as ``ds.to_netcdf``'s error names it (`impedax.io.netcdf.result_dataset`)
+READER = {
+    "fit": "impedax.FitResult.from_xarray(", "batch fit": "impedax.BatchFitResult.from_xarray(", "shared fit": "impedax.SharedFitResult.from_xarray(",
+    "kk": "impedax.io.read_netcdf('kk.nc')", "kk batch": "impedax.io.read_netcdf('kk.nc')", "zhit": "impedax.io.read_netcdf('zhit.nc')",
+    "zhit batch": "impedax.io.read_netcdf('zhit.nc')", "drt": "impedax.io.read_netcdf('drt.nc')", "drt batch": "impedax.io.read_netcdf('drt.nc')",
+    "comparison": None, "batch comparison": "impedax.BatchComparison.from_xarray(", "diagnosis": "impedax.Diagnosis.baseline_of(",
+    "refinement": "impedax.Refinement.final_fit_of(", "posterior": "impedax.Posterior.from_xarray(", "joint posterior": "impedax.SharedPosterior.from_xarray(",
+    "hierarchical posterior": "impedax.HierarchicalPosterior.from_xarray(",
+}
+
+
+@pytest.mark.slow  # (the module's results)
+@pytest.mark.parametrize("kind", KINDS)
+def test_each_kind_to_netcdf_names_impedax_or_writes(results, kind, tmp_path):
+    """``to_xarray().to_netcdf(path)`` either names the calls that write and read the result
+    (every kind with complex spectra or dict attributes) or writes a file that reads back
+    equal (a comparison's criteria); ``impedax.write_result(ds, path)`` writes the Dataset
+    itself, as the result would be written."""
+    ds = results[kind].to_xarray()
+    if READER[kind] is None:
+        ds.to_netcdf(tmp_path / "plain.nc")
+        back = read_netcdf(tmp_path / "plain.nc")
+        for name, var in ds.data_vars.items():
+            np.testing.assert_array_equal(back[name].values, var.values, err_msg=name)
+    else:
+        with pytest.raises(TypeError) as caught:
+            ds.to_netcdf(tmp_path / "plain.nc")
+        assert "impedax.write_result(" in str(caught.value) and READER[kind] in str(caught.value), str(caught.value)
+    ix.write_result(ds, tmp_path / "dataset.nc")
+    back = read_netcdf(tmp_path / "dataset.nc")
+    for name in ("Z", "batch0_Z", "final_fit_Z_model", "baseline_fit_Z_model"):
+        if name in ds.variables:  # (complex spectra exact)
+            np.testing.assert_array_equal(back[name].values, ds[name].values, err_msg=name)
+    assert [k for k in ds.attrs if k.endswith("netcdf")] == ([] if READER[kind] is None else ["netcdf"])  # (an embedded fit's advice is the host's)

@@ -14,6 +14,7 @@ import xarray as xr
 
 from ..data import column_width, concise_repr, report_text
 from ..errors import FitsNotComparable
+from ..io.netcdf import NETCDF_ADVICE, result_dataset
 from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, weightings_differ, fit_label, labelled_warnings, nested_as_held, register_batch_compare, significant, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key, labels_shown, spectra_named
@@ -497,10 +498,10 @@ class BatchComparison(FrozenResult):
             prefix = BATCH_PREFIX.format(i)
             saved = batch.to_xarray()
             renamed = saved.rename({n: prefix + str(n) for n in (*saved.variables, *saved.dims) if n not in keep})
-            renamed.attrs = {prefix + k: v for k, v in saved.attrs.items()}
+            renamed.attrs = {prefix + k: v for k, v in saved.attrs.items() if k != NETCDF_ADVICE}  # (the comparison's Dataset names how it is written)
             parts.append(renamed)
         out = xr.merge(parts, combine_attrs="drop", join="exact", compat="identical")
-        return out.assign_attrs({**self.dataset.attrs, **{k: v for part in parts[1:] for k, v in part.attrs.items()}, "impedax_kind": "batch_comparison", "n_batches": len(self.batches)})
+        return result_dataset(out.assign_attrs({**self.dataset.attrs, **{k: v for part in parts[1:] for k, v in part.attrs.items()}, "impedax_kind": "batch_comparison", "n_batches": len(self.batches)}))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry=None) -> "BatchComparison":

@@ -17,6 +17,7 @@ from ..circuits import DEFAULT_REGISTRY, Circuit, Registry
 from ..circuits.nesting import embedding
 from ..data import column_width, format_quantity, report_text
 from ..errors import FitError, FitsNotComparable
+from ..io.netcdf import result_dataset
 from .least_squares import BatchFitResult, FitResult
 from .least_squares.branches import idle_note_reduced, undetermined_names
 from .bayes.evidence import EvidenceDoubt, WaicDoubt
@@ -574,7 +575,7 @@ class Comparison(FrozenResult):
             "f_test_valid": ("f_test", np.array([t["valid"] for t in tests], bool)), "f_test_note": ("f_test", np.array([t["note"] or "" for t in tests], str)),
         })
         # ``impedax_kind``: `impedax.load` of the written .nc names it, not "no variable 'Z'"
-        return xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]}, attrs={"impedax_kind": "comparison", "aic_form": self.aic_form}).copy(deep=True)
+        return result_dataset(xr.Dataset(data, coords={"model": [r["label"] for r in self.rows]}, attrs={"impedax_kind": "comparison", "aic_form": self.aic_form}).copy(deep=True))
 
     def _repr_html_(self) -> str:
         """The notebook display, as `FitResult`'s: a row per model (its label, k, rms_rel,

@@ -29,6 +29,7 @@ from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag,
 from ..constants import CONCLUSIVE_POINTS_MIN
 from ..data import checked_frequencies, column_width, concise_repr, report_text, counted, format_band, format_frequency, label_text
 from ..errors import DataError, ImpedaxError, ParameterError
+from ..io.netcdf import result_dataset
 from .grid import ResultGrid, refuse_result_names
 from .problem import frequency_and_z, frequency_z_and_sigma
 from .statistics import KK_RESIDUAL_NOISE, difference_noise, non_passive, non_passive_words, residual_noise
@@ -268,7 +269,7 @@ class KKResult(FrozenResult):
         f = ("frequency", self.frequency, {"units": "Hz"})
         lo = np.array([b[0] for b in self.bad_bands], dtype=float)
         hi = np.array([b[1] for b in self.bad_bands], dtype=float)
-        return xr.Dataset(
+        return result_dataset(xr.Dataset(
             {
                 "Z": ("frequency", self.impedance, {"units": "ohm", "long_name": "measured impedance"}),
                 "Z_kk": ("frequency", self.kk_impedance, {"units": "ohm", "long_name": "fitted Kramers-Kronig (Voigt chain) impedance"}),
@@ -301,7 +302,7 @@ class KKResult(FrozenResult):
                 **({} if self.passing_band is None else {"passing_band_hz": list(self.passing_band), "passing_rms_rel": self.passing_rms_rel}),
                 **{f"threshold_{k}": v for k, v in self.thresholds.items()},
             },
-        ).copy(deep=True)
+        ).copy(deep=True))
 
     def summary(self) -> dict:
         """The JSON of ``impedax kk --json`` (the keys are the public contract)."""
@@ -894,7 +895,7 @@ class KKBatchResult(ValidityGrid):
         )
         # (the settings, shared by every spectrum; each spectrum's series R, L and 1/C are variables)
         ds.attrs.update({k: v for k, v in first.to_xarray().attrs.items() if not k.startswith(("series", "inverse_series"))})
-        return ds.copy(deep=True)
+        return result_dataset(ds.copy(deep=True))
 
     def _repr_html_(self) -> str:
         """In a notebook: the verdict counts and a row per spectrum (its labels, verdict, rms_rel,

@@ -42,6 +42,7 @@ import xarray as xr
 from ..arguments import checked_arguments, count, real
 from ..data import concise_repr, counted, format_frequency, label_value, report_text
 from ..errors import DataError, ParameterError
+from ..io.netcdf import result_dataset
 from .kk import CONCLUSIVE_POINTS_MIN, DEFAULT_THRESHOLDS, NON_PASSIVE_LEAVE_OUT, ValidityGrid, bad_band_lines, band_name, band_points, band_rule_counts, band_rules, bands_of_flags, long_runs, note_and_hint_lines, thresholds_for, zero_impedance_text
 from .grid import refuse_result_names
 from .problem import frequency_and_z
@@ -144,7 +145,7 @@ class ZHITResult(FrozenResult):
 
     def to_xarray(self) -> xr.Dataset:
         end_local = self.end_slope_local if self.end_slope_local is not None else np.zeros(self.frequency.size, bool)
-        return xr.Dataset(
+        return result_dataset(xr.Dataset(
             {
                 "Z": ("frequency", self.impedance, {"units": "ohm"}),
                 "modulus_zhit": ("frequency", self.modulus, {"units": "ohm", "long_name": "|Z| reconstructed from the phase"}),
@@ -161,7 +162,7 @@ class ZHITResult(FrozenResult):
             coords={"frequency": ("frequency", self.frequency, {"units": "Hz"})},
             attrs={"impedax_kind": "zhit", "method": "Z-HIT, first order (Ehm et al. 2000), smoothing-spline phase", "offset_ln_ohm": self.offset,
                    "point_threshold": self.threshold, "run_threshold": self.run_threshold, "run_length": self.run_length},
-        ).copy(deep=True)
+        ).copy(deep=True))
 
     def summary(self) -> dict:
         """The JSON of ``impedax kk --method zhit --json`` (the keys are the public contract;
@@ -337,7 +338,7 @@ class ZHITBatchResult(ValidityGrid):
             coords=self._coordinates(),
             attrs={"impedax_kind": "zhit", "method": first.to_xarray().attrs["method"], "run_length": first.run_length, "noise_floor": first.noise_floor},
         )
-        return ds.copy(deep=True)
+        return result_dataset(ds.copy(deep=True))
 
     def _repr_html_(self) -> str:
         """In a notebook: the verdict counts and a row per spectrum (its labels, verdict, rms_rel,

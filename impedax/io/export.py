@@ -247,7 +247,9 @@ def write_result(result, path: str | Path, *, source: str | None = None, provena
     """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
     (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless
     netCDF, `write_netcdf`). Atomic: the file is whole or not there. Anything but a result
-    (a dict, None, a spectrum Dataset) is a `ParameterError` saying what to pass; a path that
+    (a dict, None, a spectrum Dataset) is a `ParameterError` saying what to pass; a result's
+    ``to_xarray`` Dataset (as its ``ds.to_netcdf`` error advises: its ``impedax_kind`` or
+    `netcdf.NETCDF_ADVICE` attribute marks it) is written as the result would be, to ``.nc`` only; a path that
     cannot be written is a `DataError` naming it, raised before the result is converted
     (`check_writable`). A model whose ``to_xarray`` needs arguments (`MeyerModel`: the
     frequencies) is a `ParameterError` saying to write ``impedax.io.write_netcdf(m.to_xarray(freq), path)``.
@@ -265,6 +267,17 @@ def write_result(result, path: str | Path, *, source: str | None = None, provena
     if not isinstance(path, (str, os.PathLike)):
         raise ParameterError(f"write_result: path must be a file path (str or pathlib.Path), got {shown(path)} ({type(path).__name__})")
     kind = result_format(path)
+    if _is_result_dataset(result):  # (a result's ``to_xarray``, perhaps edited: ds.to_netcdf's error names this call)
+        if kind != "netcdf":
+            raise ParameterError(f"a result's Dataset is written as .nc (lossless); for {Path(path).suffix.lower()} pass the result itself: impedax.write_result(result, {shown(str(path))})")
+        check_writable(path)
+        from .provenance import provenance as made
+
+        if source is None:  # (the Dataset's own, as a result's `result_source`)
+            saved = result.attrs.get("source")
+            source = saved if isinstance(saved, str) and saved not in ("", IN_MEMORY) else None
+        _write_dataset(result, path, source, dict(provenance) if provenance is not None else made(source=source))
+        return
     if not is_result(result):
         got = "None" if result is None else type(result).__name__
         spectrum = "; a spectrum Dataset is written with impedax.save(data, path)" if hasattr(result, "data_vars") else ""
@@ -293,12 +306,25 @@ def write_result(result, path: str | Path, *, source: str | None = None, provena
             summary = {**summary, "source": source}
         write_json({**summary, PROVENANCE_KEY: record} if provenance is not None else summary, path)
     else:
-        from .netcdf import write_netcdf
-
         if not callable(getattr(result, "to_xarray", None)):
             raise DataError(f"{type(result).__name__} has no dataset; write it as .json")
-        ds = result.to_xarray()
-        if source is not None and "source" not in ds.attrs:
-            ds.attrs["source"] = source
-        ds = ds.assign_attrs(provenance_attrs(record))  # (a new Dataset: a result's own is not changed)
-        write_netcdf(ds, path)
+        _write_dataset(result.to_xarray(), path, source, record)
+
+
+def _is_result_dataset(obj) -> bool:
+    """Whether ``obj`` is a result's ``to_xarray`` Dataset (its ``impedax_kind`` a saved result's,
+    or the attribute `netcdf.result_dataset` gives a Dataset ``to_netcdf`` cannot write)."""
+    from .netcdf import NETCDF_ADVICE, RESULT_KINDS
+
+    attrs = getattr(obj, "attrs", None)
+    return hasattr(obj, "data_vars") and isinstance(attrs, Mapping) and (attrs.get("impedax_kind") in RESULT_KINDS or NETCDF_ADVICE in attrs)
+
+
+def _write_dataset(ds, path, source: str | None, record: Mapping[str, object]) -> None:
+    """A result's Dataset to ``path`` (`write_netcdf`) with ``source`` (unless it has its own)
+    and the provenance ``record`` as attributes (`write_result`); the Dataset given is not changed."""
+    from .netcdf import write_netcdf
+    from .provenance import provenance_attrs
+
+    ds = ds.assign_attrs({"source": source} if source is not None and "source" not in ds.attrs else {})
+    write_netcdf(ds.assign_attrs(provenance_attrs(record)), path)

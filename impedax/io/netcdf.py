@@ -19,7 +19,7 @@ import xarray as xr
 from .atomic import atomic_path
 from ..errors import IN_MEMORY, ArgumentNeeded, DataError
 
-__all__ = ["read_netcdf", "write_netcdf", "encode_dataset", "decode_dataset", "saved_result", "saved_source", "damaged_result", "result_kind", "not_a_spectrum", "NETCDF_FORMAT"]
+__all__ = ["read_netcdf", "write_netcdf", "result_dataset", "NETCDF_ADVICE", "encode_dataset", "decode_dataset", "saved_result", "saved_source", "damaged_result", "result_kind", "not_a_spectrum", "NETCDF_FORMAT"]
 
 _JSON = "json:"
 # magic (4 bytes), record count (4), then the dimension, attribute and variable lists (8 each)
@@ -202,6 +202,65 @@ RESULT_KINDS = {
 }
 
 
+NETCDF_ADVICE = "netcdf"
+"""The attribute of a result's ``to_xarray`` Dataset that names the calls writing and reading it
+(`result_dataset`): ``ds.to_netcdf(path)``'s error quotes it."""
+
+
+class _WrittenByImpedax(dict):
+    """A dict attribute of a result's ``to_xarray`` Dataset: equal to the dict and printed as it
+    (``str``, the Dataset's display), but its repr, which xarray quotes when ``ds.to_netcdf``
+    refuses the first attribute netCDF cannot hold, says how such a Dataset is written."""
+
+    def __repr__(self) -> str:
+        return (f"{dict.__repr__(self)} (impedax: netCDF holds neither complex values nor dict attributes; "
+                "write this Dataset with impedax.write_result(ds, path) or impedax.io.write_netcdf(ds, path))")
+
+    __str__ = dict.__repr__
+
+
+def _call(kind: str | None, name: str) -> str:
+    """The call that reads back a saved result of ``kind`` from the file ``name``, as typed in a session."""
+    if kind not in RESULT_KINDS:
+        return f"impedax.io.read_netcdf({name!r})"
+    call = reader_call(kind).replace("(path)", f"({name!r})")
+    return call if call.startswith("impedax.") else "impedax." + call
+
+
+def _refused_by_to_netcdf(ds: xr.Dataset) -> bool:
+    """Whether xarray's ``to_netcdf`` (netCDF3 or netCDF4: no complex type, attributes numbers,
+    text or lists of numbers) refuses ``ds``: a complex variable, or an attribute that is a dict,
+    None or a list holding anything but numbers (a list of texts fails deep in the engine)."""
+    def refused(value) -> bool:
+        if isinstance(value, (list, tuple)):
+            return not all(isinstance(v, (int, float, np.number)) and not isinstance(v, complex) for v in value)
+        return value is None or isinstance(value, (dict, complex, np.complexfloating))
+
+    return any(v.dtype.kind == "c" for v in ds.variables.values()) or any(
+        refused(v) for attrs in (ds.attrs, *(var.attrs for var in ds.variables.values())) for v in attrs.values())
+
+
+def result_dataset(ds: xr.Dataset) -> xr.Dataset:
+    """A result's ``to_xarray`` Dataset as handed out (every result's, so all alike): when
+    ``ds.to_netcdf`` cannot write it (`_refused_by_to_netcdf`: complex spectra, dict or text-list
+    attributes), its first attribute is `NETCDF_ADVICE`, a dict naming the calls that write
+    and read it (``impedax.write_result(result, 'kk.nc')``, ``impedax.io.read_netcdf('kk.nc')``), and
+    each dict attribute (it included) is one whose repr says why (`_WrittenByImpedax`): xarray
+    checks attributes before values and quotes the first it refuses, so its TypeError names
+    impedax.write_result whichever engine is used. A Dataset it can write (a comparison's
+    criteria) is left as it is. The attribute is written to the file, where it names the
+    reading call; the results' ``from_xarray`` leave it out (`saved_result`)."""
+    attrs = {k: v for k, v in ds.attrs.items() if k != NETCDF_ADVICE}
+    if _refused_by_to_netcdf(ds):
+        kind = attrs.get("impedax_kind")
+        name = f"{kind if kind in RESULT_KINDS else 'result'}.nc"
+        write = f"impedax.write_result(result, {name!r}) or impedax.write_result(ds, {name!r})" if kind in RESULT_KINDS else f"impedax.write_result(ds, {name!r})"
+        attrs = {NETCDF_ADVICE: {"write": write, "read": _call(kind, name)}, **attrs}
+    out = ds.copy(deep=False)
+    out.attrs = {k: _WrittenByImpedax(v) if isinstance(v, dict) else v for k, v in attrs.items()}
+    return out
+
+
 NETCDF_FORMAT = "impedax netCDF"
 """The ``format`` of data read from an impedax netCDF file (`formats.netcdf.READER`); the format
 its data were first read from, if another, is kept as ``data_format`` (`loader.load`)."""
@@ -258,9 +317,9 @@ def saved_result(ds, kind: str, *, variables=(), attrs=()) -> xr.Dataset:
         raise DataError(f"incomplete saved {what}: missing {' and '.join(parts)}", path=source)
     from .provenance import PROVENANCE_ATTRS
 
-    if any(k in ds.attrs for k in PROVENANCE_ATTRS):  # (what made the file, not part of the result: a result written again records its own)
+    if any(k in ds.attrs for k in (*PROVENANCE_ATTRS, NETCDF_ADVICE)):  # (what made the file and how to write it, not part of the result: a result written again records its own)
         ds = ds.copy(deep=False)
-        ds.attrs = {k: v for k, v in ds.attrs.items() if k not in PROVENANCE_ATTRS}
+        ds.attrs = {k: v for k, v in ds.attrs.items() if k not in (*PROVENANCE_ATTRS, NETCDF_ADVICE)}
     return ds
 
 

@@ -44,6 +44,7 @@ from ..circuits import DEFAULT_REGISTRY, parse
 from ..data import point_text, report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed, shown
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
+from ..io.netcdf import result_dataset
 from ..constants import C_GAP_BOUNDS_F, EPSILON_0, EPSILON_AIR
 from ..fitting.bayes.chain import AUTO_STEPS, steps_rule
 from ..fitting.bayes.diagnostics import CHAIN_TAU_MULTIPLE
@@ -815,7 +816,7 @@ class GapAnalysis(FrozenResult):
         out["parameter_unit"] = ("parameter", [q["unit"] or "" for q in table.values()])
         out["parameter_value"].attrs["description"] = "posterior median (hierarchical: of the population median); q05/q95 the 90 % interval; fit_* the least-squares fit on the trial mean"
         out["u_draws"] = ("draw", self.u_draws(), {"units": "m", "description": f"posterior draws of the gap thickness u, thinned evenly to at most {GAP_SAVED_DRAWS}"})
-        return _labelled(out).copy(deep=True)
+        return result_dataset(_labelled(out).copy(deep=True))
 
 
 # what each variable of a saved gap analysis (`GapAnalysis.to_xarray`) is: long_name and SI units

@@ -30,6 +30,7 @@ import xarray as xr
 from ..circuits import Circuit, current_through, parse, voltage_across
 from ..arguments import checked_arguments, drive_amplitude, numeric_array, relative_permittivity, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
+from ..io.netcdf import result_dataset
 from ..constants import EPSILON_0
 
 __all__ = [
@@ -219,7 +220,7 @@ class MeyerModel:
     def to_xarray(self, freq, *, v_a: float = THESIS_DRIVE_V) -> xr.Dataset:
         """Force, V_F/V_A and Q_f/V_A over ``freq`` as a Dataset."""
         freq = np.asarray(freq, dtype=np.float64)
-        return xr.Dataset(
+        return result_dataset(xr.Dataset(
             {
                 "force": ("frequency", np.asarray(self.force(freq, v_a=v_a)), {"units": "N", "convention": "time-average", "long_name": "electrostatic force, eq 3.6"}),
                 # (what each complex ratio is, as the force says its unit)
@@ -228,7 +229,7 @@ class MeyerModel:
             },
             coords={"frequency": ("frequency", freq, {"units": "Hz"})},
             attrs={"model": str(self.circuit), "area_m2": self.area, "drive_amplitude_v": v_a, "source": "Meyer (2012) thesis model"},
-        )
+        ))
 
 
 def meyer_model(variant: str = "rc", *, physical: MeyerPhysical | None = None, alpha: float = 0.8) -> MeyerModel:
@@ -424,7 +425,7 @@ class FrictionLine:
     n_points: int
 
     def to_xarray(self) -> xr.Dataset:
-        return xr.Dataset({"mu": self.mu, "offset": self.offset, "mu_stderr": self.mu_stderr}, attrs={"n_points": self.n_points, "offset_units": "N"})
+        return result_dataset(xr.Dataset({"mu": self.mu, "offset": self.offset, "mu_stderr": self.mu_stderr}, attrs={"n_points": self.n_points, "offset_units": "N"}))
 
 
 def _measured(values, name: str, *, flat: bool = True) -> np.ndarray:

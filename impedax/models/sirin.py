@@ -31,6 +31,7 @@ from ..circuits import Circuit, compile_circuit, parse, voltage_across
 from ..data import label_value, make_spectrum, validate_spectrum
 from ..arguments import checked_arguments, drive_amplitude, numeric_array, relative_permittivity, require_parameters, shown, variants_named
 from ..errors import DataError, ParameterError
+from ..io.netcdf import result_dataset
 from ..fitting.least_squares.result import SIGMA_FROM_NONE, SIGMA_FROM_OWN, SIGMA_FROM_TRIALS, SIGMA_SOURCES_ATTR
 from ..io.table import SWEEP_RTOL
 from ..constants import EPSILON_0, EPSILON_AIR
@@ -407,7 +408,7 @@ class PaperGapEstimate:
     gap_trial_max: float = float("nan")
 
     def to_xarray(self) -> xr.Dataset:
-        return xr.Dataset(
+        return result_dataset(xr.Dataset(
             {
                 "c_gap": ((), self.c_gap, {"units": "F"}),
                 "gap": ((), self.gap, {"units": "m"}),
@@ -419,7 +420,7 @@ class PaperGapEstimate:
                 "gap_trial_max": ((), self.gap_trial_max, {"units": "m"}),
             },
             attrs={"method": "Sirin et al. 2.3: mean |Y_R|/omega above the cutoff; bounds from extreme-impedance trials", "cutoff_hz": self.cutoff_hz, "area_m2": self.area, "eps_gap": self.eps_gap},
-        )
+        ))
 
 
 def _trial_rows(ds: xr.Dataset) -> np.ndarray:

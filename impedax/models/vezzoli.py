@@ -26,6 +26,7 @@ import xarray as xr
 
 from ..arguments import checked_arguments, drive_amplitude, numeric_array, relative_permittivity, shown
 from ..errors import ParameterError
+from ..io.netcdf import result_dataset
 from ..constants import EPSILON_0
 
 __all__ = [
@@ -275,10 +276,10 @@ class SqueezeFilm:
     normal_force: float
 
     def to_xarray(self) -> xr.Dataset:
-        return xr.Dataset(
+        return result_dataset(xr.Dataset(
             {"force": ((), self.force, {"units": "N"}), "squeeze_number": self.squeeze_number, "friction_reduction": self.friction_reduction},
             attrs={"amplitude_m": self.amplitude, "normal_force_n": self.normal_force, "model": "Vezzoli eqs 2-6 (sigma -> inf)"},
-        )
+        ))
 
 
 def squeeze_number(amplitude, *, area=TABLE2["area"], length=None, freq=TABLE1["f_r"], h_r=TABLE1["h_r"], h_e=TABLE1["h_e"], eta=TABLE1["eta"], p0=TABLE1["p0"]):

@@ -55,6 +55,7 @@ from ...arguments import MAX_SAMPLER_STEPS, checked_arguments, count, progress_l
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
 from ...data import column_width, make_spectrum, report_text, unit_text
 from ...errors import DataError, FitError, ParameterError
+from ...io.netcdf import result_dataset
 from ...progress import quiet_beneath
 from ..derived import draw_indices
 from ..frozen import FrozenResult, freeze_fields
@@ -1073,7 +1074,7 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
                 "reparametrization": self.reparametrization.describe() if self.reparametrization is not None else None,
             },
         )
-        return ds.copy(deep=True)
+        return result_dataset(ds.copy(deep=True))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry | None = None) -> "HierarchicalPosterior":

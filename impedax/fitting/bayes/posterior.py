@@ -22,6 +22,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, exact_number, report_text, unit_text
 from ...errors import DataError, ParameterError
+from ...io.netcdf import result_dataset
 from ..derived import bind_frequency, called, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
@@ -608,7 +609,7 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             "free_param_2": free,
             "frequency": ("frequency", self.frequency, {"units": "Hz"}),
         }
-        return xr.Dataset(data, coords=coords, attrs=attrs).copy(deep=True)
+        return result_dataset(xr.Dataset(data, coords=coords, attrs=attrs).copy(deep=True))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, reparametrization: Reparametrization | None = None, registry: Registry | None = None) -> "Posterior":

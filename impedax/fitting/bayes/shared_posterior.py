@@ -32,6 +32,7 @@ import xarray as xr
 
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
+from ...io.netcdf import result_dataset
 from ...data import checked_frequencies, column_width, counted, exact_number, report_text, unit_text
 from ...warning_groups import grouped_warning_tags, grouped_warnings
 from ..derived import draw_indices, draws_band, needs_freq
@@ -527,7 +528,7 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
             "fit_variables": stored, "fit_dims": stored_dims, "straggler_walkers": list(self.stragglers.walkers), "stragglers": self.stragglers.to_attr(),
         }
         coords = {"walker": kept_walkers(self.n_walkers, self.stragglers), "draw": np.arange(self.n_draws), "param": list(self.names), **fit_coords}
-        return xr.Dataset(data, coords=coords, attrs=attrs).copy(deep=True)
+        return result_dataset(xr.Dataset(data, coords=coords, attrs=attrs).copy(deep=True))
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "SharedPosterior":

@@ -61,6 +61,7 @@ from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice
 from ...circuits import Circuit, DCPath, DEFAULT_REGISTRY, Element, Parallel, Registry, Series, parse
 from ...data import concise_repr, report_text, counted, format_frequency, format_quantity, make_spectrum, unit_text
 from ...errors import DataError, FitError, ImpedaxError, ParameterError
+from ...io.netcdf import result_dataset
 from ..drt import PeakEvidence, drt, is_resolved, r_cpe_tau, unexplained_peaks
 from ..kk import CONCLUSIVE_POINTS_MIN, KKResult, frequency_text, kk_test, left_out_options, passing_band, retested_band, zero_impedance_text  # (frequency_text, left_out_options: kept importable from here)
 from ..least_squares import BatchFitResult, FitResult, fit
@@ -645,10 +646,10 @@ class Diagnosis(FrozenResult):
             attrs={"model": b.model, "verdict": str(self.verdict), "reason": self.reason, "noise_source": self.noise_source, "baseline_rms_rel": b.rms_rel, "baseline_aic": b.aic, **{f"threshold_{k}": v for k, v in self.thresholds.items()}},
         )
         ds = xr.merge([ds, embedded_fit(b, BASELINE_FIT_PREFIX, b.frequency, b.z_data)], combine_attrs="no_conflicts")
-        return ds.assign_attrs(impedax_kind="diagnosis", masked_points_hz=[float(f) for f in self.masked_points],
+        return result_dataset(ds.assign_attrs(impedax_kind="diagnosis", masked_points_hz=[float(f) for f in self.masked_points],
             masked_impedance_real_ohm=[float(np.real(z)) for z in self.masked_impedance], masked_impedance_imag_ohm=[float(np.imag(z)) for z in self.masked_impedance],
             notes=list(self.notes),
-        ).copy(deep=True)
+        ).copy(deep=True))
 
     @staticmethod
     def baseline_of(ds: xr.Dataset, *, registry: Registry | None = None) -> FitResult:

@@ -17,6 +17,7 @@ from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
 from ...data import concise_repr, counted, report_text, format_quantity
 from ...errors import CircuitError, ParameterError
+from ...io.netcdf import result_dataset
 from ..least_squares import FitResult, fit
 from ..least_squares.candidates import fit_candidates
 from ..least_squares.result import BOUND_CHI2_FRACTION, RESIDUAL_LONG_NAME, bounds_attr, embedded_fit, fit_from_embedded
@@ -434,7 +435,7 @@ class Refinement(FrozenResult):
                    "restart_band_hz": [] if self.restart is None else list(self.restart["band_hz"]), "restart_reason": "" if self.restart is None else self.restart["reason"]},
         )
         ds = xr.merge([ds, embedded_fit(self.final, FINAL_FIT_PREFIX, f, z)], combine_attrs="no_conflicts")
-        return ds.assign_attrs(impedax_kind="refinement", masked_points_hz=[float(x) for x in self.masked_points], notes=list(self.notes)).copy(deep=True)
+        return result_dataset(ds.assign_attrs(impedax_kind="refinement", masked_points_hz=[float(x) for x in self.masked_points], notes=list(self.notes)).copy(deep=True))
 
     @staticmethod
     def final_fit_of(ds: xr.Dataset, *, registry: Registry | None = None) -> FitResult:

@@ -21,6 +21,7 @@ import numpy as np
 
 from ...circuits.tree import Element, Parallel, Series
 from ...errors import CircuitError, ParameterError
+from ...io.netcdf import result_dataset
 from ..arcs import arc_taus
 from ..frozen import FrozenResult, freeze_fields
 
@@ -80,7 +81,7 @@ class AnalyticDRT(FrozenResult):
     def to_xarray(self):
         import xarray as xr
 
-        return xr.Dataset(
+        return result_dataset(xr.Dataset(
             {
                 "gamma": ("tau", self.gamma, {"units": "ohm"}),
                 "delta_tau": ("delta", np.array([d[0] for d in self.deltas], float), {"units": "s"}),
@@ -91,7 +92,7 @@ class AnalyticDRT(FrozenResult):
             },
             coords={"tau": ("tau", self.tau, {"units": "s"})},
             attrs={"circuit": self.circuit, "method": "closed-form DRT of the circuit's blocks"},
-        ).copy(deep=True)
+        ).copy(deep=True))
 
 
 def _value(values, name):

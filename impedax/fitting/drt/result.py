@@ -11,6 +11,7 @@ import xarray as xr
 
 from ...data import checked_frequencies, concise_repr, report_text, counted, format_lambda, format_quantity, format_time, format_uncertain, label_text
 from ...errors import IN_MEMORY
+from ...io.netcdf import result_dataset
 from .peaks import ROUNDOFF_SHARE, Peak, below_roundoff, counted_peaks
 from ..grid import ResultGrid
 from ..frozen import FrozenResult, freeze_fields
@@ -161,7 +162,7 @@ class DRTResult(FrozenResult):
     def to_xarray(self) -> xr.Dataset:
         """γ and its band over ``tau``, data and fit over ``frequency``, peaks over ``peak``."""
         peaks = self.peaks
-        return xr.Dataset(
+        return result_dataset(xr.Dataset(
             {
                 "gamma": ("tau", self.gamma, {"units": "ohm", "long_name": "distribution of relaxation times γ(ln τ)"}),
                 "gamma_q05": ("tau", self.gamma_q05, {"units": "ohm", "long_name": "5 % credible quantile of γ"}),
@@ -203,7 +204,7 @@ class DRTResult(FrozenResult):
                 "band": "90 % credible band: Gaussian posterior at the evidence-chosen band_lambda, widened to contain gamma; it covers the noise, not the smoothing bias at peaks (docs/drt.md)",
                 "source": self.source,
             },
-        ).copy(deep=True)
+        ).copy(deep=True))
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -762,7 +763,7 @@ class DRTBatchResult(ResultGrid):
         # per spectrum: the variables z_ref, lambda_choice, lambda_note, band_lambda)
         common = _common_attrs(first)
         ds.attrs.update(common)
-        return ds.copy(deep=True)
+        return result_dataset(ds.copy(deep=True))
 
     def plot(self, *, title: str | None = None):
         """γ(τ) of every spectrum on one axes, coloured along the batch (a legend of the labels

@@ -23,6 +23,7 @@ from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...circuits.nesting import carried_values
 from ...data import column_width, concise_repr, exact_number, report_text, coordinate_labels, counted, format_band, format_relative_error, label_text, label_value, unit_text
 from ...errors import DataError, ParameterError
+from ...io.netcdf import result_dataset
 from ...progress import say, silenced
 from ...warning_groups import LABELS_SHOWN, grouped_warnings, labels_text, warning_kinds
 from ..frozen import FrozenResult, freeze_fields
@@ -35,7 +36,7 @@ from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .notes import MISFIT, MODEL_MISFIT, carried_over, has_tag, notes_tags, stored_tags, tagged, tags_attr, tags_of, with_tag
-from .result import netcdf_advising_attrs, value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, warning_tags_by_words, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
+from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, warning_tags_by_words, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, unscale
 from .starts import SpectrumFeatures, climb_target, draw_size, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -192,14 +193,13 @@ class BatchFitResult(FrozenResult):
         parameter's unit (the element specs', as the CSV's ``unit``). Its attrs
         are Python objects (dicts of warnings and unidentified groups) that ``.to_netcdf`` refuses, its
         error saying so: a file is written with ``impedax.write_result(batch, "fits.nc")``, which
-        encodes them (`result.netcdf_advising_attrs`)."""
+        encodes them (`impedax.io.netcdf.result_dataset`)."""
         specs = self.circuit.parameter_specs(self.registry)
         units = [specs[str(p)].unit if str(p) in specs else "" for p in self.dataset["param"].values]
         ds = self.dataset.copy(deep=True).assign_coords(unit=("param", units, {"long_name": PARAMETER_UNIT_NAME})).assign_attrs(impedax_kind=self._KIND, warnings={k: list(v) for k, v in self.warnings.items()}, elapsed_s=float(self.elapsed_s), notes=list(self.notes),
                                                                                                                            model_misfits=[k for k, _ in self.spectrum_keys() if self._blames_model(k)],
                                                                                                                            warning_tags=None if self.warning_tags is None else {k: tags_attr(v) for k, v in self.warning_tags.items()})
-        ds.attrs = netcdf_advising_attrs(ds.attrs)  # (ds.to_netcdf's error then names impedax.write_result)
-        return ds
+        return result_dataset(ds)  # (ds.to_netcdf's error then names impedax.write_result)
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "BatchFitResult":

@@ -18,6 +18,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, exact_number, report_text, format_bound, format_factor, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
 from ...errors import DataError
+from ...io.netcdf import NETCDF_ADVICE, result_dataset
 from ..arcs import BEYOND_BAND_FACTOR, ArcBeyondBand, arc_taus
 from ..frozen import FrozenResult, freeze_fields
 from ..kk import KKChains, kk_sigma_misfits
@@ -41,24 +42,6 @@ __all__ = [
 FIT_STATISTICS = ("rms_rel", "chi2", "chi2_red", "aic", "bic")
 """A fit's goodness of fit under the keys of its JSON (`FitResult.summary`), the columns of its
 CSV table (`FitResult.to_table`) and of a batch's (`batch.SPECTRUM_STATISTICS`)."""
-
-
-class _WrittenByImpedax(dict):
-    """A dict attr of a result's ``to_xarray`` Dataset: equal to the dict and printed as it, but
-    its repr, which xarray quotes when ``ds.to_netcdf`` refuses the first attr netCDF cannot hold
-    (a dict; then the complex ``Z``), says how such a Dataset is written."""
-
-    def __repr__(self) -> str:
-        return (f"{dict.__repr__(self)} (impedax: netCDF holds neither dict attrs nor the complex Z; write the result with "
-                "impedax.write_result(result, 'fit.nc'), or this Dataset with impedax.io.write_netcdf(ds, 'fit.nc'))")
-
-    __str__ = dict.__repr__
-
-
-def netcdf_advising_attrs(attrs: dict) -> dict:
-    """``attrs`` of a ``to_xarray`` Dataset with each dict value a `_WrittenByImpedax` (equal to
-    it), so that ``ds.to_netcdf``'s TypeError names `impedax.write_result`."""
-    return {k: _WrittenByImpedax(v) if isinstance(v, dict) else v for k, v in attrs.items()}
 
 
 def bounds_attr(bounds) -> dict[str, list[float]]:
@@ -504,11 +487,11 @@ class FitResult(FrozenResult):
         ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``). Its attrs are Python
         objects (lists of warnings and groups, a dict of bounds) that ``.to_netcdf`` refuses, its
         error saying so: a file is written with ``impedax.write_result(result, "fit.nc")``, which
-        encodes them (`netcdf_advising_attrs`)."""
+        encodes them (`impedax.io.netcdf.result_dataset`)."""
         names = list(self.values)
         free = list(self.free_names)
         specs = self.circuit.parameter_specs(self.registry)
-        return xr.Dataset(
+        return result_dataset(xr.Dataset(
             {
                 "value": ("param", [self.values[n] for n in names]),
                 "stderr": ("param", [self.stderr[n] for n in names], {"note": STDERR_NOTE}),
@@ -522,14 +505,14 @@ class FitResult(FrozenResult):
                 "residual_rel": ("frequency", self.residuals, {"units": "1", "long_name": RESIDUAL_LONG_NAME}),
             },
             coords={"param": names, "unit": ("param", [specs[n].unit for n in names], {"long_name": PARAMETER_UNIT_NAME}), "free_param": free, "free_param_2": free, "frequency": ("frequency", self.frequency, {"units": "Hz"})},
-            attrs=netcdf_advising_attrs({
+            attrs={
                 "impedax_kind": "fit", "model": self.model, "weighting": self.weighting, "rms_rel": self.rms_rel, "chi2": self.chi2,
                 "chi2_red": self.chi2_red, "aic": self.aic, "bic": self.bic, "converged": int(self.converged),
                 "message": self.message, "warnings": list(self.warnings), "unidentified_groups": [list(g) for g in self.unidentified_groups],
                 "n_evaluations": int(self.n_evaluations), "n_starts": int(self.n_starts), "elapsed_s": float(self.elapsed_s),
                 "bounds": bounds_attr(self.bounds), "notes": list(self.notes), **note_value_attrs(self, flag=int),
-            }),
-        ).copy(deep=True)  # (the user's to edit: the result's own arrays are read-only)
+            },
+        ).copy(deep=True))  # (the user's to edit: the result's own arrays are read-only)
 
     @classmethod
     def from_xarray(cls, ds: xr.Dataset, *, registry: Registry | None = None) -> "FitResult":
@@ -600,7 +583,7 @@ def embedded_fit(fit: FitResult, prefix: str, host_frequency=None, host_z=None) 
         ds = ds.drop_vars("Z")
     renamed = {name: prefix + name for name in ds.variables if not (shared and name == "frequency")}
     out = ds.rename(renamed)
-    out.attrs = {prefix + k: v for k, v in ds.attrs.items() if k != "impedax_kind"}
+    out.attrs = {prefix + k: v for k, v in ds.attrs.items() if k not in ("impedax_kind", NETCDF_ADVICE)}  # (the host's Dataset names how it is written)
     return out
 
 
