@@ -237,6 +237,17 @@ def test_derive_checks_its_frequencies(results):
         results["fit"].derive(lambda p, f: jnp.abs(ix.compile_circuit(RC)(p, f)), freq=[-2.0, 3.0])
 
 
+@pytest.mark.parametrize("returned", ["x", {"tau": 1.0}])
+def test_derive_names_fn_that_returns_no_numbers(results, returned):
+    """JAX's words ("Value 'x' with dtype <U1 is not a valid JAX array type") named neither fn nor derive."""
+    def tau(p):
+        return returned
+
+    with pytest.raises(ix.ParameterError) as info:
+        results["fit"].derive(tau)
+    assert str(info.value).startswith("derive: fn (tau) must return a number or an array of numbers, got ") and type(returned).__name__ in str(info.value)
+
+
 def test_validate_spectrum_formats_numbers_plainly():
     ds = ix.make_spectrum(FREQ, rc_impedance(FREQ)).assign_coords(frequency=np.r_[-1.0, FREQ[1:]])
     with pytest.raises(ix.DataError) as info:

@@ -72,7 +72,12 @@ def bind_frequency(fn, freq):
         arguments = (jnp.asarray(checked_frequencies(freq)),)
 
     def g(params):
-        return jnp.asarray(fn(params, *arguments))
+        value = fn(params, *arguments)
+        try:
+            return jnp.asarray(value)
+        except TypeError:  # (JAX's own words name neither fn nor what it gave: "Value 'x' with dtype <U1 is not a valid JAX array type")
+            name = getattr(fn, "__name__", None) or type(fn).__name__
+            raise ParameterError(f"derive: fn ({name}) must return a number or an array of numbers, got {shown(value)} ({type(value).__name__})") from None
 
     return g
 
