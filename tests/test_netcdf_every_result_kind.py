@@ -130,3 +130,22 @@ def test_each_kind_to_netcdf_names_impedax_or_writes(results, kind, tmp_path):
         if name in ds.variables:  # (complex spectra exact)
             np.testing.assert_array_equal(back[name].values, ds[name].values, err_msg=name)
     assert [k for k in ds.attrs if k.endswith("netcdf")] == ([] if READER[kind] is None else ["netcdf"])  # (an embedded fit's advice is the host's)
+
+
+# each parameter's unit, from the element specs (docs/circuits.md): R in Ω, a CPE's Q in F s^(α-1), α and sigma_rel none
+UNITS = {"R0": "Ohm", "R1": "Ohm", "CPE1.Q": "F s^(alpha-1)", "CPE1.alpha": "1", "sigma_rel": "1"}
+
+
+@pytest.mark.slow  # (the module's results)
+@pytest.mark.parametrize("kind", ["posterior", "joint posterior"])
+def test_a_posterior_names_its_parameters_units_as_a_fit_does(results, kind, tmp_path):
+    """A fit's Dataset had a ``unit`` coordinate along ``param``, a posterior's only an attribute
+    list ``units``: the same quantity, found in two places."""
+    ds = results[kind].to_xarray()
+    units = dict(zip(ds["param"].values.tolist(), ds["unit"].values.tolist()))
+    assert units == {name: UNITS[name.split("[")[0]] for name in units}, units  # (a joint posterior's per-spectrum names: R0[cell=1])
+    fit = results["fit"].to_xarray()
+    assert all(units[p] == u for p, u in zip(fit["param"].values.tolist(), fit["unit"].values.tolist()) if p in units)
+    ix.write_result(results[kind], tmp_path / "p.nc")
+    assert read_netcdf(tmp_path / "p.nc")["unit"].values.tolist() == ds["unit"].values.tolist()
+

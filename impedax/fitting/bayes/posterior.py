@@ -26,7 +26,7 @@ from ...io.netcdf import result_dataset
 from ..derived import bind_frequency, called, draw_indices, draws_band, needs_freq
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
-from ..least_squares.result import bounds_attr, fit_warning_tags, note_value_attrs, shown_stderr, stored_bounds, stored_note_values, without_sample_advice
+from ..least_squares.result import PARAMETER_UNIT_NAME, bounds_attr, fit_warning_tags, note_value_attrs, shown_stderr, stored_bounds, stored_note_values, without_sample_advice
 from ..frozen import FrozenResult, freeze_fields
 from .chain import capped_at, length_text
 from .evidence import EvidenceDoubt, WaicDoubt, evidence_doubt_of_notes, model_comparison_notes_of, short_chain_waic_note, waic_doubts
@@ -555,7 +555,8 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
     # -- storage --------------------------------------------------------------------------
     def to_xarray(self) -> xr.Dataset:
         """Draws (walker, draw, param), log_prob, diagnostics, summaries, the least-squares
-        start and the data; `Posterior.from_xarray` rebuilds the posterior from it."""
+        start and the data; ``unit`` along ``param`` gives each sampled parameter's unit (as a
+        fit's Dataset does); `Posterior.from_xarray` rebuilds the posterior from it."""
         q = self.quantiles()
         fr = self.fit
         names = list(fr.values)
@@ -604,6 +605,7 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             "walker": kept_walkers(self.n_walkers, self.stragglers),  # (the run's numbering: stragglers left out)
             "draw": np.arange(self.n_draws),
             "param": list(self.names),
+            "unit": ("param", list(self.units), {"long_name": PARAMETER_UNIT_NAME}),  # (as a fit's Dataset names its parameters' units)
             "circuit_param": names,
             "free_param": free,
             "free_param_2": free,

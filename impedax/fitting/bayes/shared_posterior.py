@@ -40,7 +40,7 @@ from ..least_squares import SharedFitResult, fit
 from ..least_squares.batch import stored_batch_tags
 from ..least_squares.branches import left_to_priors
 from ..least_squares.notes import tags_attr
-from ..least_squares.result import parameter_groups, without_sample_advice
+from ..least_squares.result import PARAMETER_UNIT_NAME, parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
 from ..frozen import FrozenResult, freeze_fields
@@ -527,7 +527,7 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
                     "warning_tags": None if fr.warning_tags is None else {k: tags_attr(v) for k, v in fr.warning_tags.items()}},  # (its warnings' tags, as a joint fit's .nc)
             "fit_variables": stored, "fit_dims": stored_dims, "straggler_walkers": list(self.stragglers.walkers), "stragglers": self.stragglers.to_attr(),
         }
-        coords = {"walker": kept_walkers(self.n_walkers, self.stragglers), "draw": np.arange(self.n_draws), "param": list(self.names), **fit_coords}
+        coords = {"walker": kept_walkers(self.n_walkers, self.stragglers), "draw": np.arange(self.n_draws), "param": list(self.names), "unit": ("param", list(self.units), {"long_name": PARAMETER_UNIT_NAME}), **fit_coords}
         return result_dataset(xr.Dataset(data, coords=coords, attrs=attrs).copy(deep=True))
 
     @classmethod
