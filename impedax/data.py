@@ -652,7 +652,7 @@ def concise_repr(result) -> str:
         elif isinstance(value, (tuple, list, dict)) and len(value) > 6:
             text = f"<{len(value)} {'entries' if isinstance(value, dict) else 'items'}>"
         else:
-            text = repr(value)
+            text = " ".join(repr(value).split())  # (one line: a nested result's repr may hold a NumPy array's lines)
             text = text if len(text) <= 100 else text[:97] + "…"
         parts.append(f"{f.name}={text}")
     return f"{type(result).__name__}({', '.join(parts)})"

@@ -149,3 +149,9 @@ def test_a_posterior_names_its_parameters_units_as_a_fit_does(results, kind, tmp
     ix.write_result(results[kind], tmp_path / "p.nc")
     assert read_netcdf(tmp_path / "p.nc")["unit"].values.tolist() == ds["unit"].values.tolist()
 
+
+@pytest.mark.slow  # (the module's results)
+def test_a_joint_posterior_repr_is_one_short_line(results):
+    """Its generated repr printed every draw: 215 lines after 20 steps (tests/test_result_reprs.py)."""
+    text = repr(results["joint posterior"])
+    assert text.startswith("SharedPosterior(") and "draws=<float64 array (32, " in text and "\n" not in text and len(text) < 2000, text[:300]

@@ -15,7 +15,7 @@ import xarray as xr
 from ..arguments import checked_arguments, sequence_of
 from ..circuits import DEFAULT_REGISTRY, Circuit, Registry
 from ..circuits.nesting import embedding
-from ..data import column_width, format_quantity, report_text
+from ..data import column_width, concise_repr, format_quantity, report_text
 from ..errors import FitError, FitsNotComparable
 from ..io.netcdf import result_dataset
 from .least_squares import BatchFitResult, FitResult
@@ -173,6 +173,7 @@ class Comparison(FrozenResult):
     """The comparison table, one row per model in the order given; ``best`` has the lowest AIC
     (AIC ranks; ``aic_form`` says which AIC, `criteria`; `best_aicc_index` the lowest AICc)."""
 
+    __repr__ = concise_repr  # (the generated one printed every row of the table in full)
     __str__ = report_text  # (print(result): its report)
 
     rows: tuple[dict, ...]

@@ -41,7 +41,7 @@ import xarray as xr
 
 from ..progress import quiet_beneath
 from ..circuits import DEFAULT_REGISTRY, parse
-from ..data import point_text, report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
+from ..data import concise_repr, point_text, report_text, format_band, format_frequency, format_percent, format_quantity, si_prefix
 from ..arguments import GAP_MIN_STEPS, MAX_WALKERS, checked_arguments, choice, count, flag, real, relative_permittivity_number, seed, shown
 from ..errors import IN_MEMORY, CircuitError, DataError, ParameterError
 from ..io.netcdf import result_dataset
@@ -152,6 +152,7 @@ class GapAnalysis(FrozenResult):
     mean itself and the force's drive falls across the contact alone (module docstring).
     """
 
+    __repr__ = concise_repr  # (the generated one printed every array and Dataset)
     __str__ = report_text  # (print(result): its report)
 
     remaining: xr.Dataset

@@ -53,7 +53,7 @@ import xarray as xr
 
 from ...arguments import MAX_SAMPLER_STEPS, checked_arguments, count, progress_line_flag, real, refuse_unknown_keywords, sequence_of, seed as seed_rule
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
-from ...data import column_width, make_spectrum, report_text, unit_text
+from ...data import column_width, concise_repr, make_spectrum, report_text, unit_text
 from ...errors import DataError, FitError, ParameterError
 from ...io.netcdf import result_dataset
 from ...progress import quiet_beneath
@@ -713,6 +713,7 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
     by an older version), which the prior-edge check (`piled_up`) needs for those.
     """
 
+    __repr__ = concise_repr  # (the generated one printed every array and Dataset)
     __str__ = report_text  # (print(result): its report)
 
     circuit: Circuit

@@ -33,7 +33,7 @@ import xarray as xr
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...errors import DataError, ParameterError
 from ...io.netcdf import result_dataset
-from ...data import checked_frequencies, column_width, counted, exact_number, report_text, unit_text
+from ...data import checked_frequencies, column_width, concise_repr, counted, exact_number, report_text, unit_text
 from ...warning_groups import grouped_warning_tags, grouped_warnings
 from ..derived import draw_indices, draws_band, needs_freq
 from ..least_squares import SharedFitResult, fit
@@ -124,6 +124,7 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
     ``dataset["Z"]`` the data), ``sigma`` the data's σ [Ω] if it has one (shaped as that Z),
     ``stragglers`` the run's walkers left out of the draws (`find_stragglers`)."""
 
+    __repr__ = concise_repr  # (the generated one printed every array and Dataset)
     __str__ = report_text  # (print(result): its report)
 
     circuit: Circuit

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...circuits.tree import Element, Parallel, Series
+from ...data import concise_repr
 from ...errors import CircuitError, ParameterError
 from ...io.netcdf import result_dataset
 from ..arcs import arc_taus
@@ -65,6 +66,8 @@ class AnalyticDRT(FrozenResult):
     """The DRT of a circuit: ``gamma`` [Ω] on ``tau`` [s] (continuous part), ``deltas``
     ((τ [s], R [Ω]) of ideal R‖C blocks), ``r_inf_ohm``, ``l_h``, ``c_f`` (inf: none) and the
     circuit text."""
+
+    __repr__ = concise_repr  # (the generated one printed every array)
 
     tau: np.ndarray
     gamma: np.ndarray
