@@ -31,6 +31,7 @@ from .errors import ParameterError
 
 __all__ = [
     "checked_arguments",
+    "frequency_bands",
     "literal_text",
     "variants_named",
     "count",
@@ -383,6 +384,28 @@ def instance_of(*types: type, optional: bool = False, what: str = "") -> Rule:
         raise ParameterError(f"{name} must be {expected}, got {shown(value)} ({type(value).__name__})")
 
     return check
+
+
+def frequency_bands(value, name):
+    """None, or frequency bands to shade, ``[(f_min, f_max), ...]`` in Hz, each 0 < f_min < f_max
+    finite; returned as a list of float pairs (a wrong one raised ValueError "too many values to
+    unpack" from inside the figure code)."""
+    if value is None:
+        return None
+    example = "e.g. [(10.0, 100.0)]"
+    if isinstance(value, (str, bytes, Mapping)) or not hasattr(value, "__iter__"):
+        raise ParameterError(f"{name} must be a list of (f_min, f_max) bands in Hz, {example}; got {shown(value)} ({type(value).__name__})")
+    out = []
+    for i, band in enumerate(value):
+        pair = tuple(band) if isinstance(band, (tuple, list, np.ndarray)) else None
+        try:
+            lo, hi = (float(v) for v in pair) if pair is not None and len(pair) == 2 else (math.nan, math.nan)
+        except (TypeError, ValueError):
+            lo = hi = math.nan
+        if not (0.0 < lo < hi < math.inf):
+            raise ParameterError(f"{name}[{i}] must be a band (f_min, f_max) in Hz with 0 < f_min < f_max, {example}; got {shown(band)}")
+        out.append((lo, hi))
+    return out
 
 
 def _mapping(value, name, what: str, example: str = "{'R1': 100.0}"):

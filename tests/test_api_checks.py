@@ -248,6 +248,34 @@ def test_derive_names_fn_that_returns_no_numbers(results, returned):
     assert str(info.value).startswith("derive: fn (tau) must return a number or an array of numbers, got ") and type(returned).__name__ in str(info.value)
 
 
+@pytest.mark.parametrize("bands, said", [
+    ([(1.0, 2.0, 3.0)], "bands[0] must be a band (f_min, f_max) in Hz with 0 < f_min < f_max, e.g. [(10.0, 100.0)]; got (1.0, 2.0, 3.0)"),
+    ([(100.0, 10.0)], "bands[0] must be a band (f_min, f_max) in Hz with 0 < f_min < f_max, e.g. [(10.0, 100.0)]; got (100.0, 10.0)"),
+    ("10-100", "bands must be a list of (f_min, f_max) bands in Hz, e.g. [(10.0, 100.0)]; got '10-100' (str)"),
+])
+def test_fit_plot_names_a_wrong_band(results, bands, said):
+    """A band of three numbers raised ValueError "too many values to unpack" from the figure code."""
+    with pytest.raises(ix.ParameterError) as info:
+        results["fit"].plot(bands=bands)
+    assert str(info.value) == said
+
+
+def test_fit_plot_shades_the_bands_given(results):
+    import matplotlib.pyplot as plt
+
+    fig = results["fit"].plot(bands=[(10, 100.0)])
+    spans = [(p.get_x(), p.get_x() + p.get_width()) for ax in fig.axes for p in ax.patches if hasattr(p, "get_width")]
+    plt.close(fig)
+    assert (10.0, 100.0) in spans, spans
+
+
+def test_drt_plot_names_a_fit_given_as_overlay(results):
+    """A FitResult as overlay raised AttributeError "'FitResult' object has no attribute 'tau'"."""
+    with pytest.raises(ix.ParameterError) as info:
+        results["drt"].plot(overlay=results["fit"])
+    assert str(info.value) == "overlay must be a DRT, an AnalyticDRT or a DRTResult (a fit's DRT is impedax.fitting.drt.circuit_drt(fit)); got FitResult"
+
+
 def test_validate_spectrum_formats_numbers_plainly():
     ds = ix.make_spectrum(FREQ, rc_impedance(FREQ)).assign_coords(frequency=np.r_[-1.0, FREQ[1:]])
     with pytest.raises(ix.DataError) as info:

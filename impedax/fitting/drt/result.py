@@ -10,7 +10,7 @@ import numpy as np
 import xarray as xr
 
 from ...data import checked_frequencies, concise_repr, report_text, counted, format_lambda, format_quantity, format_time, format_uncertain, label_text
-from ...errors import IN_MEMORY
+from ...errors import IN_MEMORY, ParameterError
 from ...io.netcdf import result_dataset
 from .peaks import ROUNDOFF_SHARE, Peak, below_roundoff, counted_peaks
 from ..grid import ResultGrid
@@ -467,6 +467,9 @@ class DRTResult(FrozenResult):
         axes. Returns a matplotlib Figure (see `impedax.plotting.drt.plot_drt`)."""
         from ...plotting.drt import plot_drt
 
+        if overlay is not None and not (hasattr(overlay, "tau") and hasattr(overlay, "gamma")):  # (a FitResult raised "'FitResult' object has no attribute 'tau'" from the figure code)
+            fit = " (a fit's DRT is impedax.fitting.drt.circuit_drt(fit))" if hasattr(overlay, "circuit") else ""
+            raise ParameterError(f"overlay must be a DRT, an AnalyticDRT or a DRTResult{fit}; got {type(overlay).__name__}")
         return plot_drt(self, overlay=overlay, title=title)
 
 

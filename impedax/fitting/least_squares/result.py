@@ -15,6 +15,7 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
+from ...arguments import frequency_bands
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, compile_circuit, parse
 from ...data import checked_frequencies, column_width, concise_repr, exact_number, report_text, format_bound, format_factor, format_frequency, format_quantity, format_relative_error, format_uncertain, unit_text, value_span
 from ...errors import DataError
@@ -468,10 +469,12 @@ class FitResult(FrozenResult):
         return derive_fit(self, fn, freq, constants)
 
     def plot(self, *, title: str | None = None, bands=None, figsize: tuple[float, float] | None = None):
-        """Data vs model: Nyquist, Bode and relative residuals (matplotlib Figure);
+        """Data vs model: Nyquist, Bode and relative residuals (matplotlib Figure); ``bands``
+        [(f_min, f_max), ...] in Hz shaded on the frequency axes (a diagnosis' failing bands);
         ``figsize`` (width, height) [in] in place of the size that follows the spectrum's shape."""
         from ...plotting import model_curve, plot_spectrum
 
+        bands = frequency_bands(bands, "bands")
         return plot_spectrum(
             (self.frequency, self.z_data),
             model_curve(self),
