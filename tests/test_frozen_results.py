@@ -263,3 +263,18 @@ def test_a_copy_of_a_result_reuses_its_frozen_mappings_and_a_rebuilt_one_is_froz
     plain = ReadOnlyDict({"a": np.arange(3.0)})  # (made by a caller, not by a result: its array writable)
     frozen = dataclasses.replace(batch, warnings=plain, warning_tags=None).warnings
     assert frozen is not plain and not frozen["a"].flags.writeable
+
+
+@pytest.mark.parametrize("key, said", [
+    ("R_1", "'R_1'; did you mean 'R1'? (the keys: R0, R1, CPE1.Q, CPE1.alpha)"),
+    ("CPE1.a", "'CPE1.a'; did you mean 'CPE1.alpha'? (the keys: R0, R1, CPE1.Q, CPE1.alpha)"),  # (the name it begins, not difflib's CPE1.Q)
+    ("zzz", "'zzz' (the keys: R0, R1, CPE1.Q, CPE1.alpha)"),
+])
+def test_a_missing_key_names_the_keys_there_are(key, said):
+    """``fit.values["R_1"]`` raised a plain KeyError: 'R_1'; it stays a KeyError with the key as
+    its argument (code that catches it reads the same), and its text helps."""
+    values = ReadOnlyDict({"R0": 1.0, "R1": 2.0, "CPE1.Q": 3.0, "CPE1.alpha": 0.9})
+    with pytest.raises(KeyError) as info:
+        values[key]
+    assert info.value.args == (key,) and str(info.value) == said
+    assert values.get(key) is None and key not in values  # (get and `in` unchanged)

@@ -13,12 +13,31 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import difflib
 
 import jax
 import numpy as np
 import xarray as xr
 
-__all__ = ["FrozenResult", "ReadOnlyDict", "freeze_fields", "read_only", "read_only_array", "read_only_dataset"]
+__all__ = ["FrozenResult", "ReadOnlyDict", "MissingKey", "freeze_fields", "read_only", "read_only_array", "read_only_dataset"]
+
+
+class MissingKey(KeyError):
+    """The KeyError of a result's mapping (``fit.values["R_1"]``): ``args[0]`` is the key, as a
+    KeyError's (code that reads it is unchanged), and its text names the closest key and the keys
+    there are, where a plain KeyError said ``'R_1'`` alone."""
+
+    def __init__(self, key, known):
+        super().__init__(key)
+        self.known = tuple(known)
+
+    def __str__(self) -> str:
+        key = self.args[0]
+        names = [str(k) for k in self.known]
+        close = [n for n in names if n.startswith(str(key))][:1] or difflib.get_close_matches(str(key), names, n=1)  # ('CPE1.a': CPE1.alpha)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        listed = ", ".join(names[:12]) + (", …" if len(names) > 12 else "")
+        return f"{key!r}{hint} (the keys: {listed or 'none'})"
 
 
 class ReadOnlyDict(dict):
@@ -32,6 +51,9 @@ class ReadOnlyDict(dict):
         raise TypeError("a result's mapping is read-only: dict(...) gives an editable copy")
 
     __setitem__ = __delitem__ = __ior__ = clear = pop = popitem = setdefault = update = _refuse
+
+    def __missing__(self, key):
+        raise MissingKey(key, self)
 
     def __reduce__(self):
         return (ReadOnlyDict, (dict(self),))
