@@ -554,6 +554,10 @@ class Comparison(FrozenResult):
         return [f"bounded in {row['label']}: {user_bounds_text(fit)}" for row, fit in zip(self.rows, self.fits) if fit.bounds]
 
     def to_xarray(self) -> xr.Dataset:
+        """The criteria of each model over ``model`` (its label; ``circuit`` the model's text),
+        as the report's table (rms_rel, chi2_red, AIC, AICc, BIC, ΔAIC, Akaike weights, ...), and
+        the F-tests over ``f_test`` (``f_test_simple``, ``f_test_complex``, F, degrees of freedom,
+        p, valid, note); ``impedax_kind`` "comparison". The fits themselves are not in it."""
         # the coordinate "model" holds the labels (`fit_label`: a fit with fixed values named by
         # them, so each fit has its own); the variable "circuit" the models' text; "bounds" and
         # "undetermined" as in `to_table` (``;``-joined, "" for none); "same_fit_as" the label or ""

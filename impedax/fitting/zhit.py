@@ -144,6 +144,10 @@ class ZHITResult(FrozenResult):
         return n >= CONCLUSIVE_POINTS_MIN and n - 1 >= CONCLUSIVE_PER_DECADE_MIN * decades
 
     def to_xarray(self) -> xr.Dataset:
+        """The data ``Z``, |Z| reconstructed from the phase (``modulus_zhit``), the residuals
+        (|Z| − |Z|_ZHIT)/|Z|, flags over ``frequency``; bad bands over ``band``; rms_rel, the
+        noise estimate and the verdict as scalars; thresholds in attrs (``impedax_kind``
+        "zhit"; written by `impedax.write_result`, read back by `impedax.io.read_netcdf`)."""
         end_local = self.end_slope_local if self.end_slope_local is not None else np.zeros(self.frequency.size, bool)
         return result_dataset(xr.Dataset(
             {
