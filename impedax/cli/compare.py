@@ -69,6 +69,7 @@ def run(args) -> int:
     bounds = [checked_bound_options({k: v for k, v in given["--bound"].items() if k in ns}, c.parameter_specs(args.registry), init=given["--init"], fixed=given["--fix"]) for c, ns in zip(circuits, names)]
     for c, ns in zip(circuits, names):  # (each fixed value within its element's bounds, before the data are read: no note printed before the refusal)
         check_bounds({k: v for k, v in given["--fix"].items() if k in ns}, c.parameter_specs(args.registry), "--fix")
+        check_bounds({k: v for k, v in given["--init"].items() if k in ns and k not in given["--bound"]}, c.parameter_specs(args.registry), "--init")
     outputs = plan_outputs([("--out", out_path(args.out), "result"), ("--plot", args.plot, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     max_steps = check_max_steps(args.max_steps)
     data = open_spectrum(exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)).data

@@ -66,13 +66,16 @@ def effects_option(text):
 def fixed_option(args) -> dict[str, float]:
     """``--fix NAME=VALUE`` as ``fixed=`` (`common.parse_assignments`), its names checked
     against ``--model``'s parameters before the data are read (`common.check_parameter_names`:
-    --fix C_I=1n → did you mean C_i?), as impedax fit checks them."""
+    --fix C_I=1n → did you mean C_i?) and each value against its element's bounds
+    (`common.check_bounds`), as impedax fit checks them."""
     from .. import parse
-    from .common import check_parameter_names, parse_assignments
+    from .common import check_bounds, check_parameter_names, parse_assignments
 
     fixed = parse_assignments(args.fix, "--fix")
     if fixed:
-        check_parameter_names(fixed, parse(args.model, args.registry).parameter_names(args.registry), "--fix", args.model, args.registry)
+        circuit = parse(args.model, args.registry)
+        check_parameter_names(fixed, circuit.parameter_names(args.registry), "--fix", args.model, args.registry)
+        check_bounds(fixed, circuit.parameter_specs(args.registry), "--fix")
     return fixed
 
 
@@ -154,10 +157,6 @@ def run_spectrum_command(args, command: str, analyse, **settings):
     # catalog need it) and the baseline fit compiles: a diagnose run on a loaded 2-core machine
     # said nothing for 17–21 s
     paper = getattr(args, "paper_model", None)
-    if paper:  # (the name read as its circuit; the baseline fit guesses its start as for any circuit: the decisions are the circuit's)
-        from .common import paper_start_note
-
-        print(paper_start_note(command, paper, args.model, args.paper_values, starts=False), file=sys.stderr)
     progress = progress_printer(quiet=args.quiet)
     try:
         progress(f"{'diagnosing' if command == 'diagnose' else 'refining'} {args.model} on {shown_path(args.data)}: loading the fitting code, then the baseline fit "
@@ -167,6 +166,10 @@ def run_spectrum_command(args, command: str, analyse, **settings):
         fixed = fixed_option(args)
         bounds = bounds_option(args, fixed)
         data = exclude_points(load_selected(args.data, args.select, single=f"impedax {command}", readers=args.readers), args.exclude)
+        if paper:  # (the name read as its circuit; the baseline fit guesses its start as for any circuit: the decisions are the circuit's. Said after the checks and the data: a refusal is the only line)
+            from .common import paper_start_note
+
+            print(paper_start_note(command, paper, args.model, args.paper_values, starts=False), file=sys.stderr)
         result = analyse(data, args.model, effects=effects, noise=noise, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress,
                          fixed=fixed or None, bounds=bounds or None, registry=args.registry, mask=not args.keep_all_points, **settings)
         source = data_source(data)

@@ -137,7 +137,7 @@ def run(args) -> int:
     from .. import BatchFitResult, FitResult, fit, parse
     from ..fitting.least_squares.result import misfit_hint
     from ..errors import ParameterError
-    from .common import check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
+    from .common import check_bounds, check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
 
     outputs = plan_outputs([("--out", args.out, "fit"), ("--plot", args.plot, "figure"), ("--residual-map", args.residual_map, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     latex = bool(args.out) and Path(args.out).suffix.lower() == LATEX_SUFFIX
@@ -151,13 +151,10 @@ def run(args) -> int:
     given_bounds = parse_bounds(args.bound)
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
         check_parameter_names(given, names, flag, args.model, args.registry)
+    check_bounds(fixed, circuit.parameter_specs(args.registry), "--fix")  # (before the data are read: nothing printed before the refusal)
+    check_bounds({k: v for k, v in init.items() if k not in given_bounds}, circuit.parameter_specs(args.registry), "--init")
     bounds = checked_bound_options(given_bounds, circuit.parameter_specs(args.registry), init=init, fixed=fixed)
     paper = getattr(args, "paper_model", None)
-    if paper:  # (a paper model's values start the fit, --init over them; said once)
-        from .common import paper_start, paper_start_note
-
-        print(paper_start_note("fit", paper, args.model, args.paper_values, init), file=sys.stderr)
-        init = paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     plot_params = args.plot_params
     if plot_params is not None:
         if not args.plot:
@@ -177,6 +174,11 @@ def run(args) -> int:
         raise ParameterError(f"--plot-params picks the parameter panels of a figure of several spectra, and {args.data} holds one (its figure is data against model, no parameter panels): leave --plot-params out")
     if args.plot_x is not None:  # (checked before the fit, as every argument)
         check_plot_x(args.plot_x, data, args.data, given_plot=bool(args.plot))
+    if paper:  # (a paper model's values start the fit, --init over them; said once, after every check: a refusal is the only line)
+        from .common import paper_start, paper_start_note
+
+        print(paper_start_note("fit", paper, args.model, args.paper_values, init), file=sys.stderr)
+        init = paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     try:  # (fit says its stages: the first line, then a batch's start search, local fits, statistics)
         result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, registry=args.registry, **sharing)
     finally:

@@ -173,6 +173,22 @@ def check_corner_labels(names, data, over) -> None:
             raise ParameterError(f"--corner-params: {name}: {rest[:-1]!r} is not a spectrum of the data along {', '.join(dims)} (labels: {', '.join(labels)}); give {base}[LABEL] with one of them")
 
 
+def check_prior_names(priors, circuit, fixed, args) -> None:
+    """A `ParameterError` naming ``--prior`` for a prior on a name that is no parameter of the
+    circuit (nor ``sigma_rel``, the noise's scale; the sampler judges it against --noise), with the nearest
+    name, or on a parameter ``fixed`` (--fix): before the data are read and the start is fitted,
+    as --fix and --init are checked (the sampler's own message came after the start fit, without
+    the option's name)."""
+    from ..arguments import number_text
+    from ..errors import ParameterError
+    from .common import check_parameter_names
+
+    check_parameter_names(priors, [*circuit.parameter_names(args.registry), "sigma_rel"], "--prior", args.model, args.registry)
+    for name in priors:
+        if name in fixed:
+            raise ParameterError(f"--prior {name}: {name} is fixed (--fix {name}={number_text(fixed[name])}), so it is not sampled; give one or the other")
+
+
 def _joint_names(free, shared, extra) -> list[str]:
     """The names a joint posterior's parameters take (for a message): the shared ones, NAME[LABEL] for the others."""
     return [*(n for n in free if n in shared), *(f"{n}[LABEL]" for n in free if n not in shared), *extra]
@@ -218,12 +234,9 @@ def run(args) -> int:
         raise ParameterError("--init and --max-steps are not available with --shared (the joint posterior starts from its own global fit); --fix is available")
     if sharing and bounds:
         raise ParameterError("--bound is not available with --shared (the joint posterior samples within the elements' own bounds); --fix is available")
+    check_bounds({k: v for k, v in init.items() if k not in given_bounds}, circuit.parameter_specs(args.registry), "--init")
+    check_prior_names(priors, circuit, fixed, args)
     paper = getattr(args, "paper_model", None)
-    if paper:  # (a paper model's values start the least-squares start fit, --init over them; said once)
-        from .common import paper_start, paper_start_note
-
-        print(paper_start_note("sample", paper, args.model, args.paper_values, init, starts=not sharing), file=sys.stderr)
-        init = init if sharing else paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
     if corner_names is not None:  # (before the data are read, the start fitted and the sampler compiled)
         check_corner_names(corner_names, circuit.parameter_names(args.registry), fixed, sharing.get("shared"), args.noise)
@@ -232,6 +245,11 @@ def run(args) -> int:
     data = exclude_points(data, args.exclude)
     if corner_names is not None and sharing:
         check_corner_labels(corner_names, data, sharing.get("over"))
+    if paper:  # (a paper model's values start the least-squares start fit, --init over them; said once, after every check: a refusal is the only line)
+        from .common import paper_start, paper_start_note
+
+        print(paper_start_note("sample", paper, args.model, args.paper_values, init, starts=not sharing), file=sys.stderr)
+        init = init if sharing else paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     note_unused_sigma(data, "sample", str(args.noise) == "sigma", "--noise sigma")
     start = None
     if init or max_steps is not None:  # the least-squares start, as `sample` runs it, from the given values or step limit
