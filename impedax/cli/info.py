@@ -55,13 +55,22 @@ def run(args) -> int:
         return 0
     print(f"model: {paper} = {circuit}" if paper else f"model: {circuit}")
     if paper:
-        print(f"default: {PAPER_DEFAULTS_LINE} (source in [ ]; the elements' own defaults are --json's \"default\")")
+        import textwrap
+
+        print(textwrap.fill(f"default: {PAPER_DEFAULTS_LINE} (source in [ ]; the elements' own defaults are --json's \"default\")", 80, subsequent_indent="  ", break_on_hyphens=False))
+    # (each column as wide as its widest entry: fixed widths of 14 and 15 put a row of R and C
+    # past 80 columns, "R_sc  Ω" then 17 blanks)
+    specs = [p for e in circuit.elements() for p in registry[e.symbol].parameters]
+    defaults = [f"{r['paper_value'] if paper else r['default']:.4g}" for r in rows]
     width = column_width((r["name"] for r in rows), "parameter")
-    print(f"{'parameter':<{width}}  {'unit':<14} {'default':>10}  bounds          description")
-    for r, p in zip(rows, (p for e in circuit.elements() for p in registry[e.symbol].parameters)):
+    unit_width = column_width((unit_text(r["unit"]) for r in rows), "unit")
+    default_width = column_width(defaults, "default")
+    bounds_width = column_width((p.bounds_text() for p in specs), "bounds")
+    print(f"{'parameter':<{width}}  {'unit':<{unit_width}}  {'default':>{default_width}}  {'bounds':<{bounds_width}}  description")
+    for r, p, default in zip(rows, specs, defaults):
         described = f"{r['element_kind']}: {r['description']}" if r["description"].strip() else r["element_kind"]  # (a user's element may declare none)
-        default, source = (r["paper_value"], f" [{r['paper_value_source']}]") if paper else (r["default"], "")
-        print(f"{r['name']:<{width}}  {unit_text(r['unit']):<14} {default:>10.4g}  {p.bounds_text():<15} {described}{source}")
+        source = f" [{r['paper_value_source'].removeprefix('Meyer 2012 thesis, ')}]" if paper else ""  # (the "default:" line names the thesis)
+        print(f"{r['name']:<{width}}  {unit_text(r['unit']):<{unit_width}}  {default:>{default_width}}  {p.bounds_text():<{bounds_width}}  {described}{source}")
     symbol_width = column_width((k["symbol"] for k in elements), "element")
     kind_width = column_width((k["element_kind"] for k in elements), "kind")
     print(f"{'element':<{symbol_width}}  {'kind':<{kind_width}}  equation (ω = 2πf)")
