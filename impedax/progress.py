@@ -121,6 +121,9 @@ columns, a report would be more breaks than words."""
 _COMMAND = re.compile(r": (impedax (?:fit|refine) .*)$")
 # the space between a number and its unit ("390 mHz", "2.8 %", "41.9 Ω"), which a wrapped line keeps
 _UNIT_SPACE = re.compile(r"(\d) (?=(?:%|[pnµmkMG]?(?:Hz|Ω|F|H|s|V|A)\b))")
+# a shell-quoted word of a command within prose ("next: impedax diagnose F --model 'R0 + R1 || C1'
+# (where …)"), which a wrapped line keeps whole: broken at its blanks, a pasted line splits the model
+_QUOTED = re.compile(r"(?<=[\s=])'[^'\s][^']*'(?=[\s),;]|$)")
 
 
 def terminal_width(stream) -> int | None:
@@ -166,7 +169,7 @@ def terminal_text(text: str, width: int) -> str:
         found = _COMMAND.search(line)
         prose, command = (line[:found.start() + 1], found.group(1)) if found else (line, "")
         if len(prose) > width:  # (a number kept with its unit: "near 390" and "mHz" on two lines read badly)
-            kept = _UNIT_SPACE.sub("\\1\u00a0", prose)
+            kept = _QUOTED.sub(lambda m: m.group(0).replace(" ", "\u00a0"), _UNIT_SPACE.sub("\\1\u00a0", prose))
             out += [part.replace("\u00a0", " ") for part in textwrap.wrap(kept, width, subsequent_indent=indent + "    ", break_long_words=False, break_on_hyphens=False)]
         else:
             out.append(prose)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import decimal
 import functools
 import json
@@ -1869,6 +1870,27 @@ def json_in_command_words(summary, command: str | None):
         return obj
 
     return walk(summary, False)
+
+
+@contextlib.contextmanager
+def to_terminal(text: bool):
+    """What is printed inside, wrapped to the terminal's width (`progress.terminal_text`) when
+    ``text`` goes to a terminal (standard output a TTY of at least 40 columns,
+    `progress.terminal_width`; the progress lines on stderr are wrapped alike,
+    `progress.terminal_line`); else printed as it is. The reports of diagnose, refine, fit,
+    sample, kk, drt, gap and compare (not its table, whose rows keep their columns)."""
+    import io
+
+    from ..progress import terminal_text, terminal_width
+
+    width = terminal_width(sys.stdout) if text else None
+    if width is None:
+        yield
+        return
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        yield
+    sys.stdout.write(terminal_text(buffer.getvalue().rstrip("\n"), width) + "\n")
 
 
 def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, *, command: str | None = None, written: str | None = None, **report_options) -> None:

@@ -149,21 +149,28 @@ def run(args) -> int:
 
             print(f"next: {diagnose_command(args, data, hints['worst']['labels'], comparison.batches[comparison.labels.index(hints['worst']['model'])].model)} (where the best model fails on the worst of those spectra and what it misses)")
     elif not outputs.uses_stdout:  # (--out -: the JSON went to standard output)
-        print(comparison.table(warnings_below=True))  # (`warning_lines` prints them under it)
-        for fit_result in comparison.fits:  # (the table's rows do not show what was held)
-            held = {n: v for n, v in fit_result.values.items() if fit_result.fixed.get(n) and n in given["--fix"]}
-            if held:
-                specs = fit_result.circuit.parameter_specs(fit_result.registry)  # (the values with their units, as the bounds below: "R0 = 14 mΩ", not "0.014")
-                print(f"held fixed in {fit_result.model}: " + ", ".join(f"{n} = {format_bound(v, specs[n].unit)}" for n, v in held.items()))
-            if fit_result.bounds:  # (--bound: the table's rows do not show them either)
-                print(f"bounded in {fit_result.model}: " + user_bounds_text(fit_result))
-        print("\n".join(warning_lines(comparison)))
-        if comparison.best_misfit_hint() is not None:  # (the table's line says it; the command that shows what is missing)
-            import shlex
+        from .common import to_terminal
 
-            from .common import fit_command
+        lines = comparison.table(warnings_below=True).split("\n")
+        rows = 1 + len(comparison.fits)  # (the header and a row per model keep their columns; the lines under them are wrapped at words on a terminal)
+        print("\n".join(lines[:rows]))
+        with to_terminal(True):
+            if lines[rows:]:
+                print("\n".join(lines[rows:]))
+            for fit_result in comparison.fits:  # (the table's rows do not show what was held)
+                held = {n: v for n, v in fit_result.values.items() if fit_result.fixed.get(n) and n in given["--fix"]}
+                if held:
+                    specs = fit_result.circuit.parameter_specs(fit_result.registry)  # (the values with their units, as the bounds below: "R0 = 14 mΩ", not "0.014")
+                    print(f"held fixed in {fit_result.model}: " + ", ".join(f"{n} = {format_bound(v, specs[n].unit)}" for n, v in held.items()))
+                if fit_result.bounds:  # (--bound: the table's rows do not show them either)
+                    print(f"bounded in {fit_result.model}: " + user_bounds_text(fit_result))
+            print("\n".join(warning_lines(comparison)))
+            if comparison.best_misfit_hint() is not None:  # (the table's line says it; the command that shows what is missing)
+                import shlex
 
-            print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(comparison.best)} (where the best model fails and what it misses)")
+                from .common import fit_command
+
+                print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(comparison.best)} (where the best model fails and what it misses)")
     if not args.json and not outputs.uses_stdout:
         note_skipped_rows(data, "compare", args.data)
     return 0

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import sys
 
 
@@ -119,25 +118,7 @@ def run(args) -> int:
 
 
 from ..progress import terminal_text as terminal_text  # (the reports' and the progress lines' wrapping: `to_terminal`)
-
-
-@contextlib.contextmanager
-def to_terminal(text: bool):
-    """What is printed inside, wrapped to the terminal's width (`terminal_text`) when ``text``
-    goes to a terminal (standard output a TTY of at least 40 columns, `progress.terminal_width`;
-    the progress lines on stderr are wrapped alike, `progress.terminal_line`); else printed as it is."""
-    import io
-
-    from ..progress import terminal_width
-
-    width = terminal_width(sys.stdout) if text else None
-    if width is None:
-        yield
-        return
-    buffer = io.StringIO()
-    with contextlib.redirect_stdout(buffer):
-        yield
-    sys.stdout.write(terminal_text(buffer.getvalue().rstrip("\n"), width) + "\n")
+from .common import to_terminal as to_terminal  # (where it lives: every command's report is wrapped so)
 
 
 def run_spectrum_command(args, command: str, analyse, **settings):

@@ -100,11 +100,14 @@ def run(args) -> int:
     if args.json:
         emit_json(with_source(read.summary(), source, record))
     else:
-        print(command_line_words(result.report(), "drt"))
-        if kk_note:
-            print(f"note: {kk_note}")
-        print(_suggestion_line(result, args, data))
-        note_skipped_rows(data, "drt", args.data)
+        from .common import to_terminal
+
+        with to_terminal(True):  # (wrapped at words on a terminal, as diagnose's report)
+            print(command_line_words(result.report(), "drt"))
+            if kk_note:
+                print(f"note: {kk_note}")
+            print(_suggestion_line(result, args, data))
+            note_skipped_rows(data, "drt", args.data)
     return 0
 
 

@@ -137,7 +137,7 @@ def run(args) -> int:
     from .. import BatchFitResult, FitResult, fit, parse
     from ..fitting.least_squares.result import misfit_hint
     from ..errors import ParameterError
-    from .common import check_bounds, check_parameter_names, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
+    from .common import check_bounds, check_parameter_names, to_terminal, checked_bound_options, command_line_words, command_provenance, data_source, exclude_points, figure_options, figure_writer, latex_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, progress_printer, result_writer, skipped_rows, WithSummaryKeys, LATEX_SUFFIX
 
     outputs = plan_outputs([("--out", args.out, "fit"), ("--plot", args.plot, "figure"), ("--residual-map", args.residual_map, "figure")], inputs=[args.data], stdout="--json" if args.json else None)
     latex = bool(args.out) and Path(args.out).suffix.lower() == LATEX_SUFFIX
@@ -196,33 +196,34 @@ def run(args) -> int:
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once)
-        # (a batch's report groups its warnings by kind, naming the spectra, and ends with the hints computed above, not again; a global fit's too)
-        given_hints = {"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {}
-        print_result(read, args.json, source, record, command="fit", written=args.out, **given_hints)
-        if not args.json:
-            note_skipped_rows(data, "fit", args.data)
-            if hint:
-                import shlex
+        with to_terminal(not args.json):  # (wrapped at words on a terminal, as diagnose's report)
+            # (a batch's report groups its warnings by kind, naming the spectra, and ends with the hints computed above, not again; a global fit's too)
+            given_hints = {"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {}
+            print_result(read, args.json, source, record, command="fit", written=args.out, **given_hints)
+            if not args.json:
+                note_skipped_rows(data, "fit", args.data)
+                if hint:
+                    import shlex
 
-                from .common import fit_command
+                    from .common import fit_command
 
-                print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the hint above)")
-            elif isinstance(result, FitResult) and result.misses_structure:  # (a warning says the model misses structure: REAL Gamry, R0 + R1 || C1 at 30.1 %)
-                import shlex
+                    print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the hint above)")
+                elif isinstance(result, FitResult) and result.misses_structure:  # (a warning says the model misses structure: REAL Gamry, R0 + R1 || C1 at 30.1 %)
+                    import shlex
 
-                from .common import fit_command
+                    from .common import fit_command
 
-                print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the warning above)")
-            if batch_hints is not None:  # (the report's hint names the worst spectrum; its diagnosis)
-                from .common import diagnose_command
+                    print(f"next: {fit_command(args, data=data, program='impedax diagnose')} --model {shlex.quote(args.model)} (where the model fails and what it misses; the warning above)")
+                if batch_hints is not None:  # (the report's hint names the worst spectrum; its diagnosis)
+                    from .common import diagnose_command
 
-                across = "" if args.residual_map else "; --residual-map FIG.png on this command maps where it fails across all of them"
-                print(f"next: {diagnose_command(args, data, batch_hints['worst']['labels'], args.model)} (where the model fails on the worst of those spectra and what it misses{across})")
-            elif isinstance(result, BatchFitResult) and (worst := _worst_missing_structure(result)) is not None:  # (REAL battery cycles at 29–40 %)
-                from .common import diagnose_command
+                    across = "" if args.residual_map else "; --residual-map FIG.png on this command maps where it fails across all of them"
+                    print(f"next: {diagnose_command(args, data, batch_hints['worst']['labels'], args.model)} (where the model fails on the worst of those spectra and what it misses{across})")
+                elif isinstance(result, BatchFitResult) and (worst := _worst_missing_structure(result)) is not None:  # (REAL battery cycles at 29–40 %)
+                    from .common import diagnose_command
 
-                across = "" if args.residual_map else "; --residual-map FIG.png on this command maps where it fails across all of them"
-                print(f"next: {diagnose_command(args, data, worst, args.model)} (where the model fails on the worst of the spectra whose warnings say it misses structure, and what it misses{across})")
+                    across = "" if args.residual_map else "; --residual-map FIG.png on this command maps where it fails across all of them"
+                    print(f"next: {diagnose_command(args, data, worst, args.model)} (where the model fails on the worst of the spectra whose warnings say it misses structure, and what it misses{across})")
     if isinstance(result, FitResult) and not result.converged:  # (the report's status line says it; stderr too, as with --json)
         print(f"impedax fit: warning: the fit did not converge: {command_line_words(result.message, 'fit')}", file=sys.stderr)
     return 0

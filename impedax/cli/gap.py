@@ -225,7 +225,10 @@ def run(args) -> int:
     record = command_provenance(args, source=paths, data_files=list(paths.values()), **{f"{k}_used": v for k, v in used.items()})
     outputs.save({"--out": result_writer(result, provenance=record), "--plot": figure_writer(result.plot, source, **figure_options(args)), "--remaining": spectrum_writer(lambda: remainder_with_paths(result.remaining, paths), record, args.remaining)})
     if not outputs.uses_stdout:
-        print_result(result, args.json, provenance=record, command="gap")
+        from .common import to_terminal
+
+        with to_terminal(not args.json):  # (wrapped at words on a terminal, as diagnose's report)
+            print_result(result, args.json, provenance=record, command="gap")
     if args.remaining:  # (as impedax remaining says of its --out: 2026-12-06, gap --remaining FILE.csv said nothing)
         from .common import csv_sigma_note
 

@@ -85,17 +85,20 @@ def run(args) -> int:
     if args.json:
         emit_json(with_source(json_in_command_words(read.summary(), "kk"), source, record))
         return 0
-    if several:
-        print(command_line_words(result.report(args.data), "kk"))
-    else:
-        print(command_line_words(result.report(command) if args.method == "linear" else result.report(), "kk"))
-        if args.method == "linear" and result.valid and result.conclusive and not result.sign_hint:
-            # (the next step as impedax inspect names it, on the points tested: a
-            # valid verdict names the next step too)
-            from .common import fit_command
+    from .common import to_terminal
 
-            stdin = "; with the data saved to a file, named in place of -: standard input is read once" if args.data == "-" else ""
-            print(f"next: {fit_command(args, data=data, program='impedax drt')} (how many arcs; it ends with a starting circuit to fit{stdin})")
+    with to_terminal(True):  # (wrapped at words on a terminal, as diagnose's report)
+        if several:
+            print(command_line_words(result.report(args.data), "kk"))
+        else:
+            print(command_line_words(result.report(command) if args.method == "linear" else result.report(), "kk"))
+            if args.method == "linear" and result.valid and result.conclusive and not result.sign_hint:
+                # (the next step as impedax inspect names it, on the points tested: a
+                # valid verdict names the next step too)
+                from .common import fit_command
+
+                stdin = "; with the data saved to a file, named in place of -: standard input is read once" if args.data == "-" else ""
+                print(f"next: {fit_command(args, data=data, program='impedax drt')} (how many arcs; it ends with a starting circuit to fit{stdin})")
     note_skipped_rows(data, "kk", args.data)
     return 0
 

@@ -199,7 +199,7 @@ def run(args) -> int:
     from ..errors import ParameterError
     from ..fitting import parse_prior
     from ..fitting.bayes.logprob import start_weighting
-    from .common import check_bounds, check_parameter_names, checked_bound_options, comma_names, command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
+    from .common import check_bounds, check_parameter_names, checked_bound_options, comma_names, to_terminal, command_provenance, data_source, exclude_points, figure_options, figure_writer, load_selected, note_skipped_rows, note_unused_sigma, parse_assignments, parse_bounds, plan_outputs, print_result, result_writer, skipped_rows, WithSummaryKeys
     from .fit import check_max_steps, shared_arguments
 
     circuit = parse(args.model, args.registry)  # syntax errors before anything else
@@ -274,9 +274,10 @@ def run(args) -> int:
     outputs.save({"--out": result_writer(read, source, record), "--corner": figure_writer(lambda: posterior.corner(params=corner_names), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args)),
                   "--trace": figure_writer(lambda: posterior.trace(), source, **figure_options(args))})
     if not outputs.uses_stdout:
-        print_result(read, args.json, source, record, command="sample")
-        if not args.json:
-            note_skipped_rows(data, "sample", args.data)
+        with to_terminal(not args.json):  # (wrapped at words on a terminal, as diagnose's report)
+            print_result(read, args.json, source, record, command="sample")
+            if not args.json:
+                note_skipped_rows(data, "sample", args.data)
     if posterior.warnings:  # (--quiet drops progress lines only: warnings are said, as gap says them)
         print(f"impedax sample: {len(posterior.warnings)} warning(s); see the {'JSON' + chr(39) + 's warnings' if args.json else 'report'}", file=sys.stderr)
     return 0

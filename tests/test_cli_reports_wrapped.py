@@ -1,0 +1,53 @@
+"""The reports of fit, kk, drt and compare are wrapped at words on a terminal, as diagnose's and
+refine's were (`impedax.cli.common.to_terminal`): on an 80-column terminal the REAL ZPlot file's
+fit ran to 150 characters a line, kk's to 190, compare's notes to 300 (walkthrough 2026-12-07).
+The words are those printed into a pipe, in the same order; compare's table rows keep their
+columns; a shell-quoted model in a "next:" line is not broken at its blanks."""
+
+import io
+import sys
+from pathlib import Path
+
+import pytest
+
+from impedax.cli import main
+from impedax.progress import terminal_text
+
+ZPLOT = str(Path(__file__).resolve().parent / "fixtures" / "real" / "exampleDataZPlot.z")
+
+
+class _Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def printed(monkeypatch, argv, tty: bool) -> str:
+    out = _Terminal() if tty else io.StringIO()
+    monkeypatch.setattr(sys, "stdout", out)
+    assert main(argv) == 0
+    return out.getvalue()
+
+
+@pytest.mark.parametrize("argv, table_rows", [
+    (["fit", ZPLOT, "--model", "R0 + R1 || CPE1", "-q"], 0),
+    (["kk", ZPLOT, "-q"], 0),
+    (["drt", ZPLOT, "-q"], 0),
+    (["compare", ZPLOT, "--model", "R0 + R1 || C1", "--model", "R0 + R1 || CPE1", "-q"], 3),
+], ids=["fit", "kk", "drt", "compare"])
+def test_a_report_on_an_80_column_terminal(monkeypatch, argv, table_rows):
+    monkeypatch.setenv("COLUMNS", "80")
+    piped = printed(monkeypatch, argv, tty=False)
+    shown = printed(monkeypatch, argv, tty=True)
+    assert max(map(len, piped.splitlines())) > 80  # (else there is nothing to wrap)
+    lines = shown.splitlines()
+    assert lines[:table_rows] == piped.splitlines()[:table_rows]
+    assert all(len(line) <= 80 for line in lines[table_rows:]), [line for line in lines if len(line) > 80]
+    assert [w for w in shown.split() if w != "\\"] == piped.split()
+
+
+def test_a_quoted_model_is_kept_whole():
+    line = "next: impedax diagnose /data/some/long/folder/exampleDataGamry.DTA --model 'R0 + R1 || C1' (where the model fails and what it misses)"
+    wrapped = terminal_text(line, 80).splitlines()
+    assert len(wrapped) > 1 and any("'R0 + R1 || C1'" in each for each in wrapped), wrapped
+    assert " ".join(" ".join(wrapped).split()) == line
+    assert terminal_text("the data's phase is 2° above the model's " * 4, 80).count("\n") >= 1  # (an apostrophe in prose is no quote: the line still wraps)
