@@ -1023,8 +1023,8 @@ def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True) 
     if x == 0 or 1e-3 <= abs(x) < prefix_from:
         return f"{x:g}"
     smallest, largest = SI_PREFIXES[-1][0], SI_PREFIXES[0][0]
-    if not prefixes:
-        return re.sub(r"e\+?(-?)0*(\d)", r"e\1\2", f"{x:g}")
+    if not prefixes:  # (``{:g}`` writes 10⁴ and 10⁵ out in full: "10000" beside "1e6" on one axis)
+        return re.sub(r"e\+?(-?)0*(\d)", r"e\1\2", re.sub(r"\.?0+e", "e", f"{x:e}"))
     if not smallest <= abs(x) < 1e3 * largest:
         return f"{x:g}"
     scale, prefix = si_prefix(abs(x))
