@@ -51,6 +51,8 @@ MEYER_BAD = [
     (["refine", "{good}", "--model", "meyer", "--fix", "R_sc=0"], "--fix: R_sc=0 is on its lower bound"),
     (["sample", "{good}", "--model", "meyer", "--prior", "R_scc=lognormal:100k,1", "--steps", "100"], "--prior: unknown parameter 'R_scc' for model 'C_s + C_i + R_sc || C_sc + R_f'; did you mean R_sc?"),
     (["sample", "{good}", "--model", "meyer", "--prior", "R_sc=lognormal:100k,1", "--fix", "R_sc=130k", "--steps", "100"], "--prior R_sc: R_sc is fixed (--fix R_sc=130000)"),
+    (["sample", "{good}", "--model", "meyer", "--prior", "R_sc=uniform:-10,1k", "--steps", "100"], "--prior R_sc=uniform:-10,1000 reaches outside the parameter's bounds (0, inf)"),
+    (["sample", "{good}", "--model", "meyer-cpe", "--prior", "CPE_sc.alpha=uniform:0.5,2", "--steps", "100"], "--prior CPE_sc.alpha=uniform:0.5,2 reaches outside the parameter's bounds (0, 1]"),
 ]
 
 

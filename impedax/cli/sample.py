@@ -178,15 +178,23 @@ def check_prior_names(priors, circuit, fixed, args) -> None:
     circuit (nor ``sigma_rel``, the noise's scale; the sampler judges it against --noise), with the nearest
     name, or on a parameter ``fixed`` (--fix): before the data are read and the start is fitted,
     as --fix and --init are checked (the sampler's own message came after the start fit, without
-    the option's name)."""
+    the option's name); a uniform or log-uniform prior reaching outside its element's bounds alike."""
     from ..arguments import number_text
     from ..errors import ParameterError
     from .common import check_parameter_names
 
+    from ..fitting.bayes.priors import check_prior_inside
+
     check_parameter_names(priors, [*circuit.parameter_names(args.registry), "sigma_rel"], "--prior", args.model, args.registry)
-    for name in priors:
+    specs = circuit.parameter_specs(args.registry)
+    for name, prior in priors.items():
         if name in fixed:
             raise ParameterError(f"--prior {name}: {name} is fixed (--fix {name}={number_text(fixed[name])}), so it is not sampled; give one or the other")
+        if name in specs:  # (a uniform or log-uniform prior within the element's bounds; --bound's narrower ones are the sampler's to check)
+            try:
+                check_prior_inside(name, prior, specs[name].lower, specs[name].upper, specs[name].upper_inclusive)
+            except ParameterError as exc:
+                raise ParameterError(str(exc).replace(f"prior for {name}: ", f"--prior {name}=", 1)) from None
 
 
 def _joint_names(free, shared, extra) -> list[str]:
