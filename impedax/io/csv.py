@@ -153,19 +153,47 @@ def _looks_like_frequencies(values: np.ndarray) -> bool:
     return bool((np.all(steps > 0) or np.all(steps < 0)) and v.max() / v.min() >= FREQUENCY_SPAN_MIN)
 
 
+# a column is log-spaced (`_log_spaced`) when this share of its steps in ln f is within
+# `LOG_STEP_RTOL` of their median step: an instrument's sweep at so many points a decade, a
+# skipped mains frequency or a rounded value allowed
+LOG_STEP_SHARE = 0.8
+LOG_STEP_RTOL = 0.1
+
+
+def _log_spaced(values: np.ndarray) -> bool:
+    """Whether a column's non-zero values step by a constant ratio (`LOG_STEP_SHARE` of the steps
+    within `LOG_STEP_RTOL` of the median), as a logarithmic frequency sweep does; an RC's Z',
+    monotonic over decades too, steps by a ratio that changes across its corner."""
+    v = values[values != 0]
+    if v.size < 4 or not np.all(v > 0):
+        return False
+    steps = np.diff(np.log(v))
+    median = float(np.median(steps))
+    return median != 0 and float(np.mean(np.abs(steps - median) <= LOG_STEP_RTOL * abs(median))) >= LOG_STEP_SHARE
+
+
 def _check_headerless_order(path: Path, line: int, columns: list[np.ndarray]) -> None:
     """A header-less table is read as f, Z', Z'' (`HEADERLESS_NOTE`); refused, naming the column
     that looks like the frequencies, when column 1 does not (`_looks_like_frequencies`) and
-    exactly one other column does (Z', Z'', f read as f, Z', Z'' gives nonsense without a word)."""
+    exactly one other column does (Z', Z'', f read as f, Z', Z'' gives nonsense without a word);
+    or when column 1 and another look like frequencies and only the other is log-spaced as a
+    sweep (`_log_spaced`: an RC's Z' falls monotonically over decades too, and Z', Z'', f of
+    Meyer's circuit was read with Z' as the frequencies and Z'' as Z')."""
     looks = [_looks_like_frequencies(c) for c in columns]
-    if looks[0] or sum(looks[1:]) != 1:
+    spaced = [k for k in (1, 2) if looks[k] and _log_spaced(columns[k])]
+    if not looks[0] and sum(looks[1:]) == 1:
+        at = looks.index(True)
+        why = "column 1 does not look like frequencies (positive, strictly monotonic, spanning a decade or more)"
+    elif (not looks[0] or not _log_spaced(columns[0])) and len(spaced) == 1:
+        at = spaced[0]
+        why = ("column 1 does not look like frequencies (positive, strictly monotonic, spanning a decade or more)" if not looks[0]
+               else "column 1 does not step by a constant ratio as a frequency sweep does")
+    else:
         return
-    at = looks.index(True)
     names = ["z_real_ohm", "z_imag_ohm"]
     header = ",".join(names.pop(0) if k != at else "frequency_hz" for k in range(3))
     raise DataError(
-        f"no header, and column 1 does not look like frequencies (positive, strictly monotonic, spanning a decade or more) "
-        f"where column {at + 1} does: a header-less table is read as f, Z', Z'' only when column 1 holds the frequencies; "
+        f"no header, and {why} where column {at + 1} does: a header-less table is read as f, Z', Z'' only when column 1 holds the frequencies; "
         f"add a header naming the columns, e.g. {header}",
         path=path, line=line,
     )
