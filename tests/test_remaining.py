@@ -276,3 +276,39 @@ def test_a_band_below_the_papers_cutoff_is_said_so(tmp_path, capsys, synthetic_p
     f = np.geomspace(1.0, 20.0, 10)
     with pytest.raises(ix.DataError, match=r"no measured frequency at or above the cutoff 30 Hz: the paper's C_gap is the mean of \|Y_R\|/ω above its cutoff .* the data span 1–20 Hz"):
         sirin.gap_capacitance_paper(1 / (2j * np.pi * f * 4e-10), f)
+
+
+@pytest.mark.parametrize("command", ["remaining", "gap"])
+def test_a_screen_file_of_another_rig_is_refused_before_any_fit(tmp_path, capsys, synthetic_parts, command):
+    """A screen spectrum whose reactance exceeds the total's (here 30× it, its resistance small,
+    one trial: another rig's file) leaves a remainder with Im Z > 0 at every frequency, where the gap's capacitance
+    makes it capacitive; gap sampled for minutes and ended MODEL DOES NOT FIT at rms_rel 100 %
+    (walkthrough 2026-12-07). Refused at once, nothing written; the files in order still run."""
+    f, z = synthetic_parts["total"]
+    screen = ix.make_spectrum(f, 1e4 + 30j * z.mean(0).imag)
+    total, skin, _ = _datasets(synthetic_parts)
+    paths = saved_gap_files(tmp_path, [total, skin, screen])
+    out = tmp_path / ("rem.nc" if command == "remaining" else "gap.json")
+    extra = ["--area", "130e-6"] if command == "gap" else []
+    assert main([command, *paths, *extra, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"has Im Z > 0 at {f.size} of {f.size} frequencies" in err and "TOTAL SKIN SCREEN" in err
+    assert not out.exists()
+    good = saved_gap_files(tmp_path, _datasets(synthetic_parts))
+    assert main(["remaining", *good, "--out", str(tmp_path / "good.nc")]) == 0
+
+
+def test_a_contact_with_some_inductive_points_is_not_refused():
+    """The SYNTHETIC stationary example's remainder has Im Z > 0 at 19 of its 61 frequencies
+    (noise about zero where the gap is small): below the share that marks a wrong file, it is
+    analysed as before."""
+    from impedax.models import example_spectra
+    from impedax.models.gap import INDUCTIVE_REMAINDER_SHARE, gap_remainder
+
+    s = example_spectra()
+    total, skin, screen = s["total_stationary"], s["skin"], s["touchscreen"]
+    by_hand = total["Z"].mean(("session", "trial")) - skin["Z"].mean(("session", "trial")) - screen["Z"].mean(("session", "trial"))
+    inductive = int((by_hand.values.imag > 0).sum())
+    assert 0 < inductive < INDUCTIVE_REMAINDER_SHARE * by_hand.size
+    remaining, _ = gap_remainder(total, skin, screen)
+    np.testing.assert_allclose(remaining["Z"].values, by_hand.values, rtol=1e-12)
