@@ -76,6 +76,11 @@ def test_a_fixed_or_bounded_parameter_takes_no_thesis_start(synthetic, capsys):
     assert code == 0, err
     got = _values(json.loads(out))
     assert got["R_f"] == 800.0 and got["R_sc"] == pytest.approx(TRUTH["R_sc"], rel=1e-6)
+    # (stderr's note lists the thesis starts it uses: not R_f's 500 Ω, which --fix holds at 800 Ω,
+    # nor R_sc's 130 kΩ, which --bound starts from the data; walkthrough 2026-12-07)
+    note = next(line for line in err.splitlines() if "thesis's eq 3.13 values" in line)
+    assert "R_f = 500 Ω" not in note and "R_sc = 130 kΩ" not in note and "C_sc = 2.2 nF" in note
+    assert note.endswith("(--fix holds R_f; R_sc under --bound starts from the data, within its range)")
 
 
 def test_meyer_cpe_names_the_fractional_circuit(capsys):

@@ -536,21 +536,25 @@ def paper_start(values: Mapping[str, float], init: Mapping[str, float], *, held:
     return {**{k: v for k, v in values.items() if k not in held}, **init}
 
 
-def paper_start_note(command: str, name: str, circuit: str, values: Mapping[str, float], init: Mapping[str, float] | None = None, *, starts: bool = True) -> str:
+def paper_start_note(command: str, name: str, circuit: str, values: Mapping[str, float], init: Mapping[str, float] | None = None, *, starts: bool = True,
+                     fixed: Iterable[str] = (), bounded: Iterable[str] = ()) -> str:
     """The stderr line of a command that fits the paper model ``name``: its circuit, and that
     the thesis's eq 3.13 ``values`` are starting values, not fixed ones (``starts`` False: the
     command takes no start, and its fit guesses one from the data); those ``init`` overrides
-    are named."""
+    are named, and the parameters ``fixed`` (--fix) and ``bounded`` (--bound), which take no
+    thesis start (`paper_start`), are named instead of their thesis values."""
     from ..data import format_bound
     from ..circuits import DEFAULT_REGISTRY, parse
 
     init = init or {}
+    fixed, bounded = [n for n in fixed if n in values], [n for n in bounded if n in values]
     specs = parse(circuit).parameter_specs(DEFAULT_REGISTRY)
-    shown = ", ".join(f"{n} = {format_bound(float(v), specs[n].unit)}" for n, v in values.items() if n not in init)
+    shown = ", ".join(f"{n} = {format_bound(float(v), specs[n].unit)}" for n, v in values.items() if n not in init and n not in fixed and n not in bounded)
     if not starts:
         return f"impedax {command}: {name} is {circuit}; the fit starts from values guessed from the data (the thesis's eq 3.13 values are simulate's defaults, not used here)"
-    given = f" (--init gives {', '.join(init)})" if init else ""
-    return f"impedax {command}: {name} is {circuit}, fitted from the thesis's eq 3.13 values as starting values, not fixed ones: {shown}{given}"
+    given = "; ".join([*([f"--init gives {', '.join(init)}"] if init else []), *([f"--fix holds {', '.join(fixed)}"] if fixed else []),
+                       *([f"{', '.join(bounded)} under --bound start{'s' if len(bounded) == 1 else ''} from the data, within {'its range' if len(bounded) == 1 else 'their ranges'}"] if bounded else [])])
+    return f"impedax {command}: {name} is {circuit}, fitted from the thesis's eq 3.13 values as starting values, not fixed ones: {shown}" + (f" ({given})" if given else "")
 
 
 def resolve_paper_model(args) -> None:

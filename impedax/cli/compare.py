@@ -87,7 +87,7 @@ def run(args) -> int:
         if paper:
             from .common import paper_start_note
 
-            print(paper_start_note("compare", paper, text, values, own("--init", ns) or {}), file=sys.stderr)
+            print(paper_start_note("compare", paper, text, values, own("--init", ns) or {}, fixed=own("--fix", ns) or (), bounded=own("--bound", ns) or ()), file=sys.stderr)
 
     def start(i, ns):
         """Model ``i``'s --init; a paper model's values under it (`paper_start`)."""

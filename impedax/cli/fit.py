@@ -177,7 +177,7 @@ def run(args) -> int:
     if paper:  # (a paper model's values start the fit, --init over them; said once, after every check: a refusal is the only line)
         from .common import paper_start, paper_start_note
 
-        print(paper_start_note("fit", paper, args.model, args.paper_values, init), file=sys.stderr)
+        print(paper_start_note("fit", paper, args.model, args.paper_values, init, fixed=fixed, bounded=given_bounds), file=sys.stderr)
         init = paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     try:  # (fit says its stages: the first line, then a batch's start search, local fits, statistics)
         result = fit(args.model, data, init=init, fixed=fixed, bounds=bounds or None, weighting=args.weighting, fmin=args.fmin, fmax=args.fmax, max_steps=max_steps, progress=progress, registry=args.registry, **sharing)

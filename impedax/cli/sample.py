@@ -256,7 +256,7 @@ def run(args) -> int:
     if paper:  # (a paper model's values start the least-squares start fit, --init over them; said once, after every check: a refusal is the only line)
         from .common import paper_start, paper_start_note
 
-        print(paper_start_note("sample", paper, args.model, args.paper_values, init, starts=not sharing), file=sys.stderr)
+        print(paper_start_note("sample", paper, args.model, args.paper_values, init, starts=not sharing, fixed=fixed, bounded=given_bounds), file=sys.stderr)
         init = init if sharing else paper_start(args.paper_values, init, held=[*fixed, *given_bounds])
     note_unused_sigma(data, "sample", str(args.noise) == "sigma", "--noise sigma")
     start = None
