@@ -528,6 +528,24 @@ def paper_circuit(name: str) -> str:
     return str(meyer_circuit(PAPER_MODELS[name]))
 
 
+@contextlib.contextmanager
+def band_named(loaded, data, fmin: float | None, fmax: float | None):
+    """A `DataError` raised inside for too few frequencies (``the KK test needs at least 4
+    frequencies, got 1``) names the band that left them when --fmin/--fmax left points of
+    ``loaded`` out of ``data``, as fit's refusal does: "got 1" alone sent the user to a file that
+    holds 21 (REAL ZPlot, ``impedax kk … --fmin 250k``)."""
+    from ..errors import DataError
+    from ..fitting.problem import band_text
+
+    try:
+        yield
+    except DataError as exc:
+        n, kept = loaded.sizes["frequency"], data.sizes["frequency"]
+        if "needs at least" not in str(exc) or kept == n:
+            raise
+        raise DataError(f"{exc} ({kept} of the data's {n} {band_text(fmin, fmax)}); use a wider band") from None
+
+
 def paper_start(values: Mapping[str, float], init: Mapping[str, float], *, held: Iterable[str] = ()) -> dict[str, float]:
     """The starting values of a fit of a paper model: its ``values`` (`paper_model`) under the
     ``init`` given (--init overrides), none for a parameter ``held`` (--fix, --bound: the user's

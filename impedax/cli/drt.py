@@ -71,6 +71,7 @@ def run(args) -> int:
     # a file of several spectra: the DRT of each in one solve (`DRTBatchResult`), or one (--select)
     check_band_options(args.fmin, args.fmax)
     data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
+    loaded = data
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 
@@ -83,7 +84,10 @@ def run(args) -> int:
     # later, into whatever runs next in the process, e.g. a test of `fit -q`)
     try:
         progress(f"DRT of {n_spectra} spectr{'um' if n_spectra == 1 else 'a'}: solving, then peaks and credible bands")
-        result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
+        from .common import band_named
+
+        with band_named(loaded, data, args.fmin, args.fmax):
+            result = drt(data, method=args.method, lam=_lam(args.lam), lam_method=args.lam_method, signed=args.signed, min_peak_fraction=args.min_peak_fraction)
         if args.plot:  # (the slowest output: ~1 s for 130 curves)
             progress(f"drawing {args.plot}")
         record = command_provenance(args, source=source, data_files=[args.data])

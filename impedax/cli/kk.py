@@ -57,6 +57,7 @@ def run(args) -> int:
     # a file of several spectra: every one tested (one table row each), as `fit` fits them
     # all, by either method (Z-HIT too), and --plot maps their residuals
     data = exclude_points(load_selected(args.data, args.select, readers=args.readers), args.exclude)
+    loaded = data
     if args.fmin is not None or args.fmax is not None:
         from ..fitting.problem import select_band
 
@@ -66,10 +67,13 @@ def run(args) -> int:
     source = data_source(data)
     record = command_provenance(args, source=source, data_files=[args.data], **({} if args.method == "zhit" else {"c": options["c"]}))  # (Z-HIT has no c)
     several = any(d != "frequency" for d in data["Z"].dims)
-    if args.method == "zhit":
-        result = zhit_batch(data) if several else zhit(data)
-    else:
-        result = kk_test_batch(data, **options) if several else kk_test(data, **options, find_passing_band=True)
+    from .common import band_named
+
+    with band_named(loaded, data, args.fmin, args.fmax):
+        if args.method == "zhit":
+            result = zhit_batch(data) if several else zhit(data)
+        else:
+            result = kk_test_batch(data, **options) if several else kk_test(data, **options, find_passing_band=True)
     # the reader's skipped rows in the JSON, as inspect --json gives them; --out as
     # fit's and drt's (docs/io.md lists kk --out)
     command, options = _next_command(args, result, data) if not several and args.method == "linear" else (None, None)
