@@ -1,8 +1,9 @@
 """The reports of fit, kk, drt and compare are wrapped at words on a terminal, as diagnose's and
 refine's were (`impedax.cli.common.to_terminal`): on an 80-column terminal the REAL ZPlot file's
 fit ran to 150 characters a line, kk's to 190, compare's notes to 300 (walkthrough 2026-12-07).
-The words are those printed into a pipe, in the same order; compare's table rows keep their
-columns; a shell-quoted model in a "next:" line is not broken at its blanks."""
+The words are those printed into a pipe, in the same order; the tables of compare and sample
+keep their rows whole (sample's prior column runs past 80: wrapped, its rows broke in two); a
+shell-quoted model in a "next:" line is not broken at its blanks."""
 
 import io
 import sys
@@ -43,6 +44,18 @@ def test_a_report_on_an_80_column_terminal(monkeypatch, argv, table_rows):
     assert lines[:table_rows] == piped.splitlines()[:table_rows]
     assert all(len(line) <= 80 for line in lines[table_rows:]), [line for line in lines if len(line) > 80]
     assert [w for w in shown.split() if w != "\\"] == piped.split()
+
+
+def test_samples_table_keeps_its_rows_and_the_rest_is_wrapped(monkeypatch):
+    monkeypatch.setenv("COLUMNS", "80")
+    argv = ["sample", ZPLOT, "--model", "R0 + R1 || C1", "--steps", "40", "-q"]
+    piped, shown = printed(monkeypatch, argv, tty=False).splitlines(), printed(monkeypatch, argv, tty=True).splitlines()
+    head = piped.index(next(line for line in piped if line.startswith("parameter ")))
+    rows = piped[head: head + 5]  # (the header, R0, R1, C1, sigma_rel)
+    assert [line.split()[0] for line in rows] == ["parameter", "R0", "R1", "C1", "sigma_rel"] and max(map(len, rows)) > 80
+    assert shown[shown.index(rows[0]): shown.index(rows[0]) + 5] == rows
+    assert all(len(line) <= 80 for line in shown if line not in rows)
+    assert " ".join(shown).split() == " ".join(piped).split()
 
 
 def test_a_quoted_model_is_kept_whole():

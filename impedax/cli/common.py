@@ -1895,12 +1895,15 @@ def json_in_command_words(summary, command: str | None):
 
 
 @contextlib.contextmanager
-def to_terminal(text: bool):
+def to_terminal(text: bool, table_head: str | None = None):
     """What is printed inside, wrapped to the terminal's width (`progress.terminal_text`) when
     ``text`` goes to a terminal (standard output a TTY of at least 40 columns,
     `progress.terminal_width`; the progress lines on stderr are wrapped alike,
     `progress.terminal_line`); else printed as it is. The reports of diagnose, refine, fit,
-    sample, kk, drt, gap and compare (not its table, whose rows keep their columns)."""
+    sample, kk, drt, gap and compare (not its table, whose rows keep their columns).
+    ``table_head``: the start of a table's header line (``"parameter "``), which and whose rows
+    (up to a blank line or a ``warning:``, ``note:`` or ``hint:`` line) keep their columns, as a
+    wrapped row would not: sample's rows end in a prior column past 80 characters."""
     import io
 
     from ..progress import terminal_text, terminal_width
@@ -1912,7 +1915,14 @@ def to_terminal(text: bool):
     buffer = io.StringIO()
     with contextlib.redirect_stdout(buffer):
         yield
-    sys.stdout.write(terminal_text(buffer.getvalue().rstrip("\n"), width) + "\n")
+    out, in_table = [], False
+    for line in buffer.getvalue().rstrip("\n").split("\n"):
+        if table_head is not None and line.startswith(table_head):
+            in_table = True
+        elif in_table and (not line.strip() or line.startswith(("warning:", "note:", "hint:"))):
+            in_table = False
+        out.append(line if in_table else terminal_text(line, width))
+    sys.stdout.write("\n".join(out) + "\n")
 
 
 def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, *, command: str | None = None, written: str | None = None, **report_options) -> None:

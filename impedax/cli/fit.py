@@ -196,7 +196,7 @@ def run(args) -> int:
     if outputs.uses_stdout:  # (the report, which ends with the result's notes, is not printed: σ unused is said on stderr)
         note_unused_sigma(data, "fit", args.weighting == "sigma", "--weighting sigma")
     else:  # (the report and the JSON carry the result's notes: σ the weighting does not use, once)
-        with to_terminal(not args.json):  # (wrapped at words on a terminal, as diagnose's report)
+        with to_terminal(not args.json, table_head="parameter "):  # (wrapped at words on a terminal, as diagnose's report; the table kept)
             # (a batch's report groups its warnings by kind, naming the spectra, and ends with the hints computed above, not again; a global fit's too)
             given_hints = {"misfit_hints": batch_hints} if isinstance(result, BatchFitResult) else {}
             print_result(read, args.json, source, record, command="fit", written=args.out, **given_hints)

@@ -282,7 +282,7 @@ def run(args) -> int:
     outputs.save({"--out": result_writer(read, source, record), "--corner": figure_writer(lambda: posterior.corner(params=corner_names), source, **figure_options(args)), "--plot": figure_writer(lambda: posterior.plot(), source, **figure_options(args)),
                   "--trace": figure_writer(lambda: posterior.trace(), source, **figure_options(args))})
     if not outputs.uses_stdout:
-        with to_terminal(not args.json):  # (wrapped at words on a terminal, as diagnose's report)
+        with to_terminal(not args.json, table_head="parameter "):  # (wrapped at words on a terminal, as diagnose's report; the table kept)
             print_result(read, args.json, source, record, command="sample")
             if not args.json:
                 note_skipped_rows(data, "sample", args.data)
