@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "bar_points", "plain_log_ticks", "labelled_log_ticks", "LabelledLogLocator", "LOG_LABEL_ROOM_EM", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "bar_points", "plain_log_ticks", "frequency_axis", "labelled_log_ticks", "LabelledLogLocator", "LOG_LABEL_ROOM_EM", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -559,8 +559,8 @@ def plain_linear_ticks(axis) -> None:
 
 
 def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", model_label="model", nyquist=None):
-    """|Z| (log-log) and phase [deg] against frequency; |Z| in the SI prefix of the Nyquist
-    panel ``nyquist`` of the same figure when given (`plain_log_ticks`)."""
+    """|Z| (log-log) and phase [deg] against frequency (`frequency_axis`); |Z| in the SI prefix
+    of the Nyquist panel ``nyquist`` of the same figure when given (`plain_log_ticks`)."""
     for spec, style, label in ((_as_arrays(data, "data", "plot_bode"), "o", data_label), (_as_arrays(model, "model", "plot_bode"), "-", model_label)):
         if spec is None:
             continue
@@ -573,6 +573,7 @@ def plot_bode(ax_mod, ax_phase, data=None, model=None, *, data_label="data", mod
     ax_phase.set_ylabel("phase [deg]")
     ax_phase.set_xlabel("frequency [Hz]")
     for ax in (ax_mod, ax_phase):
+        frequency_axis(ax.xaxis)
         ax.grid(alpha=0.3, which="both")
     ax_mod.legend(fontsize=font_size("legend", 8))
 
@@ -761,6 +762,8 @@ def plot_spectra(spectra: Sequence, labels: Sequence[str], *, title: str | None 
     ax_mod.set_ylabel("|Z| [Ω]")
     magnitude_axis(ax_mod.yaxis, nyquist=ax_nyq)
     ax_ph.set(ylabel="phase [deg]", xlabel="frequency [Hz]")
+    for ax in (ax_mod, ax_ph):
+        frequency_axis(ax.xaxis)
     for ax in (ax_nyq, ax_mod, ax_ph):
         ax.grid(alpha=0.3, which="both")
     ax_nyq.legend(fontsize=font_size("legend", 7), title=legend_title, title_fontsize=font_size("legend", 7), ncol=2 if len(arrays) > 5 else 1)
@@ -853,6 +856,7 @@ def plot_residuals(ax, freq, real, imag, *, labels=("Re", "Im"), ylabel="residua
     ax.axhline(0, color="k", lw=0.6)
     fitting_ylabel(ax, ylabel)
     ax.set_xlabel("frequency [Hz]")
+    frequency_axis(ax.xaxis)
     ax.grid(alpha=0.3, which="both")
     residual_axis(ax, np.concatenate([np.ravel(real), np.ravel(imag)]))
     ax.legend(fontsize=font_size("legend", 8), ncol=3 if limit is not None else 2)
@@ -1096,6 +1100,22 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bo
     axis.set_minor_formatter(_MinorLogLabels(labelOnlyBase=False))
     if minor_labels:
         axis.get_minor_formatter().minor_thresholds = (2, 0.4)
+
+
+def frequency_axis(axis) -> None:
+    """The one rule of every frequency axis of impedax's figures (``ax.xaxis`` of a Bode,
+    residual, Z-HIT, diagnosis, comparison, posterior-band, gap or force panel; ``ax.yaxis`` of
+    a batch's residual and KK maps): a log scale read in plain numbers, 0.01, 0.1, 1, 10, 100,
+    1000, 10k, 100k, 1M, an SI prefix from 10⁴ up and below 10⁻³ (`plain_log_ticks`), not
+    matplotlib's 10⁰ … 10⁶ beside the gap figures' 1, 10 … 1M. Its major ticks are matplotlib's
+    (every decade, every k-th where 3 em of label each would not fit), so the widest label,
+    ``0.001`` (2.9 em), clears its neighbour on a narrow panel over 8 decades as 10⁻³ did. Call
+    it after the curves are drawn: ``semilogx`` and ``loglog`` set the scale again, and with it
+    matplotlib's labels, on every axis shared with this one. The scale is set here too, even on
+    an axis that reads log already: one joined by ``sharex`` to a log axis reads log but draws
+    linearly until its scale is set (the joint posterior bands' second phase panel)."""
+    (axis.axes.set_xscale if axis is axis.axes.xaxis else axis.axes.set_yscale)("log")
+    plain_log_ticks(axis)
 
 
 # the least distance between the centres of neighbouring labels of a `LabelledLogLocator`

@@ -15,7 +15,7 @@ import numpy as np
 from ..arguments import count, figure_size, literal_text, real, shown, unknown_parameter
 from ..data import format_quantity, si_prefix, unit_text
 from ..errors import ParameterError
-from . import characters_across, font_size, legends_off_data, magnitude_axis, nyquist_view, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
+from . import characters_across, font_size, frequency_axis, legends_off_data, magnitude_axis, nyquist_view, nyquist_shape, plain_linear_ticks, plain_log_ticks, prefixable_unit, prefixed_axis, spectrum_layout
 
 __all__ = ["plot_posterior_bands", "plot_joint_posterior_bands", "plot_corner", "plot_trace"]
 
@@ -101,7 +101,7 @@ def _draw_bands(axes, frequency, z, f, zs, z_predictive, n_lines: int) -> None:
         ax.fill_between(f, q[1], q[3], color=MODEL_COLOUR, alpha=0.35, lw=0, label="68 % band")
         ax.plot(f, q[2], "-", color=MODEL_COLOUR, lw=1.2, label="median")
         ax.plot(frequency, data_values, "o", ms=3.5, mfc="none", color=DATA_COLOUR, label="data")
-        ax.set_xscale("log")
+        frequency_axis(ax.xaxis)
     ax_mod.set(yscale="log", ylabel="|Z| [Ω]")
     magnitude_axis(ax_mod.yaxis, nyquist=ax_nyq)
     ax_ph.set(ylabel="phase [deg]")

@@ -13,7 +13,7 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     """Data with every model's fit (Nyquist, |Z|, phase), and each model's relative residuals,
     each named with its rms_rel and ΔAIC, for a `Comparison`, in the layout of a single spectrum (`spectrum_layout`, which
     ``figsize`` (width, height) [in] sizes). Figure."""
-    from . import labelled_log_ticks, legends_off_data, magnitude_axis, model_curve, nyquist_frame, nyquist_shape, nyquist_view, residual_axis, spectrum_layout
+    from . import frequency_axis, labelled_log_ticks, legends_off_data, magnitude_axis, model_curve, nyquist_frame, nyquist_shape, nyquist_view, residual_axis, spectrum_layout
 
     ref = comparison.fits[0]
     f, z = ref.frequency, ref.z_data
@@ -51,6 +51,8 @@ def plot_comparison(comparison, *, figsize: tuple[float, float] | None = None):
     # (two labels or more at any range, `labelled_log_ticks`, as every rms_rel panel: matplotlib's
     # log ticks read residuals of 0.068–0.195 % as "0.1" alone, 0.3–300 % as 1, 10, 100)
     labelled_log_ticks(ax_res.yaxis)
+    for ax in (ax_mod, ax_ph, ax_res):  # (shared)
+        frequency_axis(ax.xaxis)
     if residual_axis(ax_res, np.concatenate([np.ravel(r.residuals) for r in comparison.fits])):
         ax_res.legend(fontsize=font_size("legend", 7))  # (the rounding-level note alone)
     for ax in (ax_nyq, ax_mod, ax_ph, ax_res):

@@ -14,7 +14,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import FLAT_NYQUIST, characters_across, font_size, labelled_log_ticks, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plot_spectrum, legends_off_data, refresh_legend, residual_axis, shade_bands, wrap_model
+from . import FLAT_NYQUIST, characters_across, font_size, frequency_axis, labelled_log_ticks, nyquist_view, model_curve, nyquist_panel_height, nyquist_shape, plot_spectrum, legends_off_data, refresh_legend, residual_axis, shade_bands, wrap_model
 
 __all__ = ["plot_diagnosis", "plot_refinement", "noise_levels", "NOISE_LEVEL_LABEL"]
 
@@ -80,7 +80,7 @@ def plot_diagnosis(diagnosis, *, title: str | None = None, figsize: tuple[float,
         f, z = suggestion
         axes[0].plot(z.real, -z.imag, "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
         # (plot, not loglog/semilogx: those set the scale again, and with it matplotlib's
-        # tick labels in place of plain_log_ticks')
+        # tick labels in place of plain_log_ticks' and frequency_axis')
         axes[1].plot(f, np.abs(z), "-", color="tab:green", lw=1.2, label=f"+ {best.effect}")
         axes[2].plot(f, np.degrees(np.angle(z)), "-", color="tab:green", lw=1.2)
         if len(axes) > 3:
@@ -240,6 +240,7 @@ def plot_refinement(refinement, *, title: str | None = None):
         r = s.fit.residuals * 100
         a.semilogx(s.fit.frequency, r.real, "o-", ms=2.5, lw=0.7, label="Re")
         a.semilogx(s.fit.frequency, r.imag, "s-", ms=2.5, lw=0.7, label="Im")
+        frequency_axis(a.xaxis)
         a.axhline(0, color="k", lw=0.5)
         if s.diagnosis is not None:
             # red where the step's diagnosis names a missing effect, grey where it is adequate (the verdict in the title)

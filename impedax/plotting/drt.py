@@ -7,7 +7,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import counted, format_lambda, format_percent, format_quantity, format_time
-from . import FLAT_NYQUIST, LabelledLogLocator, dense_model, drawn_label, font_size, frame_points, frame_spectra, label_spectra_axis, labelled_log_ticks, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
+from . import FLAT_NYQUIST, LabelledLogLocator, dense_model, drawn_label, font_size, frame_points, frequency_axis, frame_spectra, label_spectra_axis, labelled_log_ticks, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -160,6 +160,7 @@ def plot_drt(result, *, overlay=None, title: str | None = None):
     ax_res.semilogx(f, result.residuals.imag[order] * 100, "s-", ms=3, lw=0.8, label="Im")
     ax_res.axhline(0, color="k", lw=0.6)
     ax_res.set_xlabel("frequency [Hz]")
+    frequency_axis(ax_res.xaxis)
     ax_res.set_ylabel("DRT residual (Z − Z_fit)/|Z| [%]")
     ax_res.grid(alpha=0.3, which="both")
     residual_axis(ax_res, result.residuals)
@@ -329,6 +330,7 @@ def plot_zhit(result, *, title: str | None = None):
         ax_res.axhline(sign * result.threshold * 100, color="tab:red", lw=0.7, ls="--")
     ax_res.set_ylabel("(|Z| − |Z|_ZHIT)/|Z| [%]")
     ax_res.set_xlabel("frequency [Hz]")
+    frequency_axis(ax_res.xaxis)  # (shared: the |Z| and phase panels read so too)
     if residual_axis(ax_res, result.residuals):
         ax_res.legend(fontsize=font_size("legend", 8))
     for ax in (ax_mod, ax_ph, ax_res):

@@ -335,7 +335,7 @@ def _plot_fits(ax, ds, dims, labels, model, phase: bool = False) -> None:
     phase against frequency instead."""
     import matplotlib as mpl
 
-    from . import dense_model, nyquist_frame, nyquist_view
+    from . import dense_model, frequency_axis, nyquist_frame, nyquist_view
 
     z = ds["Z"].transpose(*dims, "frequency").values.reshape(-1, ds.sizes["frequency"])
     z_model = ds["Z_model"].transpose(*dims, "frequency").values.reshape(z.shape)
@@ -357,6 +357,8 @@ def _plot_fits(ax, ds, dims, labels, model, phase: bool = False) -> None:
         else:
             ax.plot(z[i].real, -z[i].imag, "o", ms=2.5, mfc="none", color=colour, label=labels[i])
             ax.plot(curve.real, -curve.imag, "-", lw=1.0, color=colour)
+    if phase:
+        frequency_axis(ax.xaxis)
     what = f"{drawn.size} of {n} spectra" if drawn.size < n else f"{n} spectr{'um' if n == 1 else 'a'}"
     # beside the panel, where it covers no data (inside, the spectra's curves run everywhere)
     ax.legend(fontsize=font_size("legend", 7), title=", ".join(dims), title_fontsize=font_size("legend", 7), ncol=2 if drawn.size > 4 else 1, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
@@ -438,7 +440,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
     from matplotlib.colors import Normalize
     from matplotlib.patches import Patch
 
-    from . import PlainTicks, characters_across, frame_spectra, frequency_cell_edges, label_spectra_axis, labelled_log_ticks, plain_linear_ticks, plain_log_ticks, wrap_model
+    from . import PlainTicks, characters_across, frame_spectra, frequency_axis, frequency_cell_edges, label_spectra_axis, labelled_log_ticks, plain_linear_ticks, wrap_model
 
     ds = batch.dataset
     dims = tuple(batch.dims)
@@ -468,7 +470,7 @@ def plot_residual_map(batch, *, title: str | None = None, excluded=None):
         ax.set_yscale("log")
         ax.set_ylim(f_edges[0], f_edges[-1])
         ax.set_ylabel(f"frequency [Hz]\n({name})", fontsize=font_size("label", 9))
-        plain_log_ticks(ax.yaxis)
+        frequency_axis(ax.yaxis)
     if left_out.size:
         from ..data import format_frequency
         from ..warning_groups import labels_text

@@ -22,7 +22,9 @@ def plot_kk(result, *, title: str | None = None):
     plot_residuals(ax_res, result.frequency, result.residuals_real, result.residuals_imag, labels=("Δ re", "Δ im"), ylabel="KK residual (Z − Z_kk)/|Z| [%]")
     order = np.argsort(result.frequency)
     magnitude = np.hypot(result.residuals_real, result.residuals_imag)[order]
-    ax_res.semilogx(result.frequency[order], magnitude * 100, "-", color="0.25", lw=1.0, label="|Δ| (the rules test it)")
+    # (plot, not semilogx, on the log axis plot_residuals made: semilogx sets the scale again,
+    # and with it matplotlib's 10ⁿ labels in place of `frequency_axis`')
+    ax_res.plot(result.frequency[order], magnitude * 100, "-", color="0.25", lw=1.0, label="|Δ| (the rules test it)")
     label_bode_above_residuals(shape, ax_mod, ax_ph)
     if result.bad_bands:
         shade_bands([ax_mod, ax_ph, ax_res], result.bad_bands, label="not KK-consistent")
@@ -77,8 +79,9 @@ def add_rule_levels(ax, *, point: float, run: float, run_length: int, bands=(), 
     what = "|residual|" if signed else "|Δ|"
     if per_point is not None:
         f, point_levels, run_levels = (np.asarray(a, float) for a in per_point)
-        ax.semilogx(f, point_levels * 100, color="tab:red", lw=0.7, ls="--", label=f"point rule: {what} > its level (from σ)")
-        ax.semilogx(f, run_levels * 100, color="tab:orange", lw=0.8, ls=":", label=f"run rule: ≥ {run_length} in a row > their level (from σ)")
+        # (plot on the log frequency axis of the panel: semilogx would reset its `frequency_axis` labels)
+        ax.plot(f, point_levels * 100, color="tab:red", lw=0.7, ls="--", label=f"point rule: {what} > its level (from σ)")
+        ax.plot(f, run_levels * 100, color="tab:orange", lw=0.8, ls=":", label=f"run rule: ≥ {run_length} in a row > their level (from σ)")
         point, run, signs = np.nan, np.nan, ()
     for sign in signs:
         ax.axhline(sign * point * 100, color="tab:red", lw=0.7, ls="--", label=f"point rule: {what} > {point * 100:.3g} %" if sign > 0 else None)
@@ -143,7 +146,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
 
-    from . import frame_points, frame_spectra, frequency_cell_edges, label_spectra_axis, labelled_log_ticks, plain_log_ticks
+    from . import frame_points, frame_spectra, frequency_axis, frequency_cell_edges, label_spectra_axis, labelled_log_ticks, plain_log_ticks
     from .fit import MAP_VECTOR_CELLS
 
     results = batch.results
@@ -170,7 +173,7 @@ def plot_validity_batch(batch, magnitudes, *, residual: str, title: str):
     ax_map.set_yscale("log")
     ax_map.set_ylim(f_edges[0], f_edges[-1])
     ax_map.set_ylabel("frequency [Hz]")
-    plain_log_ticks(ax_map.yaxis)
+    frequency_axis(ax_map.yaxis)
     rms = np.array([r.rms_rel for r in results]) * 100
     noise = np.array([r.noise_estimate for r in results]) * 100
     bad = np.array([r.conclusive and not r.valid for r in results])

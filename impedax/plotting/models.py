@@ -25,7 +25,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     import matplotlib.pyplot as plt
 
     from ..data import format_percent
-    from . import legends_off_data, magnitude_axis, model_curve, plain_log_ticks
+    from . import frequency_axis, legends_off_data, magnitude_axis, model_curve
 
     fig, axes = plt.subplots(1, 3, figsize=figure_size(figsize, "figsize") or GAP_FIGSIZE, layout="constrained")
     f = gap.remaining["frequency"].values
@@ -58,7 +58,7 @@ def plot_gap_analysis(gap, *, true_gap: float | None = None, figsize: tuple[floa
     single = getattr(gap, "single_contact", False)  # (nothing subtracted: the total is the contact's impedance)
     ax.set(xlabel="frequency [Hz]", ylabel="|Z| [Ω]" if single else "|Z_R| [Ω]", title="single contact: total, nothing subtracted" if single else "remaining impedance (Sirin eq 5)")
     magnitude_axis(ax.yaxis)  # (a labelled tick at or below the lowest |Z_R| and at or above the highest)
-    plain_log_ticks(ax.xaxis)  # (1, 10, 100, 1000, 10k beside |Z_R|'s 1000, 10k, as the batch maps' frequency axes; not 10⁰ … 10⁶)
+    frequency_axis(ax.xaxis)  # (1, 10, 100, 1000, 10k beside |Z_R|'s 1000, 10k, as every frequency axis; not 10⁰ … 10⁶)
     ax.legend(fontsize=font_size("legend", 7))
     ax = axes[1]
     u = gap.draws("u") * 1e6
@@ -159,14 +159,14 @@ def _force_bands(ax, force, *, ep_label: str, scale: str, alpha: float, suffix: 
 
 
 def _force_axis(ax, force, *, ep_label: str, alpha: float, suffix: str) -> str:
-    """The force bands (`_force_bands`) on ``ax`` over log frequency (plain tick labels: 1, 10,
+    """The force bands (`_force_bands`) on ``ax`` over log frequency (`frequency_axis`: 1, 10,
     100, 1000, 10k), on a log force axis with
     plain tick labels (`plain_log_ticks`: 40, 60, 100, 200 in mN), in N beyond `FORCE_LOG_SPAN`;
     linear when no force is positive. The gap figure's force panel and the demo's force figure
     (`plot_force_bands`) draw the force alike: the force falls by a decade or more over the band
     (Sirin's finger: 395 mN at 1 Hz to 35 mN at 1 MHz), which a linear axis drew as a curve
     pressed to its floor above 10 kHz beside the other figure's log axis. Returns the unit."""
-    from . import plain_log_ticks
+    from . import frequency_axis, plain_log_ticks
 
     values = np.concatenate([np.ravel(force[k].values) for k in ("q05", "median", "q95")]).astype(float)
     positive = bool(np.any(np.isfinite(values) & (values > 0)))
@@ -174,7 +174,7 @@ def _force_axis(ax, force, *, ep_label: str, alpha: float, suffix: str) -> str:
     unit = _force_bands(ax, force, ep_label=ep_label, scale="loglog" if positive else "semilogx", alpha=alpha, suffix=suffix, in_newtons=wide)
     if positive:
         plain_log_ticks(ax.yaxis)
-    plain_log_ticks(ax.xaxis)  # (frequency as 1, 10, 100, 1000, 10k, as the force axis and the |Z_R| panel read)
+    frequency_axis(ax.xaxis)  # (1, 10, 100, 1000, 10k, as the force axis and every frequency axis read)
     return unit
 
 
@@ -226,13 +226,14 @@ def plot_force_spectrum(freq, force, *, title: str, convention: str = "time-aver
 
     import matplotlib.pyplot as plt
 
-    from . import characters_across
+    from . import characters_across, frequency_axis
 
     fig, ax = plt.subplots(figsize=(6, 4))
     # in the SI prefix of the largest force (`force_unit`): Vezzoli's model with a thin layer
     # would otherwise draw 14,000 mN in mN
     unit_scale, unit = force_unit(force)
     ax.semilogx(freq, np.asarray(force) / unit_scale, marker="o" if np.size(freq) < 3 else None)
+    frequency_axis(ax.xaxis)
     # a force of one sign is drawn from zero, so that the axis shows its size: over a narrow band
     # (Vezzoli's eq 10 at 10–50 kHz, 74.44–74.49 mN) an autoscaled axis would draw a change of
     # 0.07 % as a steep rise across the whole panel
