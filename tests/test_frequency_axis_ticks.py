@@ -22,7 +22,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 import impedax as ix  # noqa: E402
-from impedax.plotting import frequency_axis, plot_bode, plot_spectra, plot_spectrum  # noqa: E402
+from impedax.plotting import frequency_axis, legends_off_data, plot_bode, plot_spectra, plot_spectrum  # noqa: E402
 from impedax.plotting.bayes import plot_joint_posterior_bands, plot_posterior_bands  # noqa: E402
 from impedax.plotting.comparison import plot_comparison  # noqa: E402
 from impedax.plotting.diagnosis import plot_diagnosis, plot_refinement  # noqa: E402
@@ -245,4 +245,47 @@ def test_frequency_axis_makes_a_linear_axis_log_and_ticks_a_y_axis():
     frequency_axis(ax.yaxis)
     assert ax.get_yscale() == "log" and ax.get_xscale() == "linear"
     assert [text for loc, text, _ in sorted(_labels(fig, ax.yaxis)) if loc in DECADE_TEXT] == ["10", "100", "1000", "10k", "100k"]
+    plt.close(fig)
+
+
+def test_a_legend_on_curves_of_its_twin_axis_goes_off_them():
+    """The gap figure's force legend lies on the force axis, the gap voltage's curves on its twin
+    (the right axis): `legends_off_data` counted the force axis' own curves alone and left the
+    legend over the twin's. Here the host's curve runs along the bottom, the twin's across the
+    upper right, where the legend stands; the twin's points (from its own data transform)
+    must end up outside the legend's box, and without the twin's curve the legend stays put."""
+
+    def figure(with_twin_curve: bool):
+        fig, ax = plt.subplots(figsize=(5, 3.5), layout="constrained")
+        x = np.linspace(0.0, 1.0, 50)
+        ax.plot(x, 0.05 + 0.02 * x, label="force (host)")
+        ax.set_ylim(0.0, 1.0)
+        twin = ax.twinx()
+        twin.set_ylim(0.0, 1.0)
+        if with_twin_curve:
+            twin.plot(x, np.full(x.size, 0.93), ":", label="gap voltage (twin)")
+        ax.legend(loc="upper right")
+        return fig, ax, twin
+
+    fig, ax, twin = figure(True)
+    fig.draw_without_rendering()
+    inside = ax.get_legend().get_window_extent()
+    (line,) = twin.get_lines()
+    xy = twin.transData.transform(line.get_xydata())
+    covered = (xy[:, 0] >= inside.x0) & (xy[:, 0] <= inside.x1) & (xy[:, 1] >= inside.y0) & (xy[:, 1] <= inside.y1)
+    assert covered.any()  # (the case can fail: the legend starts on the twin's curve)
+    legends_off_data(fig)
+    fig.draw_without_rendering()
+    box = ax.get_legend().get_window_extent()
+    xy = twin.transData.transform(line.get_xydata())
+    assert not np.any((xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1))
+    assert box.y0 >= ax.get_window_extent().y1 - 0.5  # (above the frame)
+    plt.close(fig)
+
+    fig, ax, _ = figure(False)
+    fig.draw_without_rendering()
+    before = ax.get_legend().get_window_extent().bounds
+    legends_off_data(fig)
+    fig.draw_without_rendering()
+    assert np.allclose(ax.get_legend().get_window_extent().bounds, before)  # (nothing under it: it stays)
     plt.close(fig)

@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "bar_points", "plain_log_ticks", "frequency_axis", "labelled_log_ticks", "LabelledLogLocator", "LOG_LABEL_ROOM_EM", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "twin_axes", "bar_points", "plain_log_ticks", "frequency_axis", "labelled_log_ticks", "LabelledLogLocator", "LOG_LABEL_ROOM_EM", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -645,8 +645,8 @@ def bar_points(ax) -> np.ndarray:
 
 
 def legends_off_data(fig) -> None:
-    """Move each legend of ``fig`` that covers drawn data (`drawn_points`, after the figure's
-    layout) out of its axes, across their width (same entries, columns, font size and title):
+    """Move each legend of ``fig`` that covers drawn data (`drawn_points` of its axes and of their
+    twins, `twin_axes`, after the figure's layout) out of its axes, across their width (same entries, columns, font size and title):
     above the frame, or, when the axes has a title (centred or at a side), below its tick labels and axis label; the
     figure's constrained layout then makes room for it. Matplotlib's "best" spot is the least
     covering of nine, not one that covers nothing: the legend of the CHI refine's tall Nyquist
@@ -699,10 +699,20 @@ def _sticks_out(ax) -> bool:
 
 
 def _covers_data(ax) -> bool:
-    """Whether ``ax``'s legend (inside its frame) lies over a point it draws (`drawn_points`)."""
+    """Whether ``ax``'s legend (inside its frame) lies over a point it or a twin of it
+    (`twin_axes`) draws (`drawn_points`): the gap figure's force legend, on the force axis, sat
+    on the gap voltage's curves of its twin (the right axis)."""
     box = ax.get_legend().get_window_extent()
-    xy = drawn_points(ax)
+    xy = np.concatenate([drawn_points(a) for a in (ax, *twin_axes(ax))])
     return bool(np.any((xy[:, 0] >= box.x0) & (xy[:, 0] <= box.x1) & (xy[:, 1] >= box.y0) & (xy[:, 1] <= box.y1)))
+
+
+def twin_axes(ax) -> list:
+    """The other axes of ``ax``'s figure drawn in its frame and sharing one of its axes
+    (``ax.twinx()``, ``ax.twiny()``, and ``ax`` itself seen from its twin)."""
+    frame = ax.get_window_extent().bounds
+    shared = set(ax.get_shared_x_axes().get_siblings(ax)) | set(ax.get_shared_y_axes().get_siblings(ax))
+    return [other for other in ax.get_figure().axes if other is not ax and other in shared and np.allclose(other.get_window_extent().bounds, frame)]
 
 
 def plot_spectrum(
