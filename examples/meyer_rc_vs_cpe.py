@@ -35,7 +35,7 @@ import _example
 import impedax
 from impedax.data import format_frequency, format_percent, format_quantity
 from impedax.models import meyer
-from impedax.plotting import legends_off_data, magnitude_axis
+from impedax.plotting import frequency_axis, labelled_log_ticks, legends_off_data, magnitude_axis
 
 TRUE_FINGER = {"R_f": 500.0, "R_sc": 130e3, "CPE_sc.alpha": 0.8, "CPE_sc.Q": 2.2e-9 * (2 * np.pi * 1e3) ** 0.2}
 """Synthetic finger: thesis R_f, R_sc; CPE equal to C_sc = 2.2 nF at 1 kHz, α = 0.8."""
@@ -102,6 +102,24 @@ def screen_chain_identifiability(freq, rng):
     return [w for w in result.warnings if "C_s" in w and "C_i" in w]
 
 
+# the least width of a column of the comparison table [em of its font]: "k" (one digit) was
+# squeezed to its digit's width by `auto_set_column_width` (which pads by 10 % of the text)
+TABLE_LEAST_COLUMN_EM = 2.5
+
+
+def least_column_width(table, ax, columns) -> None:
+    """Set the cells of ``columns`` of ``table`` (in ``ax``, laid out) to `TABLE_LEAST_COLUMN_EM`
+    of its font, in axes fraction."""
+    fig = ax.get_figure()
+    fig.draw_without_rendering()
+    cells = table.get_celld()
+    size_pt = next(iter(cells.values())).get_text().get_fontsize()
+    width = TABLE_LEAST_COLUMN_EM * size_pt / (ax.get_position().width * fig.get_figwidth() * 72.0)
+    for (_, column), cell in cells.items():
+        if column in columns:
+            cell.set_width(width)
+
+
 def main(argv=None):
     args = _example.parse_args(__doc__, argv)
     import matplotlib.pyplot as plt
@@ -141,6 +159,9 @@ def main(argv=None):
     magnitude_axis(ax_mod.yaxis)  # (impedax's |Z| rule: plain labels at or beyond both ends of the data, not 10⁴ and 10⁵ alone)
     ax_ph.set(xlabel="frequency [Hz]", ylabel="phase [deg]", title="Fig 5.3 (bottom): finger impedance phase")
     ax_res.set(xlabel="frequency [Hz]", ylabel="|relative residual| [%]", title="fit residuals", yscale="log")
+    labelled_log_ticks(ax_res.yaxis)  # (the rule of impedax's comparison figure: 0.2, 0.5, 1, 2, 5, 10, 20, not 10⁻¹, 10⁰, 10¹)
+    for ax in (ax_mod, ax_ph, ax_res):
+        frequency_axis(ax.xaxis)  # (10, 100, 1000, 10k, 100k, as every impedax figure's frequency axis)
     for ax in (ax_mod, ax_ph):
         ax.legend(fontsize=8)
     ax_res.legend(fontsize=8)
@@ -156,10 +177,13 @@ def main(argv=None):
     table = ax_tab.table(cellText=cells, rowLabels=[r["model"] for r in rows], colLabels=[heading for heading, _, _ in shown], loc="center", cellLoc="center")
     table.auto_set_font_size(False)
     table.set_fontsize(8)
-    table.auto_set_column_width(list(range(-1, len(shown))))
+    # (each column as wide as its widest text, with 10 % of it as padding; "k", one digit wide,
+    # was squeezed to its digit: it gets TABLE_LEAST_COLUMN_EM, set once the layout is final)
+    table.auto_set_column_width([c for c in range(-1, len(shown)) if shown[c][0] != "k"] if shown and shown[0][0] == "k" else list(range(-1, len(shown))))
     table.scale(1.0, 1.6)
     fig.suptitle("Meyer (2012) Fig 5.3 — RC vs fractional stratum corneum on a SYNTHETIC finger spectrum")
     legends_off_data(fig)  # (a legend over the points goes above or below its panel)
+    least_column_width(table, ax_tab, [c for c, (heading, _, _) in enumerate(shown) if heading == "k"])
     _example.save(fig, args, "meyer_fig5_3_rc_vs_cpe_impedance.png")
 
     force_freq = np.logspace(1.0, 6.0, 200 if args.fast else 600)
@@ -181,6 +205,7 @@ def main(argv=None):
     ax.semilogx(force_freq, forces["rc"] * 1e3, color=colors["rc"], label="RC model fitted to the finger")
     ax.semilogx(force_freq, forces["cpe"] * 1e3, "--", color=colors["cpe"], label="fractional (CPE) model fitted to the finger")
     ax.set(xlabel="frequency [Hz]", ylabel="time-averaged force [mN]", title="Predicted force, 140 V sine: RC vs fractional model fitted to a SYNTHETIC finger\n(model predictions only — thesis Fig 5.1b is measured force, not shown)", ylim=(0, 1.08e3 * max(forces["rc"].max(), forces["cpe"].max(), bound.max(), rc_bound.max())))
+    frequency_axis(ax.xaxis)
     ax.legend(fontsize=8, loc="lower right")
     _example.decade_grid(ax)
     legends_off_data(fig)
