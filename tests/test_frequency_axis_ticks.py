@@ -27,7 +27,7 @@ from impedax.plotting.bayes import plot_joint_posterior_bands, plot_posterior_ba
 from impedax.plotting.comparison import plot_comparison  # noqa: E402
 from impedax.plotting.diagnosis import plot_diagnosis, plot_refinement  # noqa: E402
 from impedax.plotting.models import plot_force_bands, plot_force_spectrum  # noqa: E402
-from test_gap_figure_frequency_ticks import _bands  # noqa: E402  (force bands over a grid, numpy)
+from test_gap_figure_frequency_ticks import _bands, _number  # noqa: E402  (force bands over a grid, numpy; a label read back as a number)
 from test_gap_outputs import _stub  # noqa: E402  (a GapAnalysis built by hand)
 from test_presentation_review import F, diagnosis_stand_in, fit, rc, refinement_stand_in  # noqa: E402
 
@@ -35,14 +35,6 @@ REAL = Path(__file__).parent / "fixtures" / "real"
 
 # how a decade reads on every frequency axis (written by hand, not by the code under test)
 DECADE_TEXT = {1e-3: "0.001", 1e-2: "0.01", 1e-1: "0.1", 1.0: "1", 1e1: "10", 1e2: "100", 1e3: "1000", 1e4: "10k", 1e5: "100k", 1e6: "1M"}
-PREFIX_POWERS = {"µ": -6, "m": -3, "k": 3, "M": 6}
-
-
-def _number(text: str) -> float:
-    text = text.replace("\N{MINUS SIGN}", "-")
-    return float(text[:-1]) * 10.0 ** PREFIX_POWERS[text[-1]] if text[-1] in PREFIX_POWERS else float(text)
-
-
 def _labels(fig, axis):
     """(tick position, text, box) of the visible tick labels of ``axis`` (major and minor) in view."""
     fig.canvas.draw()
