@@ -265,7 +265,8 @@ class KKResult(FrozenResult):
         return self.frequency.size >= CONCLUSIVE_POINTS_MIN
 
     def to_xarray(self) -> xr.Dataset:
-        """Residuals, KK fit and flags over ``frequency``; scalars and settings as variables/attrs."""
+        """Residuals, KK fit and flags over ``frequency``; scalars and settings as variables/attrs.
+        ``residuals_real``/``residuals_imag`` = Re/Im (Z − Z_kk)/|Z| (data minus model)."""
         f = ("frequency", self.frequency, {"units": "Hz"})
         lo = np.array([b[0] for b in self.bad_bands], dtype=float)
         hi = np.array([b[1] for b in self.bad_bands], dtype=float)
@@ -864,7 +865,7 @@ class KKBatchResult(ValidityGrid):
 
     def to_xarray(self) -> xr.Dataset:
         """Each spectrum's `KKResult.to_xarray()` stacked over ``dims`` (bands and RC elements
-        padded with NaN)."""
+        padded with NaN); ``residuals_real``/``residuals_imag`` = Re/Im (Z − Z_kk)/|Z| (data minus model)."""
         shape, dims = self.shape, self.dims
         n_band = max([len(r.bad_bands) for r in self.results] + [0])
         n_rc = max(r.n_rc for r in self.results)

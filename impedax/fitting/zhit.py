@@ -145,7 +145,7 @@ class ZHITResult(FrozenResult):
 
     def to_xarray(self) -> xr.Dataset:
         """The data ``Z``, |Z| reconstructed from the phase (``modulus_zhit``), the residuals
-        (|Z| − |Z|_ZHIT)/|Z|, flags over ``frequency``; bad bands over ``band``; rms_rel, the
+        (|Z| − |Z|_ZHIT)/|Z| (data minus reconstruction), flags over ``frequency``; bad bands over ``band``; rms_rel, the
         noise estimate and the verdict as scalars; thresholds in attrs (``impedax_kind``
         "zhit"; written by `impedax.write_result`, read back by `impedax.io.read_netcdf`)."""
         end_local = self.end_slope_local if self.end_slope_local is not None else np.zeros(self.frequency.size, bool)
@@ -318,7 +318,7 @@ class ZHITBatchResult(ValidityGrid):
 
     def to_xarray(self) -> xr.Dataset:
         """Each spectrum's `ZHITResult.to_xarray()` stacked over ``dims`` (bad bands padded with
-        NaN), with each spectrum's rule levels as variables (``point_threshold``, ``run_threshold``:
+        NaN; ``residuals`` = (|Z| − modulus_zhit)/|Z|, data minus reconstruction), with each spectrum's rule levels as variables (``point_threshold``, ``run_threshold``:
         fractions of |Z|, as its own scale s sets them)."""
         dims = self.dims
         n_band = max(len(r.bad_bands) for r in self.results)

@@ -615,7 +615,8 @@ class Diagnosis(FrozenResult):
         return plot_diagnosis(self, title=title, figsize=figsize)
 
     def to_xarray(self) -> xr.Dataset:
-        """Baseline spectra, residuals, noise and band mask over frequency; candidates over
+        """Baseline spectra, residuals (``residual_rel`` = (Z_model − Z)/|Z|, model minus data,
+        as a fit's), noise and band mask over frequency; candidates over
         ``candidate``; verdict and thresholds in attrs; the baseline fit in full (values,
         stderr, covariance, ...: `FitResult.to_xarray` with its names prefixed
         ``baseline_fit_``, read back by `Diagnosis.baseline_of`); the masked points in

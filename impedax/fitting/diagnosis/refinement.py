@@ -409,7 +409,8 @@ class Refinement(FrozenResult):
         return plot_refinement(self, title=title)
 
     def to_xarray(self) -> xr.Dataset:
-        """Per-step model, rms_rel, AIC, BIC, added element, and residuals over (step, frequency);
+        """Per-step model, rms_rel, AIC, BIC, added element, and residuals over (step, frequency)
+        (``residual_rel`` = (Z_model − Z)/|Z| of each step's fit, model minus data);
         the final fit in full (values, stderr, covariance, ...: `FitResult.to_xarray` with its
         names prefixed ``final_fit_``, read back by `Refinement.final_fit_of`); the points every
         fit left out in ``masked_points_hz`` (the data's own problem: ``Z`` holds only the

@@ -160,7 +160,8 @@ class DRTResult(FrozenResult):
         return np.interp(np.log(np.asarray(tau, float)), np.log(self.tau), self.gamma, left=0.0, right=0.0)
 
     def to_xarray(self) -> xr.Dataset:
-        """γ and its band over ``tau``, data and fit over ``frequency``, peaks over ``peak``."""
+        """γ and its band over ``tau``, data and fit over ``frequency``, peaks over ``peak``;
+        ``residuals`` = (Z − Z_fit)/|Z| (data minus model)."""
         peaks = self.peaks
         return result_dataset(xr.Dataset(
             {
@@ -723,7 +724,8 @@ class DRTBatchResult(ResultGrid):
         return [{**where, **row} for where, one in zip(self.labels(), self.results) for row in one.to_table()]
 
     def to_xarray(self) -> xr.Dataset:
-        """γ, band, fit and scalars stacked over ``dims`` (peaks padded with NaN)."""
+        """γ, band, fit and scalars stacked over ``dims`` (peaks padded with NaN);
+        ``residuals`` = (Z − Z_fit)/|Z| (data minus model)."""
         shape, dims = self.shape, self.dims
         n_peak = max([len(r.peaks) for r in self.results] + [0])
 

@@ -486,7 +486,9 @@ class FitResult(FrozenResult):
         )
 
     def to_xarray(self) -> xr.Dataset:
-        """Parameters (with stderr), covariance and the spectra as a Dataset; ``unit`` along
+        """Parameters (with stderr), covariance and the spectra as a Dataset, the residual
+        ``residual_rel`` = (Z_model − Z)/|Z| (model minus data; docs/io.md, "Names and signs in a
+        result's Dataset"); ``unit`` along
         ``param`` gives each parameter's unit (the element specs', as the CSV's ``unit``). Its attrs are Python
         objects (lists of warnings and groups, a dict of bounds) that ``.to_netcdf`` refuses, its
         error saying so: a file is written with ``impedax.write_result(result, "fit.nc")``, which
