@@ -86,8 +86,9 @@ def structural_peaks(circuit: Circuit, names: tuple[str, ...], registry: Registr
 @functools.lru_cache(maxsize=64)
 def _plan(circuit: Circuit, names: tuple[str, ...], fixed: bytes, lower: bytes, upper: bytes, registry: Registry):
     """Per reorderable group: its parameter columns (members, params per block), the offset of
-    its members in `structural_peaks`' output, and a jitted peak function over a batch of x
-    (used when a group sits inside a member of another, whose reordering moves it)."""
+    its members in `structural_peaks`' output, and a jitted peak function over a batch of the
+    group's parameters (`_batched_peaks`: used when the solver returned no peaks, or when a
+    group sits inside a member of another, whose reordering moves it)."""
     p = len(names)
     every = exchangeable_blocks(circuit, names, np.zeros(p, bool), np.zeros(p), np.zeros(p), registry)
     offsets, at = {}, 0
@@ -99,9 +100,36 @@ def _plan(circuit: Circuit, names: tuple[str, ...], fixed: bytes, lower: bytes, 
     nested = any(set().union(*inner) <= member for a, outer in enumerate(elements) for b, inner in enumerate(elements) if a != b for member in outer)
     plan = []
     for blocks in groups:
-        batched = jax.jit(jax.vmap(peak_frequencies([b for b, _ in blocks], names, registry), in_axes=(0, None)))
+        batched = _batched_peaks(_shape(blocks[0][0], registry), len(blocks), blocks[0][0], registry)
         plan.append((np.array([idx for _, idx in blocks]), offsets[tuple(str(b) for b, _ in blocks)], batched))
     return plan, nested
+
+
+_PEAK_PROGRAMS: dict[tuple[str, int, Registry], object] = {}
+"""`_batched_peaks`' jitted functions, one per block structure (`_shape`) and member count."""
+
+
+def _batched_peaks(structure: str, members: int, block: Circuit, registry: Registry):
+    """Jitted ``fn(xb (B, members, p), freq) -> (B, members)``: the frequency at which −Z'' of
+    each of ``members`` blocks of one ``structure`` (``block`` is one of them) peaks, −inf where
+    it is never positive, ``xb`` each member's p parameters in its own order (``x[:, columns]``
+    of `_plan`'s columns). One function per structure, not per circuit: the blocks' names are
+    not in it, so the candidates of a diagnosis and the steps of a refine that share
+    ``R ∥ CPE`` arcs trace and load it once (a jit per circuit traced 124 times in one
+    ``refine`` of a REAL battery cycle, 4.5 s of its 46 s; benchmarks/README.md)."""
+    key = (structure, members, registry)
+    if key not in _PEAK_PROGRAMS:
+        compiled = compile_circuit(block, registry)
+
+        def peaks(xb, freq):
+            out = []
+            for m in range(members):
+                neg_im = -compiled.vector(xb[m], freq).imag
+                out.append(jnp.where(jnp.any(neg_im > 0), freq[jnp.argmax(neg_im)], -jnp.inf))
+            return jnp.stack(out)
+
+        _PEAK_PROGRAMS[key] = jax.jit(jax.vmap(peaks, in_axes=(0, None)))
+    return _PEAK_PROGRAMS[key]
 
 
 def canonical_order(circuit: Circuit, table, freq, out, registry: Registry):
@@ -118,7 +146,7 @@ def canonical_order(circuit: Circuit, table, freq, out, registry: Registry):
     order = np.tile(np.arange(n_par), (x.shape[0], 1))
     rows = np.arange(x.shape[0])[:, None]
     for columns, offset, batched in plan:  # outer groups first: an inner group is sorted where it has moved to
-        peaks = given[:, offset : offset + len(columns)] if given is not None else np.asarray(batched(x, np.asarray(freq, float)))
+        peaks = given[:, offset : offset + len(columns)] if given is not None else np.asarray(batched(x[:, columns], np.asarray(freq, float)))
         rank = np.argsort(-peaks, axis=1, kind="stable")  # (B, members)
         permutation = np.tile(np.arange(n_par), (x.shape[0], 1))
         for slot in range(len(columns)):
