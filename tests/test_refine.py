@@ -880,6 +880,7 @@ def test_progress_names_a_further_path_by_its_place_until_the_report_labels_it(m
     _second_path(greedy, arc, 4, diagnosed, said.append, notes, finished)
     assert said == [
         "refitting the final model ARC from scratch",  # (the first path's, unlabelled as before)
+        "the first path ends at ARC; 2 further paths from other first steps follow, each refined as the first was and its end compared with the end kept",
         "further path 1 of 2, step 1: diagnosing RS",
         "further path 1 of 2, step 2: diagnosing ARC2",
         "further path 1 of 2: refitting the final model ARC2 from scratch",

@@ -791,6 +791,9 @@ def _second_path(steps: list[RefinementStep], picked, limit: int, diagnosed, say
     starts += [drt] if drt is not None else []  # (compared last: a path keeping the user's elements wins a tie)
     # a start that is the first choice or an earlier start under other names would only repeat that path
     starts = _distinct_networks(starts, picked)
+    if starts:  # (together they may take several times the first path: the progress says what follows, and why)
+        say(f"the first path ends at {steps[-1].model}; {counted(len(starts), 'further path')} from other first steps {'follows' if len(starts) == 1 else 'follow'}, "
+            "each refined as the first was and its end compared with the end kept")
     # the paths are numbered as the notes report them (a path not reported passes its number on),
     # and each note names the path whose end it is compared with: the one kept so far
     holder, holder_start, reported = "the first path", picked, 0
