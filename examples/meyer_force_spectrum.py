@@ -22,6 +22,7 @@ import numpy as np
 
 import _example
 from impedax.models import force_maximum, meyer
+from impedax.plotting import frequency_axis, plain_log_ticks
 
 
 def half_peak_frequencies(freq, force, peak_force):
@@ -78,6 +79,9 @@ def main(argv=None):
     ax_v.set(xlabel="frequency [Hz]", ylabel="amplitude [V]", title="force ∝ |V_F|² − |Q_f|²/C_i²: the leaked charge cancels V_F at low frequency")
     ax_v.set_ylim(1e-1, 3e2)
     ax_v.legend(fontsize=9)
+    plain_log_ticks(ax_v.yaxis)  # (0.1, 1, 10, 100 V beside the frequencies' plain numbers)
+    for panel in (ax, ax_v):
+        frequency_axis(panel.xaxis)  # (10, 100, 1000, 10k … 1G, as every impedax figure's frequency axis)
     _example.decade_grid(ax_v)
     _example.save(fig, args, "meyer_fig3_4_force_spectrum.png")
 

@@ -24,6 +24,7 @@ import numpy as np
 import _example
 from impedax.data import format_frequency
 from impedax.models import example_spectra, sirin
+from impedax.plotting import frequency_axis
 
 LABELS = {"skin": "skin", "touchscreen": "touchscreen", "remaining": "remaining (air gap + EP)"}
 STYLES = {"skin": ("C1", "-"), "touchscreen": ("C0", "--"), "remaining": ("C2", "-.")}
@@ -74,6 +75,7 @@ def main(argv=None):
     lowest = float(np.nanmin(pps.values))
     ax_pps.set_ylim(max(-100.0, 10.0 * np.floor(lowest / 10.0) - 10.0), 112)  # (room above 100 % for the marks' labels)
     for ax in (ax_mr, ax_pps):
+        frequency_axis(ax.xaxis)  # (1, 10, 100, 1000, 10k, as every impedax figure's frequency axis)
         ax.legend(fontsize=9)
         _example.decade_grid(ax)
     fig.suptitle("Sirin et al. Figs 4c/4d — contributions to the total sliding impedance (SYNTHETIC example data)")

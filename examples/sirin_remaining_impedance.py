@@ -34,6 +34,7 @@ import _example
 import impedax
 from impedax.data import format_percent, format_quantity, format_uncertain
 from impedax.models import example_spectra, load_example, sirin
+from impedax.plotting import frequency_axis, magnitude_axis, plain_log_ticks
 
 
 def main(argv=None):
@@ -76,7 +77,9 @@ def main(argv=None):
     ax_p.semilogx(fine, np.degrees(np.angle(z_fit)), "k--", lw=1, label="fit")
     ax_m.set(ylabel="|Z_R| [Ω]", title="Sirin et al. Fig 3d — remaining impedance Z_R = Z_total − Z_skin − Z_TS\n(SYNTHETIC example data, finger sliding)")
     ax_p.set(xlabel="frequency [Hz]", ylabel="phase [deg]", ylim=(-100, 10))
+    magnitude_axis(ax_m.yaxis)  # (impedax's |Z| rule: plain labels at or beyond both ends of the data, not 10⁶ … 10⁹)
     for ax in (ax_m, ax_p):
+        frequency_axis(ax.xaxis)  # (1, 10, 100, 1000, 10k, as every impedax figure's frequency axis)
         ax.legend(fontsize=8)
         _example.decade_grid(ax)
     _example.save(fig, args, "sirin_fig3d_remaining_impedance.png")
@@ -109,6 +112,8 @@ def main(argv=None):
     shown = shown[shown > 0]
     ax_c.set_ylim(shown.min() / 2, shown.max() * 2)
     for ax in (ax_y, ax_c):
+        frequency_axis(ax.xaxis)
+        plain_log_ticks(ax.yaxis)  # (|Y_R| in S, C in pF read as plain numbers beside the frequencies, not 10ⁿ)
         ax.legend(fontsize=8)
         _example.decade_grid(ax)
     u_fit = float(sirin.gap_thickness(c_gap_fit))

@@ -38,6 +38,7 @@ import numpy as np
 import _example
 from impedax.data import format_quantity
 from impedax.models import vezzoli
+from impedax.plotting import frequency_axis, plain_log_ticks
 
 # m, Fig 8: impedax's choice around Table 2's 350 µm; the paper gives only "the range given by
 # (Fruhstorfer, 2000)" (docs/physics.md, "impedax's own choices and derived values")
@@ -163,6 +164,7 @@ def main(argv=None):
     for h_s in SC_THICKNESSES:
         ax8.semilogx(freq, fig8.sel(h_s=h_s) * 1e3, lw=2, label=f"h_s = {h_s * 1e6:.0f} µm")
     ax8.set(xlabel="frequency [Hz]", ylabel="time-averaged force F_e [mN]", title="Fig 8 — force vs frequency\n(140 V, insulator 1 µm, ε_i = 3.4)")
+    frequency_axis(ax8.xaxis)  # (100, 1000, 10k, as every impedax figure's frequency axis)
     ax8.legend(title="stratum corneum", fontsize=8)
     curves = [ax9.loglog(h_i * 1e6, fig9.sel(eps_i=e), lw=2, label=f"ε_i = {e:g}")[0] for e in INSULATOR_PERMITTIVITIES]
     marks = [ax9.axhline(FIG9["force"], color="0.5", lw=1, ls="--", label=f"{FIG9['force']:g} N, the force the paper's text discusses")]
@@ -173,6 +175,8 @@ def main(argv=None):
         marker = "<" if name == "SiO₂" else "x"  # SiO₂: "less than 1 µm"
         marks += ax9.plot([h_text * 1e6], [FIG9["force"]], marker, color=color, ms=9, mew=2, label=f"paper's text: {name} {'< ' if marker == '<' else ''}{h_text * 1e6:g} µm gives 0.03 N; eq 10 here: {rows[name]['force']:.3f} N")
     ax9.set(xlabel="insulator thickness h_i [µm]", ylabel="time-averaged force F_e [N]", title="Fig 9 — force vs insulator thickness\n(500 Hz, 140 V; Table 2 h_s, ε_s, ρ_s, A)")
+    for axis in (ax9.xaxis, ax9.yaxis):
+        plain_log_ticks(axis)  # (0.1, 1, 10, 100 µm; forces in N as plain numbers, beside Fig 8's frequencies)
     ax9.add_artist(ax9.legend(handles=curves, fontsize=7, loc="lower left"))
     ax9.legend(handles=marks, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16))
     ax10.plot(eps_i, fig10, lw=2, color="C3", label="V_m for F_e = 0.01 N")

@@ -21,7 +21,7 @@ import pytest  # noqa: E402
 from impedax.plotting.models import plot_force_bands  # noqa: E402
 from test_gap_outputs import _stub  # noqa: E402  (a GapAnalysis built by hand: no fit, no sampling)
 
-PREFIX_POWERS = {"µ": -6, "m": -3, "k": 3, "M": 6}
+PREFIX_POWERS = {"n": -9, "µ": -6, "m": -3, "k": 3, "M": 6, "G": 9}
 
 
 def _number(text: str) -> float:
