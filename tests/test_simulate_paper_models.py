@@ -6,12 +6,14 @@ Z = 1/(jωC_s) + 1/(jωC_i) + R_sc/(1 + jωR_sc C_sc) + R_f, the CPE variant wit
 R_sc/(1 + R_sc Q (jω)^α)."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from cli_run import run
 
+REAL_SPECTRUM = Path(__file__).parent / "fixtures" / "real" / "exampleData.csv"  # (REAL; refused before it is read)
 C_S, C_I, R_SC, C_SC, R_F = 140e-12, 1.7e-9, 130e3, 2.2e-9, 500.0  # thesis eq 3.13, rounded
 
 
@@ -54,3 +56,26 @@ def test_the_json_says_which_paper_model_ran(tmp_path, capsys):
 def test_a_circuit_is_no_paper_model(capsys):
     code, out, err = run(["simulate", "R0 + C1", "--points", "2"], capsys)
     assert code == 0 and "thesis" not in err
+
+
+@pytest.mark.parametrize(("argv", "expected"), [
+    (["simulate", "meyer", "--param", "CPE_sc.alpha=0.8"],
+     "--param: CPE_sc.alpha is a parameter of meyer-cpe (C_s + C_i + R_sc || CPE_sc + R_f), not of meyer (C_s + C_i + R_sc || C_sc + R_f): "
+     "name the model meyer-cpe to set it (parameters of meyer: C_s, C_i, R_sc, C_sc, R_f)"),
+    (["simulate", "meyer-cpe", "--param", "C_sc=1n"],
+     "--param: C_sc is a parameter of meyer (C_s + C_i + R_sc || C_sc + R_f), not of meyer-cpe (C_s + C_i + R_sc || CPE_sc + R_f): name the model meyer to set it"),
+    (["fit", REAL_SPECTRUM, "--model", "meyer-rc", "--fix", "CPE_sc.Q=1n"],
+     "--fix: CPE_sc.Q is a parameter of meyer-cpe (C_s + C_i + R_sc || CPE_sc + R_f), not of meyer-rc"),
+])
+def test_a_parameter_of_the_other_meyer_variant_names_that_variant(argv, expected, capsys):
+    """A CPE parameter on the RC model (and C_sc on the CPE one) was "unknown parameter
+    'CPE_sc.alpha' for model 'C_s + C_i + R_sc || C_sc + R_f'": the error now names the paper
+    model that has it, before any data are read (exit code 2, no traceback)."""
+    code, out, err = run(argv, capsys)
+    assert code == 2 and out == ""
+    assert expected in err and "Traceback" not in err and "unknown parameter" not in err
+
+
+def test_a_name_of_no_meyer_variant_keeps_the_nearest_name_hint(capsys):
+    code, _, err = run(["simulate", "meyer", "--param", "C_x=1"], capsys)
+    assert code == 2 and "unknown parameter 'C_x'" in err and "did you mean C_s?" in err and "meyer-cpe" not in err

@@ -165,13 +165,18 @@ def comma_names(items: Iterable[str] | None) -> list[str]:
     return [n.strip() for item in items or () for n in item.split(",") if n.strip()]
 
 
-def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str, model: str, registry=None) -> None:
+def check_parameter_names(names: Iterable[str], known: Iterable[str], flag: str, model: str, registry=None, *, paper: str | None = None) -> None:
     """`ParameterError` naming ``flag`` and the nearest known name (`closest_name`) for the
     first of ``names`` that is not one of ``known``, the parameters of ``model`` (elements of
-    ``registry``, None: the default one)."""
+    ``registry``, None: the default one). ``paper``: the paper model ``model`` is (a key of
+    `PAPER_MODELS`); a name of another paper model's is said to be its (`other_paper_model`)."""
     known = list(known)
     for name in names:
         if name not in known:
+            other = other_paper_model(name, paper)
+            if other is not None:
+                raise ParameterError(f"{flag}: {name} is a parameter of {other} ({paper_circuit(other)}), not of {paper} ({model}): "
+                                     f"name the model {other} to set it (parameters of {paper}: {', '.join(known)})")
             from ..arguments import closest_name
             from ..circuits import DEFAULT_REGISTRY
 
@@ -366,17 +371,17 @@ def check_bounds(values: Mapping[str, float], specs: Mapping, flag: str) -> None
             raise ParameterError(outside_bounds_message(flag, name, value, spec.lower, spec.upper, spec.upper_inclusive, unit))
 
 
-def model_and_values(model: str, items, flag: str, registry=None):
-    """Parse ``model`` (elements of ``registry``, None: the default one) and the ``NAME=VALUE``
-    ``items`` given with ``flag``; check the names and bounds. Returns (circuit, parameter
-    specs, values)."""
+def model_and_values(model: str, items, flag: str, registry=None, *, paper: str | None = None):
+    """Parse ``model`` (elements of ``registry``, None: the default one; the circuit of the
+    paper model ``paper`` when given) and the ``NAME=VALUE`` ``items`` given with ``flag``;
+    check the names and bounds. Returns (circuit, parameter specs, values)."""
     from .. import DEFAULT_REGISTRY, parse
 
     registry = registry or DEFAULT_REGISTRY
     circuit = parse(model, registry)
     specs = circuit.parameter_specs(registry)
     values = parse_assignments(items, flag)
-    check_parameter_names(values, specs, flag, model, registry)
+    check_parameter_names(values, specs, flag, model, registry, paper=paper)
     check_bounds(values, specs, flag)
     return circuit, specs, values
 
@@ -519,6 +524,17 @@ def paper_model(model: str | None) -> tuple[str | None, dict[str, float]]:
     from ..models.meyer import meyer_model
 
     return name, dict(meyer_model(PAPER_MODELS[name]).params)
+
+
+def other_paper_model(name: str, paper: str | None) -> str | None:
+    """The first paper model (`PAPER_MODELS`) other than the variant of ``paper`` that has the
+    parameter ``name`` (``CPE_sc.alpha`` of meyer: meyer-cpe; ``C_sc`` of meyer-cpe: meyer);
+    None when ``paper`` is None or none has it."""
+    if paper not in PAPER_MODELS:
+        return None
+    from ..circuits import parse
+
+    return next((other for other, variant in PAPER_MODELS.items() if variant != PAPER_MODELS[paper] and name in parse(paper_circuit(other)).parameter_names()), None)
 
 
 def paper_circuit(name: str) -> str:

@@ -150,7 +150,7 @@ def run(args) -> int:
     names = circuit.parameter_names(args.registry)
     given_bounds = parse_bounds(args.bound)
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
-        check_parameter_names(given, names, flag, args.model, args.registry)
+        check_parameter_names(given, names, flag, args.model, args.registry, paper=getattr(args, "paper_model", None))
     check_bounds(fixed, circuit.parameter_specs(args.registry), "--fix")  # (before the data are read: nothing printed before the refusal)
     check_bounds({k: v for k, v in init.items() if k not in given_bounds}, circuit.parameter_specs(args.registry), "--init")
     bounds = checked_bound_options(given_bounds, circuit.parameter_specs(args.registry), init=init, fixed=fixed)

@@ -57,7 +57,7 @@ def run(args) -> int:
 
         args.circuit_model = True
         read_impedance_py_model(args, "simulate")
-    circuit, specs, given = model_and_values(args.model, args.param, "--param", args.registry)
+    circuit, specs, given = model_and_values(args.model, args.param, "--param", args.registry, paper=paper)
     check_json_with_spectrum_out(args.json, args.out, "simulate")
     outputs = plan_outputs([("--out", args.out, "spectrum"), ("--plot", args.plot, "figure")], inputs=[args.frequencies] if args.frequencies else (),
                            stdout="--json" if args.json else None)
