@@ -44,6 +44,21 @@ def _labels(fig, axis):
     return [(t.get_loc(), t.label1.get_text(), t.label1.get_window_extent(renderer)) for t in ticks if t.label1.get_visible() and t.label1.get_text()]
 
 
+def assert_plain_labels(fig, axis, what, decades=None) -> None:
+    """The visible labels of ``axis``: two or more, none in 10ⁿ or exponent form, each read back
+    as its tick's value, those of ``decades`` (value → text) as written there, none over another."""
+    labels = _labels(fig, axis)
+    texts = [text for _, text, _ in labels]
+    assert len(labels) >= 2, (what, texts)
+    for loc, text, _ in labels:
+        assert "$" not in text and "^" not in text and "e+" not in text and "e-" not in text, (what, texts)  # (no 10ⁿ, no 1e+05)
+        assert _number(text) == pytest.approx(loc, rel=1e-6), (what, loc, text)
+        if decades is not None and loc in decades:
+            assert text == decades[loc], (what, loc, text)
+    boxes = [box for _, _, box in labels]
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :]), (what, texts)
+
+
 def _real():
     return ix.load(REAL / "exampleData.csv")
 
@@ -186,16 +201,7 @@ def test_every_frequency_axis_reads_plain_numbers_of_its_ticks(figure, request):
     assert axes, kind
     for axis in axes:
         assert axis.get_scale() == "log", kind
-        labels = _labels(fig, axis)
-        texts = [text for _, text, _ in labels]
-        assert len(labels) >= 2, (kind, texts)
-        for loc, text, _ in labels:
-            assert "$" not in text and "^" not in text and "e+" not in text and "e-" not in text, (kind, texts)  # (no 10ⁿ, no 1e+05)
-            assert _number(text) == pytest.approx(loc, rel=1e-6), (kind, loc, text)
-            if loc in DECADE_TEXT:
-                assert text == DECADE_TEXT[loc], (kind, loc, text)  # (one way for every figure: 1000, 10k; not 1k nor 10000)
-        boxes = [box for _, _, box in labels]
-        assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :]), (kind, texts)
+        assert_plain_labels(fig, axis, kind, DECADE_TEXT)  # (one way for every figure: 1000, 10k; not 1k nor 10000)
 
 
 def test_the_real_spectrum_reads_its_decades_as_the_gap_figure_reads_its_six():
