@@ -66,6 +66,18 @@ def test_a_circuit_is_no_paper_model(capsys):
      "--param: C_sc is a parameter of meyer (C_s + C_i + R_sc || C_sc + R_f), not of meyer-cpe (C_s + C_i + R_sc || CPE_sc + R_f): name the model meyer to set it"),
     (["fit", REAL_SPECTRUM, "--model", "meyer-rc", "--fix", "CPE_sc.Q=1n"],
      "--fix: CPE_sc.Q is a parameter of meyer-cpe (C_s + C_i + R_sc || CPE_sc + R_f), not of meyer-rc"),
+    (["fit", REAL_SPECTRUM, "--model", "meyer", "--plot", "never-written.png", "--plot-params", "CPE_sc.alpha"],
+     "--plot-params: CPE_sc.alpha is a parameter of meyer-cpe"),
+    (["sample", REAL_SPECTRUM, "--model", "meyer", "--prior", "CPE_sc.alpha=uniform:0.5,1"],
+     "--prior: CPE_sc.alpha is a parameter of meyer-cpe (C_s + C_i + R_sc || CPE_sc + R_f), not of meyer"),
+    (["sample", REAL_SPECTRUM, "--model", "meyer-cpe", "--fix", "C_sc=1n"],
+     "--fix: C_sc is a parameter of meyer (C_s + C_i + R_sc || C_sc + R_f), not of meyer-cpe"),
+    (["diagnose", REAL_SPECTRUM, "--model", "meyer-cpe", "--fix", "C_sc=1n"],
+     "--fix: C_sc is a parameter of meyer (C_s + C_i + R_sc || C_sc + R_f), not of meyer-cpe"),
+    (["diagnose", REAL_SPECTRUM, "--model", "meyer", "--bound", "CPE_sc.alpha=0.5:1"],
+     "--bound: CPE_sc.alpha is a parameter of meyer-cpe"),
+    (["refine", REAL_SPECTRUM, "--model", "meyer", "--fix", "CPE_sc.alpha=0.8"],
+     "--fix: CPE_sc.alpha is a parameter of meyer-cpe"),
 ])
 def test_a_parameter_of_the_other_meyer_variant_names_that_variant(argv, expected, capsys):
     """A CPE parameter on the RC model (and C_sc on the CPE one) was "unknown parameter

@@ -73,7 +73,7 @@ def fixed_option(args) -> dict[str, float]:
     fixed = parse_assignments(args.fix, "--fix")
     if fixed:
         circuit = parse(args.model, args.registry)
-        check_parameter_names(fixed, circuit.parameter_names(args.registry), "--fix", args.model, args.registry)
+        check_parameter_names(fixed, circuit.parameter_names(args.registry), "--fix", args.model, args.registry, paper=getattr(args, "paper_model", None))
         check_bounds(fixed, circuit.parameter_specs(args.registry), "--fix")
     return fixed
 
@@ -90,7 +90,7 @@ def bounds_option(args, fixed: dict[str, float]) -> dict[str, tuple[float, float
     if not given:
         return {}
     circuit = parse(args.model, args.registry)
-    check_parameter_names(given, circuit.parameter_names(args.registry), "--bound", args.model, args.registry)
+    check_parameter_names(given, circuit.parameter_names(args.registry), "--bound", args.model, args.registry, paper=getattr(args, "paper_model", None))
     return checked_bound_options(given, circuit.parameter_specs(args.registry), fixed=fixed)
 
 

@@ -159,7 +159,7 @@ def run(args) -> int:
     if plot_params is not None:
         if not args.plot:
             raise ParameterError("--plot-params picks the parameters of the figure --plot FILE.png draws: give --plot too")
-        check_parameter_names(plot_params, names, "--plot-params", args.model, args.registry)
+        check_parameter_names(plot_params, names, "--plot-params", args.model, args.registry, paper=paper)
     loaded = load_selected(args.data, args.select, readers=args.readers)
     data = exclude_points(loaded, args.exclude)
     # (the frequencies --exclude left out: --residual-map marks their rows, where its neighbours' cells had covered them)

@@ -185,7 +185,7 @@ def check_prior_names(priors, circuit, fixed, args) -> None:
 
     from ..fitting.bayes.priors import check_prior_inside
 
-    check_parameter_names(priors, [*circuit.parameter_names(args.registry), "sigma_rel"], "--prior", args.model, args.registry)
+    check_parameter_names(priors, [*circuit.parameter_names(args.registry), "sigma_rel"], "--prior", args.model, args.registry, paper=getattr(args, "paper_model", None))
     specs = circuit.parameter_specs(args.registry)
     for name, prior in priors.items():
         if name in fixed:
@@ -235,7 +235,7 @@ def run(args) -> int:
     init, fixed = parse_assignments(args.init, "--init"), parse_assignments(args.fix, "--fix")
     given_bounds = parse_bounds(args.bound)
     for flag, given in (("--init", init), ("--fix", fixed), ("--bound", given_bounds)):
-        check_parameter_names(given, circuit.parameter_names(args.registry), flag, args.model, args.registry)
+        check_parameter_names(given, circuit.parameter_names(args.registry), flag, args.model, args.registry, paper=getattr(args, "paper_model", None))
     check_bounds(fixed, circuit.parameter_specs(args.registry), "--fix")  # (before the data are read and the start is fitted: nothing printed before the refusal)
     bounds = checked_bound_options(given_bounds, circuit.parameter_specs(args.registry), init=init, fixed=fixed)
     if sharing and (init or args.max_steps is not None):
