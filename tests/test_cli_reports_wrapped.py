@@ -64,3 +64,38 @@ def test_a_quoted_model_is_kept_whole():
     assert len(wrapped) > 1 and any("'R0 + R1 || C1'" in each for each in wrapped), wrapped
     assert " ".join(" ".join(wrapped).split()) == line
     assert terminal_text("the data's phase is 2° above the model's " * 4, 80).count("\n") >= 1  # (an apostrophe in prose is no quote: the line still wraps)
+
+
+class _Logged(io.StringIO):
+    """Standard output (a terminal or a pipe) or error, each write logged as (stream, text)."""
+
+    def __init__(self, log, name, tty):
+        super().__init__()
+        self.log, self.name, self.tty = log, name, tty
+
+    def write(self, text):
+        self.log.append((self.name, text))
+        return super().write(text)
+
+    def isatty(self):
+        return self.tty
+
+
+def test_a_note_on_stderr_keeps_its_place_after_the_report(monkeypatch):
+    """The REAL Parstat file's 781 DC rows are named on stderr after fit's report: into a pipe
+    the note followed the report, on a terminal it came first (the wrapped report was held back
+    until the block ended). Now it comes where it was printed on both."""
+    monkeypatch.setenv("COLUMNS", "80")
+    parstat = str(Path(ZPLOT).with_name("exampleDataParstat.txt"))
+    orders = {}
+    for tty in (False, True):
+        log = []
+        monkeypatch.setattr(sys, "stdout", _Logged(log, "out", tty))
+        monkeypatch.setattr(sys, "stderr", _Logged(log, "err", False))
+        assert main(["fit", parstat, "--model", "R0 + R1 || CPE1", "-q"]) == 0
+        text = "".join(t for _, t in log)
+        note = text.index("rows skipped as no impedance points")
+        assert text.index("parameter ") < note  # (the report's table before the note)
+        orders[tty] = [name for name, t in log if t.strip()]
+    collapse = lambda names: [n for k, n in enumerate(names) if k == 0 or names[k - 1] != n]
+    assert collapse(orders[True]) == collapse(orders[False])

@@ -1919,26 +1919,58 @@ def to_terminal(text: bool, table_head: str | None = None):
     sample, kk, drt, gap and compare (not its table, whose rows keep their columns).
     ``table_head``: the start of a table's header line (``"parameter "``), which and whose rows
     (up to a blank line or a ``warning:``, ``note:`` or ``hint:`` line) keep their columns, as a
-    wrapped row would not: sample's rows end in a prior column past 80 characters."""
-    import io
-
+    wrapped row would not: sample's rows end in a prior column past 80 characters. What goes
+    to stderr inside (a note of skipped rows) is written where it was printed (`_Recorder`)."""
     from ..progress import terminal_text, terminal_width
 
     width = terminal_width(sys.stdout) if text else None
     if width is None:
         yield
         return
-    buffer = io.StringIO()
-    with contextlib.redirect_stdout(buffer):
-        yield
-    out, in_table = [], False
-    for line in buffer.getvalue().rstrip("\n").split("\n"):
-        if table_head is not None and line.startswith(table_head):
-            in_table = True
-        elif in_table and (not line.strip() or line.startswith(("warning:", "note:", "hint:"))):
+    events: list[list] = []  # [stream, text] in the order written: a note on stderr stays where it was printed
+    out, err = sys.stdout, sys.stderr
+    with contextlib.redirect_stdout(_Recorder(out, events)), contextlib.redirect_stderr(_Recorder(err, events)):
+        try:
+            yield
+        finally:  # (what was printed before an error is shown, as it would have been unwrapped)
             in_table = False
-        out.append(line if in_table else terminal_text(line, width))
-    sys.stdout.write("\n".join(out) + "\n")
+            for stream, written in events:
+                if stream is err:
+                    out.flush()
+                    err.write(written)
+                    err.flush()
+                    continue
+                lines = written.split("\n")
+                for k, line in enumerate(lines[:-1]):
+                    if table_head is not None and line.startswith(table_head):
+                        in_table = True
+                    elif in_table and (not line.strip() or line.startswith(("warning:", "note:", "hint:"))):
+                        in_table = False
+                    lines[k] = line if in_table else terminal_text(line, width)
+                out.write("\n".join(lines))
+            out.flush()
+
+
+class _Recorder:
+    """A stand-in for standard output or error inside `to_terminal`: each write joins ``events``
+    (the last entry's text when it is of the same ``stream``), so the report is wrapped and the
+    notes on stderr come where they were printed, as in a pipe (they came before the report)."""
+
+    def __init__(self, stream, events: list[list]):
+        self.stream, self.events = stream, events
+
+    def write(self, text: str) -> int:
+        if self.events and self.events[-1][0] is self.stream:
+            self.events[-1][1] += text
+        else:
+            self.events.append([self.stream, text])
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return self.stream.isatty()
 
 
 def print_result(result, as_json: bool, source: str | None = None, provenance: Mapping | None = None, *, command: str | None = None, written: str | None = None, **report_options) -> None:
