@@ -166,17 +166,17 @@ def main(argv=None):
     ax8.set(xlabel="frequency [Hz]", ylabel="time-averaged force F_e [mN]", title="Fig 8 — force vs frequency\n(140 V, insulator 1 µm, ε_i = 3.4)")
     frequency_axis(ax8.xaxis)  # (100, 1000, 10k, as every impedax figure's frequency axis)
     ax8.legend(title="stratum corneum", fontsize=8)
-    curves = [ax9.loglog(h_i * 1e6, fig9.sel(eps_i=e), lw=2, label=f"ε_i = {e:g}")[0] for e in INSULATOR_PERMITTIVITIES]
-    marks = [ax9.axhline(FIG9["force"], color="0.5", lw=1, ls="--", label=f"{FIG9['force']:g} N, the force the paper's text discusses")]
+    curves = [ax9.loglog(h_i * 1e6, fig9.sel(eps_i=e) * 1e3, lw=2, label=f"ε_i = {e:g}")[0] for e in INSULATOR_PERMITTIVITIES]  # (mN, as Fig 8)
+    marks = [ax9.axhline(FIG9["force"] * 1e3, color="0.5", lw=1, ls="--", label=f"{FIG9['force']:g} N ({FIG9['force'] * 1e3:g} mN), the force the paper's text discusses")]
     for k, (name, curve) in enumerate(materials.items()):
         eps, h_text = MATERIALS[name]
         color = ("k", "0.35", "0.6")[k]
-        marks += ax9.loglog(h_i * 1e6, curve, ":", color=color, lw=2, label=f"{name}, ε_i = {eps:g} (dotted: Fig 9's selected materials)")
+        marks += ax9.loglog(h_i * 1e6, curve * 1e3, ":", color=color, lw=2, label=f"{name}, ε_i = {eps:g} (dotted: Fig 9's selected materials)")
         marker = "<" if name == "SiO₂" else "x"  # SiO₂: "less than 1 µm"
-        marks += ax9.plot([h_text * 1e6], [FIG9["force"]], marker, color=color, ms=9, mew=2, label=f"paper's text: {name} {'< ' if marker == '<' else ''}{h_text * 1e6:g} µm gives 0.03 N; eq 10 here: {rows[name]['force']:.3f} N")
-    ax9.set(xlabel="insulator thickness h_i [µm]", ylabel="time-averaged force F_e [N]", title="Fig 9 — force vs insulator thickness\n(500 Hz, 140 V; Table 2 h_s, ε_s, ρ_s, A)")
+        marks += ax9.plot([h_text * 1e6], [FIG9["force"] * 1e3], marker, color=color, ms=9, mew=2, label=f"paper's text: {name} {'< ' if marker == '<' else ''}{h_text * 1e6:g} µm gives 0.03 N; eq 10 here: {rows[name]['force']:.3f} N")
+    ax9.set(xlabel="insulator thickness h_i [µm]", ylabel="time-averaged force F_e [mN]", title="Fig 9 — force vs insulator thickness\n(500 Hz, 140 V; Table 2 h_s, ε_s, ρ_s, A)")
     for axis in (ax9.xaxis, ax9.yaxis):
-        plain_log_ticks(axis)  # (0.1, 1, 10, 100 µm; forces in N as plain numbers, beside Fig 8's frequencies)
+        plain_log_ticks(axis)  # (0.1, 1, 10, 100 µm; forces in mN as Fig 8's, 0.1, 1, 10: in N they read "100µ" beside "0.001")
     ax9.add_artist(ax9.legend(handles=curves, fontsize=7, loc="lower left"))
     ax9.legend(handles=marks, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.16))
     ax10.plot(eps_i, fig10, lw=2, color="C3", label="V_m for F_e = 0.01 N")

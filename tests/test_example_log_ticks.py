@@ -31,7 +31,7 @@ LOG_AXES = {
     },
     "sirin_mr_pps": {"sirin_fig4cd_mr_pps.png": ["frequency [Hz]", "frequency [Hz]"]},
     "meyer_force_spectrum": {"meyer_fig3_4_force_spectrum.png": ["frequency [Hz]", "amplitude [V]"]},
-    "vezzoli_electrovibration": {"vezzoli_fig8_9_10_electrovibration.png": ["frequency [Hz]", "insulator thickness h_i [µm]", "time-averaged force F_e [N]"]},
+    "vezzoli_electrovibration": {"vezzoli_fig8_9_10_electrovibration.png": ["frequency [Hz]", "insulator thickness h_i [µm]", "time-averaged force F_e [mN]"]},
 }
 
 
