@@ -22,7 +22,7 @@ import numpy as np
 
 import _example
 import impedax as ix
-from impedax.data import format_band, format_percent
+from impedax.data import format_band, format_percent, format_percent_column
 
 
 def synthetic_finger(seed: int = 7):
@@ -52,8 +52,9 @@ def main(argv=None):
     for band in diagnosis.failing_bands:
         print(f"   fails {format_band(band.f_min, band.f_max)}: {band.pattern}")
     print(f"   verdict: {diagnosis.verdict}")
-    for s in diagnosis.suggestions[:4]:
-        print(f"   {s.effect:<22} ΔAIC {s.delta_aic:8.1f}   rms_rel {format_percent(s.rms_rel):>7}   {s.model}")
+    shown = diagnosis.suggestions[:4]
+    for s, percent in zip(shown, format_percent_column([s.rms_rel for s in shown])):  # (one number of decimals: the points line up)
+        print(f"   {s.effect:<22} ΔAIC {s.delta_aic:8.1f}   rms_rel {percent:>5} %   {s.model}")
     if diagnosis.best is not None:
         print(f"   best: {diagnosis.best.explanation}")
     _example.save(diagnosis.plot(), args, "hidden_effect_diagnosis.png")

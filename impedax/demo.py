@@ -22,7 +22,7 @@ from typing import Sequence
 import numpy as np
 
 from .constants import EPSILON_AIR
-from .data import format_frequency
+from .data import format_frequency, format_percent_column
 from .io.atomic import OutputTransaction, check_writable, remove_temporary, temporary_folder
 
 __all__ = ["run_demo"]
@@ -214,8 +214,9 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None,
         kk = first.kk
         story.say(f"  Kramers–Kronig test of the data: {'valid' if kk.valid else 'NOT valid'} (rms_rel {kk.rms_rel * 100:.3g} %) — " + ("the misfit is the model's, not the data's." if kk.valid else "parts of the data are not causal/stationary."))
         story.say(f"  Verdict on C_gap: {first.verdict}.")
-        for s in first.suggestions[:3]:
-            story.say(f"    {s.effect:<24} ΔAIC {s.delta_aic:8.1f}   rms_rel {s.rms_rel * 100:6.3g} %   {s.model}")
+        shown = first.suggestions[:3]
+        for s, percent in zip(shown, format_percent_column([s.rms_rel for s in shown])):  # (one number of decimals: the points line up)
+            story.say(f"    {s.effect:<24} ΔAIC {s.delta_aic:8.1f}   rms_rel {percent:>6} %   {s.model}")
         if first.best is not None:
             story.say(f"  Best: {first.best.explanation}")
         refinement = ix.refine(remaining, "C_gap", weighting="sigma", max_effects=3)

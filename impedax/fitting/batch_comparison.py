@@ -12,10 +12,10 @@ from typing import Sequence
 import numpy as np
 import xarray as xr
 
-from ..data import column_width, concise_repr, report_text
+from ..data import column_width, concise_repr, format_percent_column, report_text
 from ..errors import FitsNotComparable
 from ..io.netcdf import NETCDF_ADVICE, result_dataset
-from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, weightings_differ, fit_label, labelled_warnings, nested_as_held, register_batch_compare, significant, unique_labels
+from .comparison import DECISIVE_DELTA_AIC, NESTED_WORSE_REL, common_source, NOISE_F, SAME_FIT_RMS, criteria_tie, WEAK_DELTA_AIC, Comparison, akaike_weights, compare, criteria, weightings_differ, fit_label, labelled_warnings, nested_as_held, register_batch_compare, unique_labels
 from .least_squares import BatchFitResult, SharedFitResult
 from .least_squares.batch import SPECTRA_AS_ROWS, labels_by_keyword, labels_key, labels_shown, spectra_named
 from .least_squares.result import BOUND_CHI2_FRACTION, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, data_difference, misfit_hint_spectra
@@ -555,10 +555,11 @@ class BatchComparison(FrozenResult):
         lead_width = column_width(leads, "lead: median (range)")
         lines.append(f"{'model':<{width}}  {'k':>2}  {'wins':>9}  {'decisive':>8}  {'lead: median (range)':<{lead_width}}  {'ΣAIC':>11}  {'ΔΣAIC':>9}  {'weight':>6}  {'converged':>9}  {'median rms_rel':>14}")
         best = self.best_index
-        for i, (m, lead) in enumerate(zip(models, leads)):
+        rms = format_percent_column([m["rms_rel_median"] for m in models])  # (one number of decimals: the points line up)
+        for i, (m, lead, percent) in enumerate(zip(models, leads, rms)):
             wins = f"{m['wins']}/{self.n_spectra}"
             line = (f"{m['label']:<{width}}  {m['n_params']:>2}  {wins:>9}  {m['decisive_wins']:>8}  {lead:<{lead_width}}  {m['aic_sum']:>11.2f}  {m['delta_aic_sum']:>9.2f}  {m['akaike_weight_sum']:>6.3f}  "
-                    f"{m['converged_fraction'] * 100:>7.0f} %  {significant(m['rms_rel_median'] * 100):>12} %")
+                    f"{m['converged_fraction'] * 100:>7.0f} %  {percent:>12} %")
             lines.append(line + ("   ← best by summed AIC" if i == best else ""))
         lines += ["", SUM_NOTE + f"; wins count the spectra each model is best on by its own AIC; its lead there is the ΔAIC of the nearest rival "
                   f"that neither reduces to it nor is its fit in another writing (— where no rival is left), decisive from {DECISIVE_DELTA_AIC:g} (Burnham & Anderson 2002: essentially no support for the rival)"]

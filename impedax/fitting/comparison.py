@@ -15,7 +15,7 @@ import xarray as xr
 from ..arguments import checked_arguments, sequence_of
 from ..circuits import DEFAULT_REGISTRY, Circuit, Registry
 from ..circuits.nesting import embedding
-from ..data import column_width, concise_repr, format_quantity, report_text
+from ..data import column_width, concise_repr, format_percent_column, format_quantity, report_text
 from ..errors import FitError, FitsNotComparable
 from ..io.netcdf import result_dataset
 from .least_squares import BatchFitResult, FitResult
@@ -465,9 +465,10 @@ class Comparison(FrozenResult):
         head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>10}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
         lines = [head]
         best = self.best_index
-        for i, r in enumerate(self.rows):
+        rms = format_percent_column([r["rms_rel"] for r in self.rows])  # (one number of decimals: the points line up)
+        for i, (r, percent) in enumerate(zip(self.rows, rms)):
             aicc = "—" if math.isnan(r["aicc"]) else f"{r['aicc']:.2f}"
-            line = f"{r['label']:<{width}}  {r['n_params']:>2}  {significant(r['rms_rel'] * 100):>8} %  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
+            line = f"{r['label']:<{width}}  {r['n_params']:>2}  {percent:>8} %  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"
             line += "".join(f"  {self._extra_cell(r, c):>12}" for c in extra)
             if i == best:
                 line += self._best_mark(warnings_below=warnings_below)

@@ -27,7 +27,7 @@ import xarray as xr
 
 from ..arguments import EXCLUDE_RTOL, MAX_BASIS, checked_arguments, count, flag, instance_of, real, shown
 from ..constants import CONCLUSIVE_POINTS_MIN
-from ..data import checked_frequencies, column_width, concise_repr, report_text, counted, format_band, format_frequency, label_text
+from ..data import checked_frequencies, column_width, concise_repr, report_text, counted, format_band, format_frequency, format_percent_column, label_text
 from ..errors import DataError, ImpedaxError, ParameterError
 from ..io.netcdf import result_dataset
 from .grid import ResultGrid, refuse_result_names
@@ -764,10 +764,12 @@ class ValidityGrid(ResultGrid):
         width = column_width(names, "spectrum")
         head, attribute = self._COUNT_COLUMN or ("", "")
         lines = [f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>10} {'noise':>10}{f' {head:>3}' if head else ''}  bad bands [rules that flagged them]"]
-        for name, r in zip(names, self.results):
+        # (one number of decimals per column: the points line up)
+        rms, noise = format_percent_column([r.rms_rel for r in self.results]), format_percent_column([r.noise_estimate for r in self.results])
+        for name, r, rms_text, noise_text in zip(names, self.results, rms, noise):
             bands = "; ".join(f"{band_name(points)} [{', '.join(rules)}]" for points, rules in zip(r.band_frequencies, r.band_rules)) or "none"
             count = f" {getattr(r, attribute):>3}" if head else ""
-            lines.append(f"{name:<{width}}  {_verdict_word(r):<9} {r.rms_rel * 100:>8.3g} % {r.noise_estimate * 100:>8.3g} %{count}  {bands}")
+            lines.append(f"{name:<{width}}  {_verdict_word(r):<9} {rms_text:>8} % {noise_text:>8} %{count}  {bands}")
         return lines
 
     def _html_rows(self) -> list[dict]:

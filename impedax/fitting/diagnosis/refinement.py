@@ -15,7 +15,7 @@ import xarray as xr
 from ...progress import reports_progress
 from ...arguments import MAX_SOLVER_STEPS, MAX_STARTS, checked_arguments, choice, count, flag, frequency, instance_of, noise_fraction, parameter_bounds, parameter_values, seed as seed_rule
 from ...circuits import Circuit, DEFAULT_REGISTRY, Element, Registry, parse
-from ...data import concise_repr, counted, report_text, format_quantity
+from ...data import concise_repr, counted, report_text, format_percent_column, format_quantity
 from ...errors import CircuitError, ParameterError
 from ...io.netcdf import result_dataset
 from ..least_squares import FitResult, fit
@@ -322,9 +322,10 @@ class Refinement(FrozenResult):
         on (``×noise``, `RefinementStep.noise_ratio`: whether a step's gain is beyond the noise)
         and what it changed, with the model under it."""
         lines = [f"{'step':>4}  {'rms_rel':>10}  {'AIC':>9}  {'×noise':>7}  change / model"]
-        for i, s in enumerate(self.steps):
+        rms = format_percent_column([s.fit.rms_rel for s in self.steps])  # (one number of decimals: the points line up)
+        for i, (s, percent) in enumerate(zip(self.steps, rms)):
             ratio = f"{s.noise_ratio:.3g}×" if s.noise_ratio is not None else "–"
-            lines.append(f"{i:>4}  {s.fit.rms_rel * 100:>8.3g} %  {s.fit.aic:>9.1f}  {ratio:>7}  {s.change}")
+            lines.append(f"{i:>4}  {percent:>8} %  {s.fit.aic:>9.1f}  {ratio:>7}  {s.change}")
             lines.append(f"{'':>4}  {'':>10}  {'':>9}  {'':>7}  {s.model}")
         return "\n".join(lines)
 

@@ -21,7 +21,7 @@ import xarray as xr
 from ...arguments import unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry
 from ...circuits.nesting import carried_values
-from ...data import column_width, concise_repr, exact_number, report_text, coordinate_labels, counted, format_band, format_relative_error, label_text, label_value, unit_text
+from ...data import column_width, concise_repr, exact_number, report_text, coordinate_labels, counted, format_band, format_percent_column, format_relative_error, label_text, label_value, unit_text
 from ...errors import DataError, ParameterError
 from ...io.netcdf import result_dataset
 from ...progress import say, silenced
@@ -810,7 +810,8 @@ class BatchFitResult(FrozenResult):
         fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
         names = list(s["params"])
         against_sigma = self._against_sigma()
-        cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for p in names] + [f"{r['rms_rel'] * 100:.3g} %"] + ([f"{r['chi2_red']:.3g}"] if against_sigma else []) for r in rows]
+        rms = format_percent_column([r["rms_rel"] for r in rows])  # (one number of decimals: the points line up)
+        cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for p in names] + [f"{percent} %"] + ([f"{r['chi2_red']:.3g}"] if against_sigma else []) for r, percent in zip(rows, rms)]
         columns = names + ["rms_rel"] + (["chi2_red"] if against_sigma else [])
         widths = [max(len(c), *(len(row[j]) for row in cells)) for j, c in enumerate(columns)]
         lead = column_width(heads, "spectrum")
