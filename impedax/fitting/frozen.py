@@ -19,7 +19,7 @@ import jax
 import numpy as np
 import xarray as xr
 
-__all__ = ["FrozenResult", "ReadOnlyDict", "MissingKey", "freeze_fields", "read_only", "read_only_array", "read_only_dataset"]
+__all__ = ["FrozenResult", "ReadOnlyDict", "KeyHintDict", "MissingKey", "freeze_fields", "read_only", "read_only_array", "read_only_dataset"]
 
 
 class MissingKey(KeyError):
@@ -40,20 +40,27 @@ class MissingKey(KeyError):
         return f"{key!r}{hint} (the keys: {listed or 'none'})"
 
 
-class ReadOnlyDict(dict):
+class KeyHintDict(dict):
+    """A dict, editable, whose missing key raises `MissingKey` (the closest key and the keys
+    there are) where a dict's said ``'R9'`` alone: what a result computes on request and hands
+    over to edit (a posterior's ``samples``). A JAX pytree with the leaves of the equal dict, in
+    the same order; ``json.dumps``, ``pickle`` and ``copy`` work as on a dict."""
+
+    def __missing__(self, key):
+        raise MissingKey(key, self)
+
+
+class ReadOnlyDict(KeyHintDict):
     """A dict that refuses to change: item assignment, deletion, ``update``, ``pop``, ``|=``
     and the like raise TypeError (as ``types.MappingProxyType``). Unlike a mapping proxy it is
     still a dict, so ``json.dumps``, ``pickle``, ``copy`` and ``dict(d)`` (an editable copy)
     work as before, and a JAX pytree (`jax.tree_util`, ``jit`` arguments) with the leaves of
-    the equal dict, in the same order."""
+    the equal dict, in the same order. A missing key raises `MissingKey` (`KeyHintDict`)."""
 
     def _refuse(self, *args, **kwargs):
         raise TypeError("a result's mapping is read-only: dict(...) gives an editable copy")
 
     __setitem__ = __delitem__ = __ior__ = clear = pop = popitem = setdefault = update = _refuse
-
-    def __missing__(self, key):
-        raise MissingKey(key, self)
 
     def __reduce__(self):
         return (ReadOnlyDict, (dict(self),))
@@ -65,18 +72,22 @@ class ReadOnlyDict(dict):
         return ReadOnlyDict(copy.deepcopy(dict(self), memo))
 
 
-def _flatten(mapping: ReadOnlyDict):
+def _flatten(mapping: KeyHintDict):
     keys = sorted(mapping)  # (a dict's leaf order: `jax.tree_util` sorts its keys)
     return [mapping[k] for k in keys], (tuple(keys), tuple(mapping))
 
 
-def _unflatten(aux, leaves) -> ReadOnlyDict:
-    sorted_keys, order = aux
-    by_key = dict(zip(sorted_keys, leaves))
-    return ReadOnlyDict((k, by_key[k]) for k in order)
+def _unflattener(kind: type[KeyHintDict]):
+    def unflatten(aux, leaves) -> KeyHintDict:
+        sorted_keys, order = aux
+        by_key = dict(zip(sorted_keys, leaves))
+        return kind((k, by_key[k]) for k in order)
+
+    return unflatten
 
 
-jax.tree_util.register_pytree_node(ReadOnlyDict, _flatten, _unflatten)
+for _kind in (KeyHintDict, ReadOnlyDict):
+    jax.tree_util.register_pytree_node(_kind, _flatten, _unflattener(_kind))
 
 
 def read_only_array(array) -> np.ndarray:
@@ -123,7 +134,7 @@ def read_only(value):
         return read_only_data_array(value)
     if type(value) is ReadOnlyDict and getattr(value, "_values_read_only", False):
         return value  # (made here before: its values are read-only already, and it refuses change)
-    if type(value) is dict or type(value) is ReadOnlyDict:
+    if type(value) in (dict, KeyHintDict, ReadOnlyDict):
         out = ReadOnlyDict((k, read_only(v)) for k, v in value.items())
         out._values_read_only = True  # (a 1,000-spectrum batch's warnings and tags took 9 ms to walk again in each copy of the result)
         return out

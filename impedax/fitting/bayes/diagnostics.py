@@ -17,6 +17,7 @@ from ...arguments import CHAIN_TAU_MULTIPLE as CHAIN_TAU_MULTIPLE
 from ...circuits import Circuit, Registry
 from ...data import format_bound, format_factor, format_quantity, value_span
 from ..derived import QUANTILES, mean_and_sd
+from ..frozen import KeyHintDict
 from ..reductions import reducing_bounds, series_shorts
 
 __all__ = [
@@ -557,10 +558,11 @@ class WalkerDraws:
         return int(self.draws.shape[1])
 
     @property
-    def samples(self) -> dict[str, np.ndarray]:
-        """Flat draws (after burn and thin) by sampled-parameter name."""
+    def samples(self) -> KeyHintDict:
+        """Flat draws (after burn and thin) by sampled-parameter name: a new dict at each call,
+        whose missing key names the keys there are (`MissingKey`, as ``fit.values``')."""
         flat = self.draws.reshape(-1, len(self.names))
-        return {n: flat[:, i] for i, n in enumerate(self.names)}
+        return KeyHintDict((n, flat[:, i]) for i, n in enumerate(self.names))
 
     @property
     def mean_acceptance(self) -> float:

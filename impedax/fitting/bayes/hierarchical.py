@@ -58,7 +58,7 @@ from ...errors import DataError, FitError, ParameterError
 from ...io.netcdf import result_dataset
 from ...progress import quiet_beneath
 from ..derived import draw_indices
-from ..frozen import FrozenResult, freeze_fields
+from ..frozen import FrozenResult, KeyHintDict, freeze_fields
 from .diagnostics import PiledUp, PriorEdges, prior_edges, reducing_bounds
 from .priors import Prior, PriorKind
 from .reparam import Reparametrization
@@ -817,11 +817,12 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         draws = np.exp(mu + s * rng.standard_normal(mu.shape) + tau * rng.standard_normal(mu.shape))
         return _interval(draws, level)
 
-    def population_parameters(self) -> dict[str, np.ndarray]:
+    def population_parameters(self) -> KeyHintDict:
         """Draws of a typical trial's circuit parameters: every per-trial quantity at its
         population median exp(μ), the shared and fixed ones as sampled/fixed; a
-        reparametrization's circuit values added (e.g. C_gap from u). Flat (draws,) arrays."""
-        values = {n: np.exp(self.mu[..., j]).ravel() for j, n in enumerate(self.trial_names)}
+        reparametrization's circuit values added (e.g. C_gap from u). Flat (draws,) arrays, in a
+        new dict whose missing key names the keys there are (`MissingKey`)."""
+        values = KeyHintDict((n, np.exp(self.mu[..., j]).ravel()) for j, n in enumerate(self.trial_names))
         values.update({n: self.shared[..., j].ravel() for j, n in enumerate(self.shared_names)})
         values.update({n: np.full(self.n_draws, v) for n, v in self.fixed.items()})
         rp = self.reparametrization

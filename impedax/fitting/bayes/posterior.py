@@ -27,7 +27,7 @@ from ..derived import bind_frequency, called, draw_indices, draws_band, needs_fr
 from ..least_squares import FitResult
 from ..least_squares.branches import left_to_priors
 from ..least_squares.result import PARAMETER_UNIT_NAME, bounds_attr, fit_warning_tags, note_value_attrs, shown_stderr, stored_bounds, stored_note_values, without_sample_advice
-from ..frozen import FrozenResult, freeze_fields
+from ..frozen import FrozenResult, KeyHintDict, freeze_fields
 from .chain import capped_at, length_text
 from .evidence import EvidenceDoubt, WaicDoubt, evidence_doubt_of_notes, model_comparison_notes_of, short_chain_waic_note, waic_doubts
 from .diagnostics import NO_STRAGGLERS, PiledUp, WalkerDraws, Stragglers, chain_warnings, draws_table, figure, interval_warnings, kept_walkers, straggler_warnings, tied_to_bound, walkers_text
@@ -270,12 +270,12 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
         )
 
     # -- parameter draws ------------------------------------------------------------------
-    def parameter_draws(self) -> dict[str, np.ndarray]:
+    def parameter_draws(self) -> KeyHintDict:
         """Flat draws of every parameter: sampled, fixed (repeated) and circuit parameters
-        derived through the reparametrization."""
+        derived through the reparametrization (a new dict; a missing key: `MissingKey`)."""
         flat = self.samples
         n = self.n_walkers * self.n_draws
-        out = {name: np.full(n, value) for name, value in self.fixed.items()}
+        out = KeyHintDict((name, np.full(n, value)) for name, value in self.fixed.items())
         out.update(flat)
         if self.reparametrization is not None:
             rp = self.reparametrization
@@ -283,10 +283,11 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             out.update({k: np.asarray(v, float) for k, v in derived.items()})
         return out
 
-    def circuit_samples(self) -> dict[str, np.ndarray]:
-        """Flat draws of the circuit's parameters (derived ones included)."""
+    def circuit_samples(self) -> KeyHintDict:
+        """Flat draws of the circuit's parameters (derived ones included; a new dict, a missing
+        key: `MissingKey`)."""
         everything = self.parameter_draws()
-        return {n: everything[n] for n in self.circuit.parameter_names(self.registry)}
+        return KeyHintDict((n, everything[n]) for n in self.circuit.parameter_names(self.registry))
 
     def quantiles(self, *, circuit: bool = False) -> xr.Dataset:
         """median, q05, q16, q84, q95, mean, sd and the 90 % HDI per parameter (``circuit=True``:
