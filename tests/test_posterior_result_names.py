@@ -1,16 +1,22 @@
-"""Posteriors' results read as the fits' do (docs/cli.md, "From Python"): the draws a posterior
-hands out by name raise the fits' `MissingKey` for a key they lack and stay a dict to edit. SYNTHETIC
+"""Posteriors' results read as the fits' do (docs/io.md, "Names and signs in a result's Dataset";
+docs/cli.md, "From Python"): the draws a posterior hands out by name raise the fits' `MissingKey`
+for a key they lack and stay a dict to edit, a single posterior's Dataset holds its start fit's
+rms_rel as a joint one's does (``fit_rms_rel``), and a hierarchical one's names its parameters'
+units. SYNTHETIC
 spectra: R0 + R1 ∥ C1 in closed form with 1 % noise (fixed seeds); the hierarchical posterior
 is built by hand (tests/test_hierarchical_new_session.py)."""
 
 from __future__ import annotations
 
+import dataclasses
 import pickle
 import re
 
 import jax
 import numpy as np
+import pandas as pd
 import pytest
+import xarray as xr
 
 import impedax as ix
 from impedax.fitting.frozen import MissingKey
@@ -76,3 +82,46 @@ def test_a_joint_and_a_hierarchical_posteriors_draws_name_the_keys_there_are(joi
         assert name in str(info.value)
     with pytest.raises(MissingKey, match=re.escape("'R_1'; did you mean 'R1'? (the keys: R1, R0, C1)")):
         by_hand(2).population_parameters()["R_1"]
+
+
+def test_a_posteriors_dataset_holds_its_start_fits_rms_rel(post, joint):
+    """Its ``fit_rms_rel`` () is the start fit's rms of (Z_fit − Z)/|Z|, computed here from the
+    Dataset's own ``Z`` and ``Z_fit``; the joint posterior's of that name is per spectrum."""
+    ds = post.to_xarray()
+    z, z_fit = ds["Z"].values, ds["Z_fit"].values
+    assert ds["fit_rms_rel"].dims == ()
+    assert float(ds["fit_rms_rel"]) == pytest.approx(np.sqrt(np.mean(np.abs((z_fit - z) / z) ** 2)), rel=1e-12)
+    assert 5e-3 < float(ds["fit_rms_rel"]) < 3e-2  # (1 % on Re and Im: about √2 %)
+    assert joint.to_xarray()["fit_rms_rel"].dims == ("cell",)
+
+
+def test_the_start_fits_rms_rel_survives_the_file(post, tmp_path):
+    path = tmp_path / "post.nc"
+    ix.write_result(post, path)
+    with xr.open_dataset(path) as stored:
+        assert float(stored["fit_rms_rel"]) == float(post.to_xarray()["fit_rms_rel"])
+    assert ix.Posterior.from_xarray(ix.load(path)).to_xarray()["fit_rms_rel"].identical(post.to_xarray()["fit_rms_rel"])
+
+
+def test_a_hierarchical_posteriors_dataset_names_the_units():
+    """R1 per trial is in Ω; the shared R0 and C1 in Ω and F (the element specs' units: R an
+    ohm, C a farad); the Dataset reads back to the same posterior."""
+    post = by_hand(2)
+    ds = post.to_xarray()
+    assert ds["unit"].dims == ("param",) and list(ds["unit"].values) == ["Ohm"]
+    assert ds["shared_unit"].dims == ("shared_param",) and list(ds["shared_unit"].values) == ["Ohm", "F"]
+    back = type(post).from_xarray(ds)
+    assert back.trial_names == ("R1",) and back.shared_names == ("R0", "C1")
+    assert back.to_xarray().identical(ds)
+
+
+def test_a_trial_level_named_unit_keeps_its_name():
+    """Data stacked over a dimension called ``unit`` (say, the test unit) stored before: its
+    coordinate stays, and the parameters' unit coordinate gives way (docs/io.md)."""
+    post = by_hand(2)
+    index = pd.MultiIndex.from_arrays([post.trial_index[level].values for level in ("session", "trial")], names=["session", "unit"])
+    renamed = dataclasses.replace(post, trial_index=xr.Coordinates.from_pandas_multiindex(index, "trial_index")["trial_index"])
+    ds = renamed.to_xarray()
+    assert ds["unit"].dims == ("trial_index",) and list(ds["unit"].values) == list(post.trial_index["trial"].values)
+    assert list(ds["shared_unit"].values) == ["Ohm", "F"]
+    assert type(post).from_xarray(ds).to_xarray().identical(ds)

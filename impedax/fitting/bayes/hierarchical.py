@@ -59,6 +59,7 @@ from ...io.netcdf import result_dataset
 from ...progress import quiet_beneath
 from ..derived import draw_indices
 from ..frozen import FrozenResult, KeyHintDict, freeze_fields
+from ..least_squares.result import PARAMETER_UNIT_NAME
 from .diagnostics import PiledUp, PriorEdges, prior_edges, reducing_bounds
 from .priors import Prior, PriorKind
 from .reparam import Reparametrization
@@ -1039,9 +1040,21 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
+    def _unit_coordinates(self) -> dict[str, tuple]:
+        """The units of the per-trial and shared parameters as coordinates: ``unit`` along
+        ``param`` (as a fit's and a posterior's Dataset; the unit of ``trial_values`` and of the
+        population median exp(``mu``)) and ``shared_unit`` along ``shared_param``: the
+        reparametrization's or the element specs' (`_bounds_and_unit`)."""
+        def units(names):
+            return [self._bounds_and_unit(n)[2] for n in names]
+
+        return {"unit": ("param", units(self.trial_names), {"long_name": PARAMETER_UNIT_NAME}),
+                "shared_unit": ("shared_param", units(self.shared_names), {"long_name": PARAMETER_UNIT_NAME})}
+
     def to_xarray(self) -> xr.Dataset:
         """The draws, the data (``Z`` over trial_index and frequency; the trials' coordinates
-        as one coordinate per stacked level), ν, the error sds and the run's settings;
+        as one coordinate per stacked level), ν, the error sds and the run's settings; the
+        parameters' units as ``unit`` (param) and ``shared_unit`` (shared_param);
         `HierarchicalPosterior.from_xarray` rebuilds the posterior from it."""
         k, s = list(self.trial_names), list(self.shared_names)
         index = self.trial_index.to_index()
@@ -1067,6 +1080,7 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             },
             coords={
                 "param": k, "shared_param": s, "frequency": ("frequency", self.frequency, {"units": "Hz"}), "part": ["real", "imag"],
+                **{name: value for name, value in self._unit_coordinates().items() if name not in levels},  # (a trial level of that name keeps it, as before)
                 **{n: ("trial_index", index.get_level_values(n).values) for n in levels},
             },
             attrs={

@@ -556,8 +556,9 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
     # -- storage --------------------------------------------------------------------------
     def to_xarray(self) -> xr.Dataset:
         """Draws (walker, draw, param), log_prob, diagnostics, summaries, the least-squares
-        start and the data; ``unit`` along ``param`` gives each sampled parameter's unit (as a
-        fit's Dataset does); `Posterior.from_xarray` rebuilds the posterior from it."""
+        start (``fit_*``, ``Z_fit``; its ``fit_rms_rel``, as a joint posterior's) and the data;
+        ``unit`` along ``param`` gives each sampled parameter's unit (as a fit's Dataset does);
+        `Posterior.from_xarray` rebuilds the posterior from it."""
         q = self.quantiles()
         fr = self.fit
         names = list(fr.values)
@@ -577,6 +578,8 @@ class Posterior(WalkerDraws, PiledUp, FrozenResult):
             "fit_covariance": (("free_param", "free_param_2"), fr.covariance),
             "fit_correlation": (("free_param", "free_param_2"), fr.correlation),
             "Z_fit": ("frequency", fr.z_model, {"units": "ohm"}),
+            # (a joint posterior's name for its start's: `SharedPosterior.to_xarray`)
+            "fit_rms_rel": ((), fr.rms_rel, {"long_name": "rms of the least-squares start's relative residual |Z_fit − Z|/|Z|"}),
         }
         data.update({k: ("param", q[k].values) for k in q.data_vars})
         if self.sigma is not None:
