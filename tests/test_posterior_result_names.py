@@ -1,8 +1,8 @@
 """Posteriors' results read as the fits' do (docs/io.md, "Names and signs in a result's Dataset";
 docs/cli.md, "From Python"): the draws a posterior hands out by name raise the fits' `MissingKey`
 for a key they lack and stay a dict to edit, a single posterior's Dataset holds its start fit's
-rms_rel as a joint one's does (``fit_rms_rel``), and a hierarchical one's names its parameters'
-units. SYNTHETIC
+rms_rel as a joint one's does (``fit_rms_rel``), a hierarchical one's names its parameters'
+units, and a KK or Z-HIT test given a stack names the batch call that takes it. SYNTHETIC
 spectra: R0 + R1 ∥ C1 in closed form with 1 % noise (fixed seeds); the hierarchical posterior
 is built by hand (tests/test_hierarchical_new_session.py)."""
 
@@ -125,3 +125,18 @@ def test_a_trial_level_named_unit_keeps_its_name():
     assert ds["unit"].dims == ("trial_index",) and list(ds["unit"].values) == list(post.trial_index["trial"].values)
     assert list(ds["shared_unit"].values) == ["Ohm", "F"]
     assert type(post).from_xarray(ds).to_xarray().identical(ds)
+
+
+@pytest.mark.parametrize("single", ["kk_test", "zhit"])
+def test_a_test_of_one_spectrum_given_a_stack_names_the_batch_call_that_takes_it(single):
+    """The message names the call (``impedax.NAME(data)``); that call on the same stack gives
+    each spectrum's test as the single call on that spectrum alone does."""
+    data = ix.make_spectrum(FREQ, np.stack([rc(1e3, 3), rc(2e3, 4)]), dims="cell")
+    with pytest.raises(ix.DataError) as info:
+        getattr(ix, single)(data)
+    named = re.search(r"use impedax\.(\w+)\(data\) for one test per spectrum", str(info.value))
+    assert named and named.group(1) == f"{single}_batch", str(info.value)
+    batch = getattr(ix, named.group(1))(data)
+    for i in range(2):
+        alone = getattr(ix, single)(data.isel(cell=i))
+        assert batch[i].rms_rel == pytest.approx(alone.rms_rel, rel=1e-9) and batch[i].valid == alone.valid

@@ -456,7 +456,7 @@ def zhit(data, *, noise_floor: float = 0.01, point: float = 5.0, run: float = 3.
         raise ParameterError(f"run_length must be a positive integer, got {run_length!r}")
     freq, z, dims, _, source = frequency_and_z(data)
     if dims:
-        raise DataError(f"zhit takes one spectrum; these data have extra dimensions {dims}: zhit_batch tests each; or select one first (data.isel({dims[0]}=0), data.sel({dims[0]}=label)) or average them", path=source)
+        raise DataError(f"zhit takes one spectrum; these data have extra dimensions {dims}: use impedax.zhit_batch(data) for one test per spectrum (as kk_test_batch), or select one first (data.isel({dims[0]}=0), data.sel({dims[0]}=label)) or average them", path=source)
     options = dict(noise_floor=noise_floor, point=point, run=run, run_length=run_length)
     return _checked_zhit(freq, z, source, data.attrs if isinstance(data, xr.Dataset) else None, options)
 
