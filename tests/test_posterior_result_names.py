@@ -140,3 +140,19 @@ def test_a_test_of_one_spectrum_given_a_stack_names_the_batch_call_that_takes_it
     for i in range(2):
         alone = getattr(ix, single)(data.isel(cell=i))
         assert batch[i].rms_rel == pytest.approx(alone.rms_rel, rel=1e-9) and batch[i].valid == alone.valid
+
+
+def test_a_posteriors_autocorr_and_ess_refuse_an_edit(post, joint):
+    """The τ and ESS a posterior keeps (computed once) were plain dicts: ``post.autocorr["R1"] =
+    12345`` went into its Dataset and summary. They refuse, as ``fit.values`` does, and the
+    Dataset's ``autocorr`` and ``ess`` are those of before the attempt."""
+    for result in (post, joint):
+        before = result.to_xarray()
+        for mapping in (result.autocorr, result.ess):
+            with pytest.raises(TypeError, match="read-only"):
+                mapping[result.names[0]] = 12345.0
+            with pytest.raises(MissingKey):
+                mapping["R9"]
+        after = result.to_xarray()
+        for name in ("autocorr", "ess"):
+            np.testing.assert_array_equal(after[name].values, before[name].values)

@@ -17,7 +17,7 @@ from ...arguments import CHAIN_TAU_MULTIPLE as CHAIN_TAU_MULTIPLE
 from ...circuits import Circuit, Registry
 from ...data import format_bound, format_factor, format_quantity, value_span
 from ..derived import QUANTILES, mean_and_sd
-from ..frozen import KeyHintDict
+from ..frozen import KeyHintDict, ReadOnlyDict
 from ..reductions import reducing_bounds, series_shorts
 
 __all__ = [
@@ -573,17 +573,19 @@ class WalkerDraws:
         return np.where(np.asarray(self.log_scale), np.log(np.where(np.asarray(self.log_scale), self.draws, 1.0)), self.draws)
 
     @functools.cached_property
-    def autocorr(self) -> dict[str, float]:
+    def autocorr(self) -> ReadOnlyDict:
         """Integrated autocorrelation time per parameter [sampler steps] (emcee, tol=0); NaN when
-        the chain is too short to estimate it (`integrated_autocorr`)."""
+        the chain is too short to estimate it (`integrated_autocorr`). Kept by the result, so
+        read-only as its other mappings (``post.autocorr["R1"] = 0`` changed its Dataset)."""
         tau = integrated_autocorr(self._sampled_space) * self.settings.get("thin", 1)
-        return {n: float(t) for n, t in zip(self.names, tau)}
+        return ReadOnlyDict((n, float(t)) for n, t in zip(self.names, tau))
 
     @functools.cached_property
-    def ess(self) -> dict[str, float]:
-        """Effective sample size per parameter: walkers × draws / τ (τ in stored draws, ≥ 1)."""
+    def ess(self) -> ReadOnlyDict:
+        """Effective sample size per parameter: walkers × draws / τ (τ in stored draws, ≥ 1);
+        read-only, as `autocorr`."""
         tau = np.maximum(integrated_autocorr(self._sampled_space), 1.0)
-        return {n: float(self.n_walkers * self.n_draws / t) for n, t in zip(self.names, tau)}
+        return ReadOnlyDict((n, float(self.n_walkers * self.n_draws / t)) for n, t in zip(self.names, tau))
 
     @property
     def chain_converged(self) -> bool:
