@@ -230,3 +230,29 @@ def test_a_resistor_run_open_to_floating_points_end_is_coded_open_without_an_ove
             warnings.simplefilter("error")
             codes = vanishing_parameters(circuit, ix.DEFAULT_REGISTRY, table, np.array([[r1, 2e-5, 0.85]]), F, np.ones((1, 3), bool))
         assert dict(zip(table.free_names, codes[0].tolist()))["R1"] == 1, r1
+
+
+@pytest.mark.parametrize("n_fits", [5, 81, 300])
+def test_each_of_many_fits_gets_its_own_rows_idle_share(n_fits):
+    # the shares are evaluated on rows padded to a shared shape (`branches._shares`): each fit's
+    # named idle R1 and its share must still be its own, the closed form of R0 + R1 || C1:
+    # |Y_R1 / (Y_R1 + Y_C1)| = 1 / |1 + jωR1C1|, largest at the band's lowest ω
+    from impedax.fitting.least_squares.branches import IDLE_BRANCH_SHARE, idle_branches
+    from impedax.fitting.parameters import ParameterTable
+
+    circuit = ix.parse("R0 + R1 || C1")
+    table = ParameterTable.build(circuit)
+    rng = np.random.default_rng(3)
+    values = np.zeros((n_fits, len(table.names)))
+    r1, c1 = 10.0 ** rng.uniform(2, 12, n_fits), 10.0 ** rng.uniform(-7, -4, n_fits)
+    for name, column in (("R0", np.full(n_fits, 50.0)), ("R1", r1), ("C1", c1)):
+        values[:, table.names.index(name)] = column
+    mask = np.zeros((n_fits, len(table.free_names)), bool)
+    mask[:, table.free_names.index("R1")] = True
+    share = 1 / np.abs(1 + 2j * np.pi * F.min() * r1 * c1)
+    found = idle_branches(circuit, ix.DEFAULT_REGISTRY, table, values, mask, F)
+    assert sorted(b.row for b in found) == np.flatnonzero(share < IDLE_BRANCH_SHARE).tolist()
+    assert 0 < len(found) < n_fits  # (the seed gives both kinds of fit at each size)
+    for b in found:
+        assert b.element == "R1"
+        assert b.share == pytest.approx(share[b.row], rel=1e-9)

@@ -175,16 +175,25 @@ def _shares(node: Parallel | Series, registry: Registry, table: ParameterTable, 
     a parallel block's branches share its current by admittance, |Y_child / Σ Y|, a chain's
     terms its voltage by impedance, |Z_child / Σ Z|."""
     n_rows = values.shape[0]
-    # (rows padded to a power of two, at least 8: eager JAX compiles each operation once per
-    # shape, and these shapes recur; one program per block would compile for every candidate
-    # circuit of a diagnosis)
-    padded = np.concatenate([values, np.repeat(values[:1], (1 << max(3, (n_rows - 1).bit_length())) - n_rows, axis=0)]) if n_rows else values
+    # (rows padded to a power of two, at least 8, and at least `_SHARE_ROWS` past 8: eager JAX
+    # compiles each operation once per shape, and these shapes recur; one program per block
+    # would compile for every candidate circuit of a diagnosis)
+    n_padded = 1 << max(3, (n_rows - 1).bit_length())
+    n_padded = n_padded if n_padded <= 8 else max(n_padded, _SHARE_ROWS)
+    padded = np.concatenate([values, np.repeat(values[:1], n_padded - n_rows, axis=0)]) if n_rows else values
     params = {n: padded[:, j][:, None] for j, n in enumerate(table.names)}
     form = "Z" if isinstance(node, Series) else "Y"
     with np.errstate(all="ignore"):
         terms = [np.asarray(node_function(c, registry, form)(params, omega))[:n_rows] for c in node.children]
         total = sum(terms)
         return [np.max(np.abs(t / total), axis=1) for t in terms]
+
+
+_SHARE_ROWS = 128
+"""`_shares` pads the rows of more than 8 fits to at least this many, so a batch's calls of
+different sizes (62 and 81 rows on AutoEIS's 130 battery cycles with ``Wo1``) share one shape and
+one compilation of each eager operation (33 → 17 in a fresh process); a single fit's row keeps its
+8 (benchmarks/README.md, "The vanishing-term shares in one shape")."""
 
 
 VANISHING_COLUMN = 1e-4
