@@ -193,7 +193,8 @@ _SHARE_ROWS = 128
 """`_shares` pads the rows of more than 8 fits to at least this many, so a batch's calls of
 different sizes (62 and 81 rows on AutoEIS's 130 battery cycles with ``Wo1``) share one shape and
 one compilation of each eager operation (33 → 17 in a fresh process); a single fit's row keeps its
-8 (benchmarks/README.md, "The vanishing-term shares in one shape")."""
+8 (benchmarks/README.md, "Where a batch call goes today, and the vanishing-term shares in one
+shape")."""
 
 
 VANISHING_COLUMN = 1e-4
