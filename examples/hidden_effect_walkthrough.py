@@ -53,7 +53,7 @@ def main(argv=None):
         print(f"   fails {format_band(band.f_min, band.f_max)}: {band.pattern}")
     print(f"   verdict: {diagnosis.verdict}")
     shown = diagnosis.suggestions[:4]
-    for s, percent in zip(shown, format_percent_column([s.rms_rel for s in shown])):  # (one number of decimals: the points line up)
+    for s, percent in zip(shown, format_percent_column([s.rms_rel for s in shown])):  # (3 significant digits, the decimal points lined up)
         print(f"   {s.effect:<22} ΔAIC {s.delta_aic:8.1f}   rms_rel {percent:>5} %   {s.model}")
     if diagnosis.best is not None:
         print(f"   best: {diagnosis.best.explanation}")

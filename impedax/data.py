@@ -684,35 +684,24 @@ def format_percent(ratio: float) -> str:
     return (f"{percent:.0f}" if "e" in text else text) + " %"
 
 
-PERCENT_COLUMN_DECIMALS_MAX = 4
-"""The most decimals `format_percent_column` gives a column: a value below 0.01 % keeps fewer than
-3 significant digits (an exact fit's 1e-10 % would have stretched the column to 12 decimals)."""
-
-
-def _percent_decimals(percent: float, digits: int) -> int:
-    """The decimals ``percent`` needs for ``digits`` significant digits, as ``{:#.{digits}g}``
-    writes it (2.80 → 2, 77.5 → 1, 126 → 0, 0.0426 → 4)."""
-    text = f"{percent:#.{digits}g}"
-    if "e" in text:
-        mantissa, exponent = text.split("e")
-        return max(0, len(mantissa.split(".")[1]) - int(exponent))
-    return len(text.split(".")[1])
-
-
 def format_percent_column(ratios: Sequence[float], digits: int = 3) -> list[str]:
-    """Ratios as one text-table column of percentages (no ``%``), right-aligned to one width with
-    their decimal points in one place: one number of decimals for the column, the fewest that give
-    every value ``digits`` significant digits (``2.80`` under ``3.12``, not ``2.8``; ``77.500``
-    over ``0.426``), at most `PERCENT_COLUMN_DECIMALS_MAX` (a value that rounds to 0 there does
-    not choose them: ``0.00`` beside ``5.00``); ``—`` where not finite. Each value agrees with
-    `format_percent`'s writing to its digits; free text keeps `format_percent`."""
-    percents = [abs(float(r)) * 100 for r in ratios]
-    shown = 0.5 * 10.0 ** -PERCENT_COLUMN_DECIMALS_MAX  # (a value below reads 0 at any decimals: it does not choose them)
-    needed = [_percent_decimals(p, digits) for p in percents if math.isfinite(p) and p >= shown]
-    decimals = min(max(needed, default=0), PERCENT_COLUMN_DECIMALS_MAX)
-    texts = [f"{p:.{decimals}f}" if math.isfinite(p) else "—" for p in percents]
-    width = max((len(t) for t in texts), default=0)
-    return [t.rjust(width) for t in texts]
+    """Ratios as one text-table column of percentages (no ``%``), their decimal points in one
+    place: each value to ``digits`` significant digits, trailing zeros kept (``2.80`` under
+    ``3.12``), padded on the left to the widest integer part and on the right to the widest
+    fraction (``77.5  `` over `` 0.426``, not ``77.500``: a common number of decimals would
+    write digits the value does not have); ``0`` for a value ``{:.3g}`` writes with an exponent
+    below 1 (an exact fit's 1e-10 %), whole numbers from 1000 on, ``—`` where not finite. Each
+    value reads as `format_percent` writes it (which drops the trailing zeros); free text keeps
+    `format_percent`."""
+    texts = []
+    for ratio in ratios:
+        percent = abs(float(ratio)) * 100
+        text = f"{percent:#.{digits}g}" if math.isfinite(percent) else "—"
+        texts.append(f"{percent:.0f}" if "e" in text else text.rstrip("."))  # ("123." of the alternate form: "123")
+    whole = [t.split(".")[0] for t in texts]
+    fraction = [t[len(w):] for t, w in zip(texts, whole)]
+    width_whole, width_fraction = max(map(len, whole), default=0), max(map(len, fraction), default=0)
+    return [w.rjust(width_whole) + f.ljust(width_fraction) for w, f in zip(whole, fraction)]
 
 
 def format_factor(ratio: float, digits: int = 2) -> str:

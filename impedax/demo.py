@@ -215,7 +215,7 @@ def run_demo(out: str | os.PathLike = "out", *, fast: bool = False, stream=None,
         story.say(f"  Kramers–Kronig test of the data: {'valid' if kk.valid else 'NOT valid'} (rms_rel {kk.rms_rel * 100:.3g} %) — " + ("the misfit is the model's, not the data's." if kk.valid else "parts of the data are not causal/stationary."))
         story.say(f"  Verdict on C_gap: {first.verdict}.")
         shown = first.suggestions[:3]
-        for s, percent in zip(shown, format_percent_column([s.rms_rel for s in shown])):  # (one number of decimals: the points line up)
+        for s, percent in zip(shown, format_percent_column([s.rms_rel for s in shown])):  # (3 significant digits, the decimal points lined up)
             story.say(f"    {s.effect:<24} ΔAIC {s.delta_aic:8.1f}   rms_rel {percent:>6} %   {s.model}")
         if first.best is not None:
             story.say(f"  Best: {first.best.explanation}")

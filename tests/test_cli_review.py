@@ -366,9 +366,8 @@ def test_fit_and_compare_print_rms_rel_in_percent_like_the_other_commands(files,
     assert f"rms_rel    {rms * 100:.3g} %" in capsys.readouterr().out
     assert main(["compare", files["one"], "--model", "R0 + R1 || C1", "--model", "R0 + C1"]) == 0
     row = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("R0 + R1 || C1 "))
-    # (three significant digits kept in the table, 0.120 %, since 2026-11-30; the column's one number of decimals, as
-    # many as its smallest value needs, since 2026-12-07: at least these three digits)
-    cell = re.search(r" (\S+) % ", row).group(1)
+    # (three significant digits kept in the table, 0.120 %, since 2026-11-30; the decimal points lined up since 2026-12-07)
+    cell = re.search(r" (\S+) +% ", row).group(1)
     assert len(cell.replace(".", "").lstrip("0")) >= 3 and float(cell) == pytest.approx(rms * 100, abs=0.5 * 10.0 ** -len(cell.split(".")[-1]))
     assert main(["fit", files["three"], "--model", "R0 + R1 || C1"]) == 0
     assert re.search(r"median rms_rel [0-9.]+ %", capsys.readouterr().out)

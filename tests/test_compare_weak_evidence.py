@@ -86,10 +86,12 @@ def test_rms_rel_keeps_its_significant_digits():
     assert [significant(x) for x in (1.0, 1.02, 0.931, 100.0, 123.4, 1e-5)] == ["1.00", "1.02", "0.931", "100", "123", "1.00e-05"]
     c = ix.compare([ix.fit(m, spectrum(alpha=0.9, seed=1)) for m in MODELS])
     lines = c.table().splitlines()[1 : 1 + len(c.rows)]
-    for row, line in zip(c.rows, lines):  # (at least 3 significant digits: the column's decimals are its smallest value's, since 2026-12-07)
-        cell = re.search(r" (\S+) % ", line).group(1)
-        assert len(cell.replace(".", "").lstrip("0")) >= 3 and float(cell) == pytest.approx(row["rms_rel"] * 100, abs=0.5 * 10.0 ** -len(cell.split(".")[-1]))
-    assert len({line.index(" % ") for line in lines}) == 1  # (and their decimal points line up)
+    points = set()
+    for row, line in zip(c.rows, lines):  # (3 significant digits, trailing zeros kept)
+        cell = re.search(r" (\S+) +% ", line)
+        assert cell.group(1) == f"{row['rms_rel'] * 100:#.3g}".rstrip(".")
+        points.add(cell.start(1) + (cell.group(1) + ".").index("."))
+    assert len(points) == 1  # (and their decimal points line up, since 2026-12-07)
 
 
 def test_a_rival_that_reduces_to_the_best_is_no_weak_evidence():

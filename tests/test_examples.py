@@ -105,9 +105,10 @@ def _generating_finger_force_mn(freq: float) -> float:
 def _walkthrough_percentages_match_the_table(output: str) -> bool:
     """hidden_effect_walkthrough.py's rms_rel of the naive and the final model [%] are those of
     the refinement table's first and last step (the table's "N %" column, read by its rows), to
-    the text's digits: the table gives its column one number of decimals, as many as its smallest
-    value needs, the text `format_percent`'s 3 significant digits (the same writing until 2026-12-07)."""
-    steps = re.findall(r"^\s+\d+\s+" + _NUMBER + r" %\s", output, flags=re.M)
+    the text's digits: the table writes 3 significant digits with their trailing zeros, padded so
+    that the decimal points line up, the text `format_percent`'s 3 digits without them (the same
+    writing until 2026-12-07)."""
+    steps = re.findall(r"^\s+\d+\s+" + _NUMBER + r" +%\s", output, flags=re.M)
     naive = re.search(r"model R_s \+ R_sc \|\| C_sc: rms_rel " + _NUMBER + " %", output)
     final = re.search(r"final model .*: rms_rel " + _NUMBER + " %", output)
 

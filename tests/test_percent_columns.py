@@ -1,12 +1,14 @@
 """The percent columns of impedax's text tables line up (`impedax.data.format_percent_column`):
-one number of decimals per column, so the decimal points sit at one character position, right-aligned.
+each value to 3 significant digits, padded so that the decimal points sit at one character
+position (a common number of decimals, tried first, wrote "77.500" over "0.426": digits the value
+does not have).
 `format_percent`'s 3 significant digits dropped trailing zeros and changed decimals with the
 magnitude: refine's table on the REAL Gamry file read "30.1 %" above "6.64 %", the KK batch
 table on REAL battery cycles "0.11 %" below "0.0927 %" (2026-12-07). Free text keeps `format_percent`.
 
 The oracle is each result's own number (rms_rel, the KK noise estimate), not the report's text:
-each printed value is that number rounded to its printed decimals, and it agrees with what
-``{:.3g}`` (the old writing) printed to the old digits."""
+each printed value is that number to 3 significant digits, ``{:#.3g}`` (the old writing,
+``{:.3g}``, with its trailing zeros)."""
 
 import math
 import re
@@ -15,7 +17,7 @@ from pathlib import Path
 import pytest
 
 import impedax as ix
-from impedax.data import PERCENT_COLUMN_DECIMALS_MAX, format_percent_column
+from impedax.data import format_percent_column
 
 ROOT = Path(__file__).resolve().parents[1]
 GAMRY = ROOT / "tests" / "fixtures" / "real" / "exampleDataGamry.DTA"
@@ -25,50 +27,44 @@ BATTERY_MODELS = ("R0 + R1 || CPE1 + W1", "R0 + R1 || C1 + W1")
 GAMRY_MODELS = ("R0 + R1 || C1", "R0 + R1 || CPE1", "R0 + (R1 + R2 || CPE2) || C1")
 
 
-def _decimals(text: str) -> int:
-    return len(text.split(".")[1]) if "." in text else 0
-
-
 def _cells(lines: list[str], nth: int) -> list[tuple[int, str]]:
     """Per line, the ``nth`` number written before " %": the character position of its decimal
     point (of its end, without one) and the number's text."""
     cells = []
     for line in lines:
-        m = list(re.finditer(r"(\S+) %", line))[nth]
+        m = list(re.finditer(r"(\S+) +%", line))[nth]
         text = m.group(1)
         cells.append((m.start(1) + (text.index(".") if "." in text else len(text)), text))
     return cells
 
 
 def _assert_column(cells: list[tuple[int, str]], ratios: list[float]):
-    """One decimal-point position and one number of decimals; each value the ratio in % rounded
-    to those decimals, and equal to ``{:.3g}``'s old writing to its digits."""
+    """One decimal-point position; each value the ratio in % to 3 significant digits, as
+    ``{:#.3g}`` writes it (``{:.3g}``'s old writing with its trailing zeros)."""
     assert len(cells) == len(ratios) >= 2
     assert len({position for position, _ in cells}) == 1, cells
-    assert len({_decimals(text) for _, text in cells}) == 1, cells
     for (_, text), ratio in zip(cells, ratios):
-        percent, new = abs(ratio) * 100, float(text)
-        assert abs(new - percent) <= 0.5 * 10.0 ** -_decimals(text) + 1e-12, (text, percent)
-        old = f"{percent:.3g}"
-        assert "e" not in old
-        assert abs(new - float(old)) <= 0.5 * 10.0 ** -_decimals(old) + 1e-12, (text, old)
+        percent = abs(ratio) * 100
+        expected = f"{percent:#.3g}"
+        assert "e" not in expected
+        assert text == expected.rstrip("."), (text, percent)
+        assert abs(float(text) - float(f"{percent:.3g}")) == 0, (text, percent)
 
 
 # --- the helper, against hand-written columns ---------------------------------------------------
 
 @pytest.mark.parametrize("ratios, column", [
     ([0.0312, 0.028], ["3.12", "2.80"]),  # (2.8 had one decimal fewer)
-    ([0.00426, 0.775], [" 0.426", "77.500"]),  # (the smallest value's 3 digits set the decimals)
-    ([1.234, 0.5], ["123.4", " 50.0"]),
-    ([0.301, 0.0664, 0.0047], ["30.100", " 6.640", " 0.470"]),
-    ([1e-12, 0.05], ["0.00", "5.00"]),  # (an exact fit's 1e-10 % reads 0 and does not set the decimals)
-    ([3e-6, 0.05], ["0.0003", "5.0000"]),  # (at most PERCENT_COLUMN_DECIMALS_MAX)
-    ([float("nan"), 0.5, 12.34], ["     —", "  50.0", "1234.0"]),
+    ([0.00426, 0.775], [" 0.426", "77.5  "]),  # (not 77.500: the points line up, each value keeps its 3 digits)
+    ([1.234, 0.5], ["123  ", " 50.0"]),
+    ([0.301, 0.0664, 0.0047], ["30.1  ", " 6.64 ", " 0.470"]),
+    ([1e-12, 0.05], ["0   ", "5.00"]),  # (an exact fit's 1e-10 % reads 0)
+    ([3e-6, 0.05], ["0.000300", "5.00    "]),
+    ([float("nan"), 0.5, 12.34], ["   —  ", "  50.0", "1234  "]),
     ([-0.0312], ["3.12"]),
     ([], []),
 ])
-def test_a_column_gets_one_number_of_decimals_right_aligned(ratios, column):
-    assert PERCENT_COLUMN_DECIMALS_MAX == 4
+def test_a_column_lines_up_its_decimal_points(ratios, column):
     assert format_percent_column(ratios) == column
 
 

@@ -555,7 +555,7 @@ class BatchComparison(FrozenResult):
         lead_width = column_width(leads, "lead: median (range)")
         lines.append(f"{'model':<{width}}  {'k':>2}  {'wins':>9}  {'decisive':>8}  {'lead: median (range)':<{lead_width}}  {'ΣAIC':>11}  {'ΔΣAIC':>9}  {'weight':>6}  {'converged':>9}  {'median rms_rel':>14}")
         best = self.best_index
-        rms = format_percent_column([m["rms_rel_median"] for m in models])  # (one number of decimals: the points line up)
+        rms = format_percent_column([m["rms_rel_median"] for m in models])  # (3 significant digits, the decimal points lined up)
         for i, (m, lead, percent) in enumerate(zip(models, leads, rms)):
             wins = f"{m['wins']}/{self.n_spectra}"
             line = (f"{m['label']:<{width}}  {m['n_params']:>2}  {wins:>9}  {m['decisive_wins']:>8}  {lead:<{lead_width}}  {m['aic_sum']:>11.2f}  {m['delta_aic_sum']:>9.2f}  {m['akaike_weight_sum']:>6.3f}  "

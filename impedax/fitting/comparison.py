@@ -465,7 +465,7 @@ class Comparison(FrozenResult):
         head = f"{'model':<{width}}  {'k':>2}  {'rms_rel':>10}  {'chi2_red':>10}  {'AIC':>9}  {'AICc':>9}  {'BIC':>9}  {'ΔAIC':>7}  {'weight':>6}" + "".join(f"  {c:>12}" for c in extra)
         lines = [head]
         best = self.best_index
-        rms = format_percent_column([r["rms_rel"] for r in self.rows])  # (one number of decimals: the points line up)
+        rms = format_percent_column([r["rms_rel"] for r in self.rows])  # (3 significant digits, the decimal points lined up)
         for i, (r, percent) in enumerate(zip(self.rows, rms)):
             aicc = "—" if math.isnan(r["aicc"]) else f"{r['aicc']:.2f}"
             line = f"{r['label']:<{width}}  {r['n_params']:>2}  {percent:>8} %  {r['chi2_red']:>10.4g}  {r['aic']:>9.2f}  {aicc:>9}  {r['bic']:>9.2f}  {r['delta_aic']:>7.2f}  {r['akaike_weight']:>6.3f}"

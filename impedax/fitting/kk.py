@@ -764,7 +764,7 @@ class ValidityGrid(ResultGrid):
         width = column_width(names, "spectrum")
         head, attribute = self._COUNT_COLUMN or ("", "")
         lines = [f"{'spectrum':<{width}}  {'verdict':<9} {'rms_rel':>10} {'noise':>10}{f' {head:>3}' if head else ''}  bad bands [rules that flagged them]"]
-        # (one number of decimals per column: the points line up)
+        # (3 significant digits, each column's decimal points lined up)
         rms, noise = format_percent_column([r.rms_rel for r in self.results]), format_percent_column([r.noise_estimate for r in self.results])
         for name, r, rms_text, noise_text in zip(names, self.results, rms, noise):
             bands = "; ".join(f"{band_name(points)} [{', '.join(rules)}]" for points, rules in zip(r.band_frequencies, r.band_rules)) or "none"

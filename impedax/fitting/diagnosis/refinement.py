@@ -322,7 +322,7 @@ class Refinement(FrozenResult):
         on (``×noise``, `RefinementStep.noise_ratio`: whether a step's gain is beyond the noise)
         and what it changed, with the model under it."""
         lines = [f"{'step':>4}  {'rms_rel':>10}  {'AIC':>9}  {'×noise':>7}  change / model"]
-        rms = format_percent_column([s.fit.rms_rel for s in self.steps])  # (one number of decimals: the points line up)
+        rms = format_percent_column([s.fit.rms_rel for s in self.steps])  # (3 significant digits, the decimal points lined up)
         for i, (s, percent) in enumerate(zip(self.steps, rms)):
             ratio = f"{s.noise_ratio:.3g}×" if s.noise_ratio is not None else "–"
             lines.append(f"{i:>4}  {percent:>8} %  {s.fit.aic:>9.1f}  {ratio:>7}  {s.change}")

@@ -810,7 +810,7 @@ class BatchFitResult(FrozenResult):
         fixed = {str(p): bool(f) for p, f in zip(self.dataset["param"].values, self.dataset["fixed"].values)}
         names = list(s["params"])
         against_sigma = self._against_sigma()
-        rms = format_percent_column([r["rms_rel"] for r in rows])  # (one number of decimals: the points line up)
+        rms = format_percent_column([r["rms_rel"] for r in rows])  # (3 significant digits, the decimal points lined up)
         cells = [[_cell(r["values"][p], r["stderr"][p], fixed[p], p in r["at_bound"], p, self._notes_of(r)) for p in names] + [f"{percent} %"] + ([f"{r['chi2_red']:.3g}"] if against_sigma else []) for r, percent in zip(rows, rms)]
         columns = names + ["rms_rel"] + (["chi2_red"] if against_sigma else [])
         widths = [max(len(c), *(len(row[j]) for row in cells)) for j, c in enumerate(columns)]
