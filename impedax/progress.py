@@ -156,7 +156,7 @@ def terminal_text(text: str, width: int) -> str:
     line (`_COMMAND`) on lines of its own, broken before its options, each line but the last
     ending in `` \\`` so that a shell pasted it reads one command. Lines within ``width`` stay as
     they are. The reports' lines ran to 700 characters on the REAL example files, which a
-    terminal breaks mid-word (``impedax.cli.diagnose.to_terminal``; progress lines:
+    terminal breaks mid-word (``impedax.cli.common.to_terminal``; progress lines:
     `terminal_line`)."""
     import textwrap
 

@@ -28,8 +28,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..errors import ParameterError
-    from .common import note_skipped_rows, print_result
-    from .diagnose import fitting_function, run_spectrum_command, to_terminal
+    from .common import note_skipped_rows, print_result, to_terminal
+    from .diagnose import fitting_function, run_spectrum_command
 
     if args.max_effects < 0:
         raise ParameterError(f"--max-effects must be 0 or more, got {args.max_effects}")
