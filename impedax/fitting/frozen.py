@@ -25,7 +25,9 @@ __all__ = ["FrozenResult", "ReadOnlyDict", "KeyHintDict", "MissingKey", "freeze_
 class MissingKey(KeyError):
     """The KeyError of a result's mapping (``fit.values["R_1"]``): ``args[0]`` is the key, as a
     KeyError's (code that reads it is unchanged), and its text names the closest key and the keys
-    there are, where a plain KeyError said ``'R_1'`` alone."""
+    there are, where a plain KeyError said ``'R_1'`` alone. The closest key: the key but for case
+    (``r1``: ``R1``), else one the key begins (``CPE1.a``: ``CPE1.alpha``; a joint posterior's ``R1``: ``R1[cell=a]``), else one that names
+    it in brackets (a hierarchical posterior's ``ess()["R1"]``: ``mu[R1]``), else difflib's."""
 
     def __init__(self, key, known):
         super().__init__(key)
@@ -34,7 +36,9 @@ class MissingKey(KeyError):
     def __str__(self) -> str:
         key = self.args[0]
         names = [str(k) for k in self.known]
-        close = [n for n in names if n.startswith(str(key))][:1] or difflib.get_close_matches(str(key), names, n=1)  # ('CPE1.a': CPE1.alpha)
+        typed = str(key)
+        close = ([n for n in names if n.casefold() == typed.casefold()] or [n for n in names if n.startswith(typed)] or [n for n in names if n.endswith(f"[{typed}]")]
+                 or difflib.get_close_matches(typed, names, n=1))  # ('r1': R1; 'CPE1.a': CPE1.alpha; 'R1': mu[R1])
         hint = f"; did you mean {close[0]!r}?" if close else ""
         listed = ", ".join(names[:12]) + (", …" if len(names) > 12 else "")
         return f"{key!r}{hint} (the keys: {listed or 'none'})"

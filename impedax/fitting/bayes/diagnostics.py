@@ -622,11 +622,11 @@ class PiledUp:
         return prior_edges(self.names, self.units, flat, self.priors, *self.bounds, by_name(reductions), causes, by_name(sides), by_name(shorts))
 
     @property
-    def piled_up(self) -> dict[str, str]:
+    def piled_up(self) -> KeyHintDict:
         """The sampled parameters whose draws pile up against an edge of their prior or bound,
         each with its side: "lower", "upper" or "both" (`prior_edges`; the warnings say it in
-        words)."""
-        return dict(self._prior_edges.piled_up)
+        words). A new dict whose missing key names the keys there are (`MissingKey`)."""
+        return KeyHintDict(self._prior_edges.piled_up)
 
     @property
     def at_prior_edge(self) -> list[str]:

@@ -51,7 +51,7 @@ import jax.numpy as jnp
 import numpy as np
 import xarray as xr
 
-from ...arguments import MAX_SAMPLER_STEPS, checked_arguments, count, progress_line_flag, real, refuse_unknown_keywords, sequence_of, seed as seed_rule
+from ...arguments import MAX_SAMPLER_STEPS, checked_arguments, closest_name, count, progress_line_flag, real, refuse_unknown_keywords, sequence_of, seed as seed_rule
 from ...circuits import DEFAULT_REGISTRY, Circuit, Registry, compile_circuit, parse
 from ...data import column_width, concise_repr, make_spectrum, report_text, unit_text
 from ...errors import DataError, FitError, ParameterError
@@ -796,20 +796,24 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
 
     def _index(self, name: str) -> int:
         if name not in self.trial_names:
-            raise ParameterError(f"{name!r} is not a per-trial parameter; per-trial: {', '.join(self.trial_names)}")
+            close = closest_name(name, self.trial_names) if isinstance(name, str) else None
+            hint = f"; did you mean {close}?" if close else ""
+            raise ParameterError(f"{name!r} is not a per-trial parameter{hint}; per-trial: {', '.join(self.trial_names)}")
         return self.trial_names.index(name)
 
-    def population(self, name: str, *, level: float = 0.90) -> dict[str, float]:
+    def population(self, name: str, *, level: float = 0.90) -> KeyHintDict:
         """Population median exp(μ) of ``name`` [its unit]: posterior ``value`` (median) and the
-        central ``level`` interval (``q05``/``q95`` for 90 %; ``low``/``high`` always)."""
+        central ``level`` interval (``q05``/``q95`` for 90 %; ``low``/``high`` always), in a new
+        dict whose missing key names the keys there are (`MissingKey`; as `spread_between_trials`
+        and `new_trial`)."""
         draws = np.exp(self.mu[..., self._index(name)]).ravel()
         return _interval(draws, level)
 
-    def spread_between_trials(self, name: str, *, level: float = 0.90) -> dict[str, float]:
+    def spread_between_trials(self, name: str, *, level: float = 0.90) -> KeyHintDict:
         """Spread of ``name`` between trials: sd of ln θ (≈ relative sd), median and interval."""
         return _interval(self.spread[..., self._index(name)].ravel(), level)
 
-    def new_trial(self, name: str, *, level: float = 0.90, seed: int = 0) -> dict[str, float]:
+    def new_trial(self, name: str, *, level: float = 0.90, seed: int = 0) -> KeyHintDict:
         """Posterior predictive interval of ``name`` for a new trial (of a new session when
         there is a session level): exp(μ + s η [+ τ ζ]) with fresh η, ζ ~ N(0, 1)."""
         j = self._index(name)
@@ -831,16 +835,20 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             values.update({k: np.asarray(v) for k, v in rp.circuit_values({n: jnp.asarray(values[n]) for n in rp.names}).items()})
         return values
 
-    def ess(self) -> dict[str, float]:
-        """Effective sample sizes of μ and the spreads (and δ) across chains."""
-        out = {f"mu[{n}]": float(e) for n, e in zip(self.trial_names, _ess(self.mu))}
+    def ess(self) -> KeyHintDict:
+        """Effective sample sizes of μ and the spreads (and δ) across chains, keyed ``mu[NAME]``,
+        ``spread[NAME]``, ``delta``: a new dict whose missing key names the keys there are
+        (`MissingKey`: ``ess()["R1"]`` suggests ``mu[R1]``)."""
+        out = KeyHintDict((f"mu[{n}]", float(e)) for n, e in zip(self.trial_names, _ess(self.mu)))
         out.update({f"spread[{n}]": float(e) for n, e in zip(self.trial_names, _ess(np.log(self.spread)))})
         if self.discrepancy:
             out["delta"] = float(_ess(np.log(self.delta)))
         return out
 
-    def rhat(self) -> dict[str, float]:
-        out = {f"mu[{n}]": float(r) for n, r in zip(self.trial_names, _rhat(self.mu))}
+    def rhat(self) -> KeyHintDict:
+        """R-hat of μ and the spreads across chains, keyed as `ess` (``mu[NAME]``, ``spread[NAME]``;
+        a missing key: `MissingKey`)."""
+        out = KeyHintDict((f"mu[{n}]", float(r)) for n, r in zip(self.trial_names, _rhat(self.mu)))
         out.update({f"spread[{n}]": float(r) for n, r in zip(self.trial_names, _rhat(np.log(self.spread)))})
         return out
 
@@ -859,13 +867,13 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             rhat["delta"] = float(_rhat(np.log(self.delta)))
         return rhat, ess
 
-    def mixing(self) -> tuple[dict[str, float], dict[str, float]]:
+    def mixing(self) -> tuple[KeyHintDict, KeyHintDict]:
         """(R-hat, ESS) of every sampled quantity: `rhat` and `ess` (μ and the spreads, keys
         ``mu[NAME]``, ``spread[NAME]``; δ's ESS) with each shared parameter's (key NAME) and δ's
-        R-hat (``delta``) added. The warnings, the report's sampler line and ``impedax gap``'s
-        SAMPLING UNRELIABLE read these."""
+        R-hat (``delta``) added (new dicts; a missing key: `MissingKey`). The warnings, the
+        report's sampler line and ``impedax gap``'s SAMPLING UNRELIABLE read these."""
         other_rhat, other_ess = self._other_mixing()
-        return {**self.rhat(), **other_rhat}, {**self.ess(), **other_ess}
+        return KeyHintDict({**self.rhat(), **other_rhat}), KeyHintDict({**self.ess(), **other_ess})
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -1134,10 +1142,10 @@ class HierarchicalPosterior(PiledUp, FrozenResult):
             )
 
 
-def _interval(draws: np.ndarray, level: float) -> dict[str, float]:
+def _interval(draws: np.ndarray, level: float) -> KeyHintDict:
     lo, hi = (1.0 - level) / 2.0, 1.0 - (1.0 - level) / 2.0
     q_lo, q50, q_hi = np.quantile(draws, [lo, 0.5, hi])
-    out = {"value": float(q50), "low": float(q_lo), "high": float(q_hi)}
+    out = KeyHintDict(value=float(q50), low=float(q_lo), high=float(q_hi))
     if abs(level - 0.9) < 1e-12:
         out.update(q05=float(q_lo), q95=float(q_hi))
     return out

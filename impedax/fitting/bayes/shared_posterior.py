@@ -43,7 +43,7 @@ from ..least_squares.notes import tags_attr
 from ..least_squares.result import PARAMETER_UNIT_NAME, parameter_groups, without_sample_advice
 from ..parameters import ParameterTable
 from ..problem import SIGMA_SOURCES, open_spectrum
-from ..frozen import FrozenResult, freeze_fields
+from ..frozen import FrozenResult, KeyHintDict, freeze_fields
 from .diagnostics import NO_STRAGGLERS, PiledUp, WalkerDraws, circuit_name, Stragglers, chain_warnings, draws_table, figure, interval_warnings, kept_walkers, straggler_warnings, tied_to_bound, walkers_text
 from ..stored import StoredProgram
 from .logprob import NOISE_MODELS, NOISE_TITLES, NoiseModel, start_weighting, walkers_log_prob
@@ -150,10 +150,11 @@ class SharedPosterior(WalkerDraws, PiledUp, FrozenResult):
         freeze_fields(self)  # read-only arrays and mappings (`impedax.fitting.frozen`)
 
     @property
-    def fixed(self) -> dict[str, float]:
-        """The parameters held fixed (name → value), as the start fit holds them."""
+    def fixed(self) -> KeyHintDict:
+        """The parameters held fixed (name → value), as the start fit holds them: a new dict
+        whose missing key names the keys there are (`MissingKey`, as `Posterior.fixed`)."""
         ds = self.fit.dataset
-        return {str(n): float(ds["value"].sel(param=n).values.ravel()[0]) for n in ds["param"].values if bool(ds["fixed"].sel(param=n))}
+        return KeyHintDict((str(n), float(ds["value"].sel(param=n).values.ravel()[0])) for n in ds["param"].values if bool(ds["fixed"].sel(param=n)))
 
     @functools.cached_property
     def bounds(self) -> tuple[tuple[float, ...], tuple[float, ...]]:

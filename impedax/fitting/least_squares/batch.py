@@ -26,7 +26,7 @@ from ...errors import DataError, ParameterError
 from ...io.netcdf import result_dataset
 from ...progress import say, silenced
 from ...warning_groups import LABELS_SHOWN, grouped_warnings, labels_text, warning_kinds
-from ..frozen import FrozenResult, freeze_fields
+from ..frozen import FrozenResult, KeyHintDict, freeze_fields
 from ..grid import refuse_result_names
 from ..kk import KKChains
 from ..parameters import ParameterTable
@@ -577,15 +577,16 @@ class BatchFitResult(FrozenResult):
             "notes": list(self.notes),  # (as a single fit's JSON)
         }
 
-    def user_bounds(self) -> dict[str, tuple[float, float]]:
+    def user_bounds(self) -> KeyHintDict:
         """The bounds the user set (``bounds=``, ``--bound``) on free parameters, as
         `FitResult.bounds`: the dataset's ``lower``/``upper`` that differ from the element's own
-        (`ParameterSpec.narrowed_sides`; none in a batch saved before they were stored)."""
+        (`ParameterSpec.narrowed_sides`; none in a batch saved before they were stored). A new
+        dict whose missing key names the keys there are (`MissingKey`, as ``FitResult.bounds``')."""
         ds = self.dataset
         if "lower" not in ds:
-            return {}
+            return KeyHintDict()
         specs = self.circuit.parameter_specs(self.registry)
-        out = {}
+        out = KeyHintDict()
         for p in ds["param"].values:
             n = str(p)
             lo, hi = float(ds["lower"].sel(param=n)), float(ds["upper"].sel(param=n))

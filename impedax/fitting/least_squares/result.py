@@ -21,7 +21,7 @@ from ...data import checked_frequencies, column_width, concise_repr, exact_numbe
 from ...errors import DataError
 from ...io.netcdf import NETCDF_ADVICE, result_dataset
 from ..arcs import BEYOND_BAND_FACTOR, ArcBeyondBand, arc_taus
-from ..frozen import FrozenResult, freeze_fields
+from ..frozen import FrozenResult, KeyHintDict, freeze_fields
 from ..kk import KKChains, kk_sigma_misfits
 from ..parameters import ParameterTable, data_scales
 from ..problem import WEIGHTING_SCALES
@@ -216,12 +216,13 @@ class FitResult(FrozenResult):
         return None if self.warning_tags is None else fit_sigma_residual_notes(self)
 
     @property
-    def linearised_stderr(self) -> dict[str, float]:
+    def linearised_stderr(self) -> KeyHintDict:
         """``stderr`` with each free parameter at a bound given the linearisation's, √ of its
         ``covariance`` diagonal (the bounds ignored, as scipy's curve_fit reports). Not a ± error
         at a bound: the scale of χ²'s curvature there, what a one-sided limit or a sampler's
-        start is built from. A vanishing term's parameter stays inf, a fixed one NaN."""
-        out = dict(self.stderr)
+        start is built from. A vanishing term's parameter stays inf, a fixed one NaN. A new
+        dict at each call, whose missing key names the keys there are (`MissingKey`)."""
+        out = KeyHintDict(self.stderr)
         cov = np.asarray(self.covariance, float)
         if cov.shape == (self.n_params, self.n_params):
             for j, n in enumerate(self.free_names):
@@ -311,8 +312,10 @@ class FitResult(FrozenResult):
             return float(np.sqrt(np.mean(np.abs(self.residuals) ** 2)))
 
     @property
-    def params(self) -> dict[str, float]:
-        return dict(self.values)
+    def params(self) -> KeyHintDict:
+        """``values`` as a new dict, yours to edit, whose missing key names the keys there are
+        (`MissingKey`, as ``values``')."""
+        return KeyHintDict(self.values)
 
     def predict(self, freq) -> np.ndarray:
         """Model impedance [Ω] at ``freq`` [Hz] with the fitted parameters."""
