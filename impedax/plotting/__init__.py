@@ -23,7 +23,7 @@ from ..data import SI_PREFIXES, format_frequency, format_quantity, si_prefix
 from ..errors import ParameterError
 from ..io.atomic import atomic_path
 
-__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "twin_axes", "bar_points", "plain_log_ticks", "frequency_axis", "labelled_log_ticks", "LabelledLogLocator", "LOG_LABEL_ROOM_EM", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
+__all__ = ["plot_spectrum", "model_curve", "dense_model", "plot_nyquist", "equal_aspect", "nyquist_frame", "tail_frame", "mark_tail", "nyquist_view", "prefixed_axis", "nyquist_shape", "nyquist_panel_height", "spectrum_layout", "label_bode_above_residuals", "plot_bode", "save_figure", "FIGURE_DPI", "fitting_ylabel", "shade_bands", "refresh_legend", "legends_off_data", "drawn_points", "twin_axes", "bar_points", "plain_log_ticks", "frequency_axis", "time_axis", "FREQUENCY_PLAIN_FROM", "TIME_PLAIN_FROM", "labelled_log_ticks", "LabelledLogLocator", "LOG_LABEL_ROOM_EM", "magnitude_axis", "MagnitudeMinorLocator", "END_MANTISSAS", "SPAN_MAX_DECADES", "DECADE_TICKS_ALONE", "plain_linear_ticks", "PlainTicks", "residual_axis", "ROUNDING_RESIDUAL", "frame_points", "frame_spectra", "BEYOND_CELLS", "FRAME_ROOM_PT", "prefixable_unit", "wrap_model", "characters_across", "font_size", "label_spectra_axis", "drawn_label", "SpectraLocator", "plot_spectra"]
 
 
 # the rcParams key each kind of impedax's text follows (`font_size`)
@@ -1027,14 +1027,16 @@ def _shortest_fitting(ax, forms: Sequence[str]) -> bool:
     return i > 0
 
 
-def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True) -> str:
+def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True, plain_from: float = 1e-3) -> str:
     """A tick value as printed: ``0.2``, ``40``, ``2000``; from 10⁴ up and below 10⁻³ with an SI
     prefix (``10k``, ``2M``, ``500µ``), where ``1e+06`` beside ``100000`` read badly; beyond the
     prefixes (below 1 f, from 1000 T up) in plain exponent form (``1e-20``, ``1e+18``), not
     ``1e-05f``. ``prefix_from``: the value from which a prefix is written (1000: the minor
-    ticks of a log axis, 2k beside 20k). ``prefixes`` False (an axis in %, which a prefix
-    misreads: "1µ" of a percent): the exponent form there too (``1e-6``, ``1e6``)."""
-    if x == 0 or 1e-3 <= abs(x) < prefix_from:
+    ticks of a log axis, 2k beside 20k); ``plain_from``: the smallest value written without one
+    (0.1 on a time axis in s, `time_axis`: 10 ms reads ``10m``, as a time is said). ``prefixes``
+    False (an axis in %, which a prefix misreads: "1µ" of a percent): the exponent form there
+    too (``1e-6``, ``1e6``)."""
+    if x == 0 or plain_from <= abs(x) < prefix_from:
         return f"{x:g}"
     smallest, largest = SI_PREFIXES[-1][0], SI_PREFIXES[0][0]
     if not prefixes:  # (``{:g}`` writes 10⁴ and 10⁵ out in full: "10000" beside "1e6" on one axis)
@@ -1045,7 +1047,7 @@ def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True) 
     return f"{x / scale:g}{prefix}"
 
 
-def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bool = False, minor_labels: bool = False) -> None:
+def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bool = False, minor_labels: bool = False, plain_from: float = 1e-3) -> None:
     """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40,
     10k, 1M) instead of 2×10⁻¹ or 1e+06 (`_plain_number`): percentages read as they are
     printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
@@ -1071,14 +1073,17 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bo
     ``minor_labels``: label the minor ticks (thinned to fit) up to two decade ticks in view, where
     matplotlib labels the decades alone from one up: a range widened to 1 – 10 kΩ reads 1, 2, 3,
     4, 6, 10 (`magnitude_axis`). An axis that must read two labels or more at any range (rms_rel,
-    a batch's parameters) is ticked by `labelled_log_ticks`."""
+    a batch's parameters) is ticked by `labelled_log_ticks`.
+
+    ``plain_from``: the smallest value written without an SI prefix (`_plain_number`; 0.1 on a
+    time axis, `time_axis`)."""
     from matplotlib.ticker import LogFormatter
 
     prefix_of = (nyquist.xaxis, nyquist.yaxis) if nyquist is not None else (axis,) if own_prefix else None
 
     def scaled(formatter, x, prefix_from=1e4):
         scale = getattr(axis.get_major_formatter(), "scale", 1.0)
-        return _plain_number(x / scale, prefix_from, prefixes=prefixes and scale == 1.0 and not percent_axis(formatter.axis))
+        return _plain_number(x / scale, prefix_from, prefixes=prefixes and scale == 1.0 and not percent_axis(formatter.axis), plain_from=plain_from)
 
     class _Plain(LogFormatter):
         def __init__(self):
@@ -1108,6 +1113,7 @@ def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bo
 
     axis.set_major_formatter(_Plain())
     axis.set_minor_formatter(_MinorLogLabels(labelOnlyBase=False))
+    axis.get_minor_formatter().plain_from = plain_from  # (the labels' widths `_thin_minor_labels` measures)
     if minor_labels:
         axis.get_minor_formatter().minor_thresholds = (2, 0.4)
 
@@ -1124,8 +1130,32 @@ def frequency_axis(axis) -> None:
     matplotlib's labels, on every axis shared with this one. The scale is set here too, even on
     an axis that reads log already: one joined by ``sharex`` to a log axis reads log but draws
     linearly until its scale is set (the joint posterior bands' second phase panel)."""
+    _plain_log_axis(axis, FREQUENCY_PLAIN_FROM)
+
+
+# the smallest value a frequency axis [Hz] writes without an SI prefix (0.001; 500µ below it),
+# and the smallest a time axis [s] does (0.1: 10 ms reads 10m, 1 ms 1m), `_plain_number`
+FREQUENCY_PLAIN_FROM = 1e-3
+TIME_PLAIN_FROM = 0.1
+
+
+def time_axis(axis) -> None:
+    """The one rule of every relaxation-time axis τ [s] of impedax's figures (the DRT's γ(τ)
+    panel, a DRT batch's curves and its map over the spectra): `frequency_axis`'s rule, the same
+    code (a log scale, matplotlib's major ticks, plain labels, minor labels thinned to fit, an SI
+    prefix from 10⁴ up), with times below 0.1 s in their prefix as times are said: 1µ, 10µ, 100µ,
+    1m, 10m, 0.1, 1, 10, 100, 1000, 10k, where matplotlib wrote 10⁻⁶ … 10⁴ beside frequency
+    axes reading 0.01 … 10k. The axis' label names the unit, seconds (``τ [s]``), so a tick
+    ``10m`` reads 10 ms. Call it after the curves are drawn, as `frequency_axis`."""
+    _plain_log_axis(axis, TIME_PLAIN_FROM)
+
+
+def _plain_log_axis(axis, plain_from: float) -> None:
+    """The rule `frequency_axis` and `time_axis` share: ``axis`` log-scaled (set again: an axis
+    joined by ``sharex`` to a log one draws linearly until then) and ticked by `plain_log_ticks`,
+    written plainly from ``plain_from`` up."""
     (axis.axes.set_xscale if axis is axis.axes.xaxis else axis.axes.set_yscale)("log")
-    plain_log_ticks(axis)
+    plain_log_ticks(axis, plain_from=plain_from)
 
 
 # the least distance between the centres of neighbouring labels of a `LabelledLogLocator`
@@ -1435,7 +1465,7 @@ def _thin_minor_labels(formatter) -> None:
 
     def fits(values):
         where = np.log10(values) * per_decade
-        widths = [(len(_plain_number(v, prefix_from=1e3, prefixes=not percent_axis(axis))) * LABEL_CHAR_EM if horizontal else 1.0) * size for v in values]
+        widths = [(len(_plain_number(v, prefix_from=1e3, prefixes=not percent_axis(axis), plain_from=getattr(formatter, "plain_from", 1e-3))) * LABEL_CHAR_EM if horizontal else 1.0) * size for v in values]
         gaps = np.diff(where) - (np.array(widths[:-1]) + np.array(widths[1:])) / 2
         return bool(np.all(gaps >= LABEL_GAP_EM * size))
 

@@ -7,7 +7,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..data import counted, format_lambda, format_percent, format_quantity, format_time
-from . import FLAT_NYQUIST, LabelledLogLocator, dense_model, drawn_label, font_size, frame_points, frequency_axis, frame_spectra, label_spectra_axis, labelled_log_ticks, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands
+from . import FLAT_NYQUIST, LabelledLogLocator, dense_model, drawn_label, font_size, frame_points, frequency_axis, frame_spectra, label_spectra_axis, labelled_log_ticks, legends_off_data, magnitude_axis, nyquist_panel_height, nyquist_shape, plot_bode, plot_nyquist, prefixed_axis, residual_axis, shade_bands, time_axis
 
 __all__ = ["plot_drt", "plot_drt_batch", "plot_gamma", "plot_zhit"]
 
@@ -67,6 +67,7 @@ def plot_gamma(ax, result, *, overlay=None, label="data DRT", overlay_label=None
     ax.axvspan(hi, result.tau.max(), **shading, label="outside measured range" + (" (band cut at the top)" if clipped else ""))
     ax.set_xlim(result.tau.min(), result.tau.max())
     ax.set_xlabel("τ [s]")
+    time_axis(ax.xaxis)  # (1µ … 10m, 0.1, 1, 10: as the frequency axes read, not 10⁻⁶ … 10¹)
     ax.set_ylabel("γ [Ω]")
     prefixed_axis(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
@@ -225,6 +226,7 @@ def gamma_map(ax, batch, window: tuple[float, float]):
         if chosen:
             ax.scatter([i for i, _ in chosen], [p.tau_s for _, p in chosen], s=[8 + 40 * abs(p.r_ohm) / r_top for _, p in chosen], linewidths=0.8, zorder=3, **style)
     ax.set_ylabel("τ [s]")
+    time_axis(ax.yaxis)
     return mesh, (bool(np.nanmax(gamma) > scale), bool(np.nanmin(gamma) < low))
 
 
@@ -274,6 +276,7 @@ def plot_drt_batch(batch, *, title: str | None = None):
     ax.axvspan(hi, tau_max, color="0.9", lw=0, zorder=0, label="outside measured range")
     ax.set_xlim(tau_min, tau_max)
     ax.set_xlabel("τ [s]")
+    time_axis(ax.xaxis)
     ax.set_ylabel("γ [Ω]")
     prefixed_axis(ax.yaxis)
     ax.grid(alpha=0.3, which="both")
