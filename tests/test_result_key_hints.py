@@ -23,16 +23,8 @@ import pytest
 import impedax as ix
 from impedax.fitting.frozen import MissingKey
 from test_hierarchical_new_session import by_hand  # (a HierarchicalPosterior built by hand)
+from test_posterior_result_names import FREQ, MODEL, rc  # (31 frequencies, 0.1 Hz – 100 kHz; R0 + R1 ∥ C1 with 1 % noise)
 
-FREQ = np.geomspace(0.1, 1e5, 31)
-MODEL = "R0 + R1 || C1"
-
-
-def rc(r1: float, seed: int) -> np.ndarray:
-    """Z = R0 + R1/(1 + jωR1C1) [Ω], R0 = 50 Ω, C1 = 1 µF, 1 % proportional noise."""
-    z = 50.0 + r1 / (1 + 2j * np.pi * FREQ * r1 * 1e-6)
-    rng = np.random.default_rng(seed)
-    return z * (1 + 0.01 * (rng.standard_normal(FREQ.size) + 1j * rng.standard_normal(FREQ.size)))
 
 
 def says(mapping, key: str, text: str) -> None:
