@@ -151,6 +151,65 @@ def test_stack_notes_equal_the_notes_of_one_fit(rng):
     assert np.any(np.abs(corr) > CORRELATION_LIMIT)
 
 
+# two R ∥ CPE arcs and an open Warburg (the REAL battery cycles' Wo circuit): near-null groups of
+# every kind can be due, two arcs at one τ among them
+ARCS_TABLE = ParameterTable.build(ix.parse("R0 + R1 || CPE1 + R2 || CPE2 + Wo1"))
+
+
+def test_stack_notes_with_near_null_groups_equal_the_notes_of_one_fit(rng):
+    """Fits with near-null directions (`null_sets`: random groups of one to four parameters,
+    infinite standard errors where a fit gives them, and every parameter of two arcs relaxing at
+    one τ) built for the stack at once: each fit's notes are `fit_notes`' of that fit alone, with
+    its groups and ratio, text for text and in order, as are those of the fits without a group
+    beside them; the groups silence the correlations and relative errors inside them."""
+    table, n = ARCS_TABLE, 240
+    names, free = table.names, table.free_names
+    values = np.exp(rng.uniform(-6, 4, (n, len(names))))
+    for alpha in ("CPE1.alpha", "CPE2.alpha"):
+        values[:, names.index(alpha)] = rng.uniform(0.5, 1.0, n)
+    values[rng.random(n) < 0.1, names.index("CPE2.alpha")] = 1.0  # (at its upper bound)
+    same_tau = rng.random(n) < 0.2  # R2 ∥ CPE2 a copy of R1 ∥ CPE1: one arc to the data
+    for a, b in (("R1", "R2"), ("CPE1.Q", "CPE2.Q"), ("CPE1.alpha", "CPE2.alpha")):
+        values[same_tau, names.index(b)] = values[same_tau, names.index(a)]
+    stderr = values * np.exp(rng.normal(-2, 1.5, values.shape))
+    stderr[rng.random(stderr.shape) < 0.05] = np.inf
+    k = len(free)
+    corr = np.tile(np.eye(k), (n, 1, 1))
+    groups, ratios = [], 10.0 ** rng.uniform(-16, -9, n)
+    for b in range(n):
+        found = []
+        if same_tau[b] and rng.random() < 0.8:
+            found.append(["R1", "CPE1.Q", "CPE1.alpha", "R2", "CPE2.Q", "CPE2.alpha"])
+        for _ in range(rng.choice(3, p=[0.5, 0.35, 0.15])):
+            group = sorted(rng.choice(k, rng.integers(1, 5), replace=False).tolist())
+            if [free[i] for i in group] not in found:
+                found.append([free[i] for i in group])
+        groups.append(found)
+        for _ in range(rng.integers(0, 4)):
+            i, j = rng.choice(k, 2, replace=False)
+            corr[b, i, j] = corr[b, j, i] = rng.choice([-1, 1]) * rng.uniform(0.98, 1.0)
+    sides = np.zeros((n, k), np.int8)
+    sides[:, free.index("CPE2.alpha")] = values[:, names.index("CPE2.alpha")] == 1.0
+    f = np.geomspace(1e-2, 1e4, 40)
+    z = (values[:, :1] + values[:, 1:2] / (1 + 2j * np.pi * f * 1e-3)).astype(complex)
+    got = stack_notes(table, values, stderr, corr, sides, freq=f, z=z, null_sets=groups, ratios=ratios)
+    without = stack_notes(table, values, stderr, corr, sides, freq=f, z=z)
+    silenced = 0
+    for b in range(n):
+        one = fit_notes(table, dict(zip(names, values[b].tolist())), dict(zip(names, stderr[b].tolist())), corr[b], groups[b], float(ratios[b]),
+                        finite=True, converged=True, message="", sides=sides[b], freq=f, z=z[b])
+        assert got.get(b, ()) == one and (b in got) == bool(one)
+        in_group = {n for g in groups[b] for n in g}
+        # (a note of a grouped parameter's relative error or of a pair of one group's, said without the groups)
+        silenced += sum(1 for w in without.get(b, ()) if w not in one and any(w.startswith(f"{p} ") for p in in_group))
+    said = [w for notes in got.values() for w in notes]
+    assert any("relax at the same τ" in w for w in said)
+    assert any("is not determined by the data (near-singular Jacobian" in w for w in said)
+    assert any("are not separately determined by the data (near-singular Jacobian" in w for w in said)
+    assert any("strongly correlated" in w for w in said) and any("relative standard error of" in w for w in said)
+    assert silenced > 10
+
+
 def test_batch_warnings_equal_single_fits(rng):
     """Two-arc spectra whose CPE Q and α correlate: the batch builds these texts for the stack,
     and each must be the single fit's, number for number (notes of the other kinds are

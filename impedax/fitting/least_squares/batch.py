@@ -36,7 +36,7 @@ from .order import canonical_order
 from .branches import RELATIVE_ERROR_LIMIT, held_covariances, idle_branch_notes, settle_vanishing, vanishing_term_mask, undetermined, unidentified_stderr, undetermined_mask, vanishing_candidates, vanishing_parameters
 from .constraints import constraint_misfit_notes, with_constraint_notes
 from .notes import MISFIT, MODEL_MISFIT, carried_over, has_tag, notes_tags, stored_tags, tagged, tags_attr, tags_of, with_tag
-from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_notes, fit_result, gross_misfits, misfit_notes, non_passive_notes, warning_tags_by_words, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
+from .result import value_shown_at_bound, sign_notes_first, settled_codes, stored_notes, warnings_blame_model, misfit_hint_spectra, MISFIT_CHECKED_FROM, MISFIT_RATIO_MAX, COVARIANCE_NOTE, BOUND_RESTARTS, FIT_STATISTICS, bounds_attr, is_remainder, parameter_groups, LINEARISED_STDERR_NAME, PARAMETER_UNIT_NAME, STDERR_NOTE, bound_sides, confirm_bounds, falling_inward, fit_result, gross_misfits, misfit_notes, non_passive_notes, warning_tags_by_words, sigma_misstated, sigma_scale_notes, trial_means_of_sigma, uneven_residual_notes, shown_stderr, stack_notes, vanishing_term_sides, dominated_notes, without_error
 from .solvers import SCREEN_STEPS, SharedArgs, SolverOutput, SolverStatus, SpectrumRows, TreeSolvers, better, over_devices, padded_points, tree_solver, unscale
 from .starts import SpectrumFeatures, climb_target, draw_size, batch_outliers, escalation_rungs, guess_start, inward_start, limit_starts, rms_rel_of, rung_seed, rung_starts, to_solver_space, values_inside
 
@@ -1453,15 +1453,11 @@ def _packed_stack(circuit, table: ParameterTable, freq, z, sigma, *, weighting, 
             groups[i], ratios[i] = null_sets(sv[i], vt[i], table.free_names)
             free_stderr[row] = unidentified_stderr(table.free_names, groups[i], sides[i], free_stderr[row])
     stderr[np.ix_(regular, table.free_index)] = free_stderr
-    # the exact warning text of a single fit: for most spectra built for the stack at once,
-    # for those with near-null directions (rare) one by one
-    plain = np.flatnonzero(~odd & ~singular)
-    for row, note in stack_notes(table, values[plain], stderr[plain], corr[plain], sides[plain], freq=freq, z=z[plain]).items():
-        notes[plain[row]] = note
+    # the exact warning text of a single fit (`fit_notes`), built for the stack at once, near-null groups included
+    for row, note in stack_notes(table, values[regular], stderr[regular], corr[regular], sides[regular], freq=freq, z=z[regular],
+                                 null_sets=[groups[i] for i in regular.tolist()], ratios=[ratios.get(i) for i in regular.tolist()]).items():
+        notes[regular[row]] = note
     names = table.names
-    for i in np.flatnonzero(~odd & singular).tolist():
-        ratio = ratios[i]
-        notes[i] = fit_notes(table, dict(zip(names, values[i].tolist())), dict(zip(names, stderr[i].tolist())), corr[i], groups[i], ratio, finite=True, converged=True, message="", sides=sides[i], freq=freq, z=z[i])
     # idle branches (the fits that did not converge get the note from `fit_result`)
     idle = idle_branch_notes(circuit, registry, table, values[regular], undetermined_mask(table, values[regular], stderr[regular], sides[regular]) | vanished, freq)
     for row, note in idle.items():

@@ -2200,11 +2200,16 @@ def arc_beyond_band_notes(table: ParameterTable, values: np.ndarray, freq=None, 
 
 def stack_notes(
     table: ParameterTable, values: np.ndarray, stderr: np.ndarray, corr: np.ndarray, sides: np.ndarray | None = None, *, freq=None, z=None,
+    null_sets=None, ratios=None,
 ) -> dict[int, tuple[str, ...]]:
-    """`fit_notes` of a stack of converged fits without near-null directions: values and
-    stderr (B, P), correlations (B, K, K), bound sides (B, K), spectra z (B, N) at ``freq`` (as `fit_notes`). The conditions are evaluated for all fits at once
-    and text is built only for the notes due, in `fit_notes`' order; fits without notes are
-    left out of the returned {row: notes}."""
+    """`fit_notes` of a stack of converged fits: values and stderr (B, P), correlations
+    (B, K, K), bound sides (B, K), spectra z (B, N) at ``freq`` (as `fit_notes`), and for fits
+    with near-null directions their groups ``null_sets`` (one list of groups per fit, empty for
+    the others; None: none has any) and singular-value ``ratios`` (B,) (`statistics.null_sets`).
+    The conditions are evaluated for all fits at once and text is built only for the notes due,
+    in `fit_notes`' order; fits without notes are left out of the returned {row: notes}. (A
+    batch's ~35 of 130 REAL battery cycles with a near-null direction under Wo took 13.8 ms a
+    call as one `fit_notes` each.)"""
     names = table.free_names
     free = table.free_index
     v, e = values[:, free], stderr[:, free]
@@ -2214,14 +2219,15 @@ def stack_notes(
         relative_error = np.abs(e / v)
     if sides is None:
         sides = bound_sides(table, values, None)
+    grouped, same_group = _group_notes(table, values, null_sets, ratios, notes)  # (first, as `diagnose_identifiability`'s)
     unreported = (np.asarray(sides) != 0) | np.isinf(e)  # (as `diagnose_identifiability`)
-    reported_pair = ~(unreported[:, :, None] | unreported[:, None, :])
+    reported_pair = ~(unreported[:, :, None] | unreported[:, None, :] | same_group)
     correlated = np.argwhere((np.abs(corr) > CORRELATION_LIMIT) & upper_triangle & reported_pair)
     pairs = {(i, j): correlated_note_parts(names[i], names[j]) for i, j in set(map(tuple, correlated[:, 1:].tolist()))}
     for (b, i, j), r in zip(correlated.tolist(), corr[tuple(correlated.T)].tolist()):
         parts = pairs[i, j]  # (most pairs' note differs by r alone: its text around r built once)
         notes[b].append(f"{parts[0]}{r:+.3f}{parts[1]}" if parts is not None else correlated_note(names[i], names[j], r, (float(relative_error[b, i]), float(relative_error[b, j]))))
-    unknown = undetermined_mask(table, values, stderr, sides)
+    unknown = undetermined_mask(table, values, stderr, sides) & ~grouped
     for b, i in np.argwhere(unknown).tolist():
         notes[b].append(undetermined_note(names[i], float(relative_error[b, i])))
     on, exactly = on_bound(table, values, sides, freq, z), on_bound(table, values, sides, freq, z, NUMERICALLY_ON_FRACTION)
@@ -2241,6 +2247,27 @@ def stack_notes(
     for b, note in arc_beyond_band_notes(table, values, freq, _settled(table, values, stderr, sides)):
         notes[b].append(note)
     return {b: tuple(n) for b, n in notes.items()}
+
+
+def _group_notes(table: ParameterTable, values: np.ndarray, null_sets, ratios, notes) -> tuple[np.ndarray, np.ndarray]:
+    """Append to ``notes`` ({row: list}) each near-null group's note of fits with values (B, P)
+    (`stack_notes`' ``null_sets`` and ``ratios``), as `fit_notes` words them (`same_arc_notes` in
+    place of `unidentified_group_note` where it has one); return which free parameters (B, K) and
+    which pairs of them (B, K, K) a group of their fit holds, of whom no undetermined or correlated
+    note is said (`diagnose_identifiability`)."""
+    index = {n: k for k, n in enumerate(table.free_names)}
+    k = len(index)
+    grouped, same_group = np.zeros((len(values), k), bool), np.zeros((len(values), k, k), bool)
+    for b, groups in enumerate(() if null_sets is None else null_sets):
+        if not groups:
+            continue
+        same_arc = same_arc_notes(table, values[b], groups)
+        for g, group in enumerate(groups):
+            notes[b].append(same_arc[g] if g in same_arc else unidentified_group_note(group, ratios[b]))
+            columns = np.array([index[n] for n in group], int)
+            grouped[b, columns] = True
+            same_group[b, columns[:, None], columns[None, :]] = True
+    return grouped, same_group
 
 
 def user_bounds_text(fit: "FitResult") -> str:

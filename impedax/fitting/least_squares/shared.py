@@ -48,7 +48,7 @@ from ..statistics import SINGULAR_RATIO_LIMIT, add_null_group, information_crite
 from .batch import BatchFitResult, batch_with_warnings, data_notes, fit_batch
 from .order import exchangeable_blocks
 from .branches import idle_branch_notes, idle_branches, settle_vanishing, undetermined, undetermined_mask, unidentified_stderr, vanishing_candidates, vanishing_parameters
-from .result import value_shown_at_bound, near_bound_notes, BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, fit_notes, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
+from .result import value_shown_at_bound, near_bound_notes, BOUND_CHI2_FRACTION, LINEARISED_STDERR_NAME, STDERR_NOTE, at_rounding, bound_note, bound_sides, is_remainder, NUMERICALLY_ON_FRACTION, on_bound, shown_stderr, stack_notes, unidentified_group_note, vanishing_term_sides, without_error
 from .solvers import SolverArgs, tree_residuals
 
 __all__ = ["SharedFitResult", "SharedLayout", "shared_layout", "fit_shared", "JointSolution", "joint_solver", "joint_covariance", "joint_null_sets", "JointNullSets", "SHARING_P_LIMIT"]
@@ -691,18 +691,11 @@ def fit_shared(
         for group in f.null.shared_groups:
             columns = np.array([table.free_names.index(n) for n in group], int)
             quiet_corr[gi * m : (gi + 1) * m, columns[:, None], columns[None, :]] = np.eye(columns.size)
-    spectrum_notes = stack_notes(table, flat_values, quiet_stderr, quiet_corr, quiet_sides, freq=freq, z=z.reshape(-1, n_freq))
     # a spectrum with a near-null direction through its own parameters: a single fit's warnings
     # with that group's (`fit_notes`, as a batch's); one of shared parameters alone is said per global fit
     alone = [[sorted(g) for g in f.null.shared_groups] for f in fits]
-    for row, found in enumerate(null_groups):
-        told = [g for g in found if sorted(g) not in alone[row // m]]
-        if told:
-            names = table.names
-            note = fit_notes(table, dict(zip(names, flat_values[row].tolist())), dict(zip(names, quiet_stderr[row].tolist())), quiet_corr[row], told, float(null_ratios[row]),
-                             finite=True, converged=True, message="", sides=quiet_sides[row], freq=freq, z=z.reshape(-1, n_freq)[row])
-            if note:
-                spectrum_notes[row] = note
+    told = [[g for g in found if sorted(g) not in alone[row // m]] for row, found in enumerate(null_groups)]
+    spectrum_notes = stack_notes(table, flat_values, quiet_stderr, quiet_corr, quiet_sides, freq=freq, z=z.reshape(-1, n_freq), null_sets=told, ratios=null_ratios)
     for row, note in idle_branch_notes(circuit, registry, table, flat_values, undetermined_mask(table, flat_values, quiet_stderr, quiet_sides) | vanished, freq).items():
         spectrum_notes[row] = spectrum_notes.get(row, ()) + note
     # what concerns each spectrum's data in the global fit, the rules and texts of single and
