@@ -13,11 +13,11 @@ from __future__ import annotations
 import os
 from typing import Mapping
 
-from .arguments import shown
+from .arguments import parameter_values, shown
 from .circuits import DEFAULT_REGISTRY, Circuit, Element, Registry, Series, parse
 from .data import SI_PREFIXES, format_quantity, si_prefix
 from .errors import DataError, ImpedaxError, ParameterError
-from .io.atomic import atomic_path, check_writable
+from .io.atomic import atomic_path, check_file_name, check_writable
 
 __all__ = ["draw_circuit", "save_circuit_diagram"]
 
@@ -162,8 +162,11 @@ def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = No
     """
     if not isinstance(circuit, (str, Circuit)):  # (a list: this message, not AttributeError)
         raise ParameterError(f"circuit must be circuit text or a Circuit, got {shown(circuit)} ({type(circuit).__name__})")
+    if isinstance(values, (str, os.PathLike)):  # (a file name in the place of the values: not dict()'s ValueError)
+        raise ParameterError(f"values must be a mapping name → value, got the file name {shown(os.fspath(values))}: draw_circuit returns a matplotlib Figure; "
+                             f"to write a file call impedax.save_circuit_diagram(circuit, {shown(os.fspath(values))})")
+    values = parameter_values()(values, "values") or {}
     circuit = parse(circuit, registry) if isinstance(circuit, str) else circuit
-    values = dict(values or {})
     known = circuit.parameter_names(registry)
     unknown = [n for n in values if n not in known]
     if unknown:
@@ -192,6 +195,7 @@ def save_circuit_diagram(circuit: Circuit | str, path: str | os.PathLike, values
 
     SVG keeps the labels as text (searchable, editable), not as glyph outlines.
     """
+    check_file_name(path, "circuit.svg")
     path = check_writable(path)
     if path.suffix.lower() not in (".png", ".svg", ".pdf"):
         raise DataError(f"unknown diagram format {path.suffix!r}; use .png, .svg or .pdf", path=path)

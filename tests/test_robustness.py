@@ -687,6 +687,11 @@ API_CASES = [
     ("derive-fn-not-callable", "derive", lambda s: ix.derive(s.fit, 3), P, "fn must be a function of the parameters"),
     ("save-unstorable-attribute", "save", lambda s: ix.save(s.good.assign_attrs(thing=object()), "a.nc"), D, "attribute 'thing' of the dataset is <object object"),
     ("save-json-extension", "save", lambda s: ix.save(s.good, "x.json"), D, "use .nc, .nc4, .cdf (netCDF), .csv, .txt, .tsv"),
+    # (a name ending in '/' was a file named without it until 2026-12-08: "out/" wrote a CSV named "out")
+    ("save-folder-name", "save", lambda s: ix.save(s.good, "out/"), D, "out/: ends with '/', so it names a folder, not a file; give a file name in it, e.g. out/spectrum.csv"),
+    ("write-result-folder-name", "write_result", lambda s: ix.write_result(s.fit, "results/"), D, "results/: ends with '/', so it names a folder, not a file"),
+    ("write-result-empty-name", "write_result", lambda s: ix.write_result(s.fit, ""), D, "empty file name: no output file was named"),
+    ("draw-circuit-file-name-as-values", "draw_circuit", lambda s: ix.draw_circuit(RC, "circuit.svg"), P, "draw_circuit returns a matplotlib Figure; to write a file call impedax.save_circuit_diagram(circuit, 'circuit.svg')"),
     ("log-frequencies-string", "log_frequencies", lambda s: ix.log_frequencies("a", 2.0, 3), P, "fmin must be a number"),
     ("log-frequencies-huge", "log_frequencies", lambda s: ix.log_frequencies(1.0, 2.0, 10**12), P, "points=1000000000000 is above the limit"),
     ("log-frequencies-float-points", "log_frequencies", lambda s: ix.log_frequencies(1.0, 2.0, 2.5), P, "points must be an integer"),

@@ -66,6 +66,10 @@ BAD_PATHS = [
     ("read-only-folder", "{tmp}/ro/out{ext}", "is not writable", ALL_KINDS),
     ("read-only-file", "{tmp}/read-only{ext}", "is read-only", ALL_KINDS),  # (made 0444 by the test)
     ("empty-name", "", "empty file name", ALL_KINDS),
+    # (until 2026-12-08 a name ending in '/' was written as a file without it: --plot figs/ made a
+    # file figs, and old.png/ replaced old.png)
+    ("names-a-folder", "{tmp}/figs/", "ends with '/', so it names a folder, not a file; give a file name in it, e.g. ", ALL_KINDS),
+    ("existing-file-as-a-folder", "{tmp}/old.png/", "ends with '/', so it names a folder", ALL_KINDS),
     ("binary-to-stdout", "-", "cannot go to standard output", ("figure", "diagram")),
 ]
 

@@ -1748,6 +1748,12 @@ def announce_written(paths: Iterable[str]) -> None:
             print(f"wrote {path}", file=sys.stderr)
 
 
+# the file name `plan_outputs` suggests inside a folder given as an output (``--plot figs/``:
+# "e.g. figs/plot.png"), by option, else by the kind of output
+_EXAMPLE_STEM = {"--plot": "plot", "--corner": "corner", "--trace": "trace", "result": "result", "fit": "result",
+                 "spectrum": "spectrum", "figure": "figure", "diagram": "circuit", "drt": "drt"}
+
+
 def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iterable[str | None] = (), stdout: str | None = None) -> OutputPlan:
     """Check every output option before any work: ``outputs`` are (flag, path or None, kind)
     triples; ``inputs`` the files the command reads; ``stdout`` names an option that prints to
@@ -1758,7 +1764,7 @@ def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iter
     path that cannot be written (`impedax.io.atomic.check_writable`), an output that is one of
     the inputs, two outputs at one path, ``-`` for an output that cannot go to standard output.
     """
-    from ..io.atomic import check_writable
+    from ..io.atomic import check_file_name, check_writable
 
     planned: list[Output] = []
     inputs = [str(p) for p in inputs if p]
@@ -1780,6 +1786,7 @@ def plan_outputs(outputs: Iterable[tuple[str, str | None, str]], *, inputs: Iter
                 raise ParameterError(f"{flag} - and {clash} both write to standard output; give {flag} a file name")
             planned.append(output)
             continue
+        check_file_name(path, f"{_EXAMPLE_STEM.get(flag) or _EXAMPLE_STEM[kind_name]}{kind.default_suffix}", flag)
         suffix = Path(path).suffix.lower()
         known = kind.extensions()
         if suffix not in known:

@@ -217,9 +217,11 @@ def out_path(path: str | None, several: bool = True) -> str | None:
     from pathlib import Path
 
     from ..errors import DataError
+    from ..io.atomic import check_file_name
 
     if path is None or path == "-" or not path.strip():
         return path  # (`plan_outputs` says "empty file name")
+    check_file_name(path, "compare.csv", "--out")
     suffix = Path(path).suffix.lower()
     if suffix in BATCH_OUT_SUFFIXES and not several:
         raise DataError(f"--out: {suffix} is for a comparison over several spectra (a file of several, or a --select leaving several); for one spectrum use .csv (one row per model) or .json (the --json document)", path=path)

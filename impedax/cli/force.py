@@ -365,11 +365,13 @@ def _out_path(path: str | None) -> str | None:
     """``--out``: None for none or ``-`` (standard output, as without --out); a FILE whose
     extension is not .csv or .json is refused before any work."""
     from ..errors import DataError
+    from ..io.atomic import check_file_name
 
     if path is None or path == "-":
         return None
     if not path.strip():
         return path  # (`plan_outputs` says "empty file name")
+    check_file_name(path, "force.csv", "--out")
     suffix = Path(path).suffix.lower()
     if suffix not in OUT_SUFFIXES:
         raise DataError(f"--out: unknown extension {suffix or '(none)'!r} for a force spectrum; use .csv (frequency_hz,force_n, ...) or .json (the --json document)", path=path)

@@ -39,11 +39,13 @@ def run(args) -> int:
 
     from ..data import counted, format_frequency
     from ..errors import DataError
+    from ..io.atomic import check_file_name
     from ..io.loader import NETCDF_SUFFIXES
     from ..io.stack import check_dimension_name, stack_files
     from .common import command_provenance, data_source, emit_json, labels_text, plan_outputs, spectrum_summary, spectrum_writer, with_source
 
     check_dimension_name(args.dim)  # (before --out is planned; stack_files' own check, one message in Python and here)
+    check_file_name(args.out, "series.nc", "--out")
     if Path(args.out).suffix.lower() not in NETCDF_SUFFIXES:
         raise DataError(f"--out: a stack of spectra is written as netCDF: give a {', '.join(NETCDF_SUFFIXES)} name (a CSV file holds one spectrum)", path=args.out)
     outputs = plan_outputs([("--out", args.out, "spectrum")], inputs=args.files)

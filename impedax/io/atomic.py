@@ -21,7 +21,7 @@ from typing import Callable
 from ..errors import DataError
 
 __all__ = [
-    "atomic_path", "check_writable", "write_target", "probe_folder", "OutputTransaction", "staging_directory", "temporary_folder", "remove_temporary",
+    "atomic_path", "check_writable", "check_file_name", "write_target", "probe_folder", "OutputTransaction", "staging_directory", "temporary_folder", "remove_temporary",
     "remove_temporaries", "live_temporaries",
     "written_outputs",
 ]
@@ -76,6 +76,20 @@ def remove_temporaries() -> int:
     return removed
 
 
+def check_file_name(path: str | os.PathLike, example: str = "result.json", flag: str = "") -> None:
+    """Refuse an output name that names a folder: one ending in ``/`` (``--plot figs/``), which
+    `pathlib.Path` would turn into a file named ``figs`` (an existing ``figs`` file replaced by
+    it), and an empty name. ``example`` is the file name the message suggests inside that
+    folder; ``flag`` the option that named it (``--plot``), said first."""
+    text = os.fspath(path)
+    if isinstance(text, str) and not text.strip():  # (Path("") is "." and Path("").suffix "": neither says what is wrong)
+        raise DataError(f"{flag + ': ' if flag else ''}empty file name: no output file was named (an unset shell variable, \"$OUT\" with nothing in it?)")
+    if isinstance(text, str) and text.rstrip().endswith(tuple(s for s in (os.sep, os.altsep) if s)) and text.strip() not in (os.sep, os.altsep):
+        folder = text.rstrip()
+        said = f"{flag}: " if flag else ""
+        raise DataError(f"{said}ends with {folder[-1]!r}, so it names a folder, not a file; give a file name in it, e.g. {folder}{example}", path=text)
+
+
 def check_writable(path: str | os.PathLike, *, probe: bool = True) -> Path:
     """Raise `DataError` now (before any work) if ``path`` cannot be written.
 
@@ -84,7 +98,9 @@ def check_writable(path: str | os.PathLike, *, probe: bool = True) -> Path:
     (containers, NFS root-squash), nor for folders no one can create files in (``/sys``,
     ``/proc``, a read-only mount): only trying does. Any `OSError` on the way (a name too
     long, ...) is a `DataError` naming ``path`` too. A symbolic link is checked as the file
-    it points to (`write_target`); a read-only file (no owner-write bit) is refused."""
+    it points to (`write_target`); a read-only file (no owner-write bit) is refused, and so is a
+    name that ends with ``/`` (`check_file_name`)."""
+    check_file_name(path)
     path = Path(path)
     try:
         return _check_writable(path, probe)

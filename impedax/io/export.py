@@ -20,7 +20,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from .atomic import atomic_path, check_writable
+from .atomic import atomic_path, check_file_name, check_writable
 from ..arguments import shown
 from ..errors import IN_MEMORY, DataError, ParameterError
 
@@ -145,7 +145,9 @@ def written_result(path: str | Path, head: str) -> str | None:
 
 def result_format(path: str | Path, formats: Mapping[str, str] = RESULT_FORMATS) -> str:
     """The format named by ``path``'s extension (case-insensitive); `DataError` naming the
-    known extensions otherwise (checked before any work is done)."""
+    known extensions otherwise (checked before any work is done); a name that names a folder
+    (``out/``, `check_file_name`) is refused first."""
+    check_file_name(path, f"result{next(iter(formats), '.json')}")
     suffix = Path(path).suffix.lower()
     if suffix not in formats:
         known = ", ".join(formats)

@@ -22,6 +22,7 @@ import xarray as xr
 from ..arguments import shown
 from ..data import CHECKED_FILE, validate_spectrum
 from ..errors import IN_MEMORY, DataError, ParameterError, SweepGridsDiffer
+from .atomic import check_file_name
 from ._common import MAX_FILE_BYTES, check_file, check_zero_tail, head_text
 from .csv import read_csv, write_csv
 from .export import written_result
@@ -518,6 +519,7 @@ def save(ds: xr.Dataset, path: str | os.PathLike, *, provenance: Mapping[str, ob
             raise DataError(f"save takes a spectrum Dataset, got a {type(ds).__name__}: a result is written with impedax.write_result(result, {where!r}) (.nc, .csv or .json)")
         raise DataError(f"save takes a spectrum Dataset (impedax.make_spectrum, impedax.load), got {shown(ds)} ({type(ds).__name__})")
     _check_path(path)
+    check_file_name(path, "spectrum.csv")  # (before Path(), which reads "out/" as a file "out")
     path = Path(path)
     kind = spectrum_format(path)
     validate_spectrum(ds)
