@@ -180,6 +180,23 @@ def test_no_circuit_hint_where_no_word_reads_as_a_circuit(files, args, capsys):
     assert info.value.code == 2 and "--model" in first and "a circuit follows" not in first, first
 
 
+@pytest.mark.parametrize(
+    "args, first_line",
+    [
+        (["compare", "{one}", "--model", "R0", "--model", "R0 + R1 || C1", "--shared", "R0"], "impedax compare: error: unrecognized arguments: --shared R0"),
+        (["fit", "{one}", "--model", "R0 + R1 || C1", "--corner-params", "R1,C1"], "impedax fit: error: unrecognized arguments: --corner-params R1,C1"),
+    ],
+)
+def test_an_unknown_options_value_is_no_circuit(files, args, first_line, capsys):
+    """A hostile walkthrough (2026-12-08): ``compare ... --shared R0`` (an option of fit, not of
+    compare) was told "…; a circuit follows --model: impedax compare DATA --model R0", reading the
+    option's value R0 as a circuit typed without its --model, which the command had."""
+    with pytest.raises(SystemExit) as info:
+        main([a.format(**files) for a in args])
+    first = capsys.readouterr().err.splitlines()[0]
+    assert info.value.code == 2 and first == first_line, first
+
+
 @pytest.mark.parametrize("command", ["fit", "diagnose", "refine", "sample", "simulate", "info", "draw"])
 def test_a_second_model_is_refused_where_the_command_takes_one(files, command, capsys):
     """argparse kept the last --model in silence: ``diagnose --model A --model B`` diagnosed B

@@ -410,6 +410,13 @@ def circuit_words(words) -> list[str]:
     return [w for w in words if _CIRCUIT_WORD_RE.fullmatch(w.strip()) and any(c.isalpha() for c in w) and not os.path.exists(w)]
 
 
+def _loose_words(unknown: list[str]) -> list[str]:
+    """The words of argparse's unrecognized ones that no unknown option takes: ``R0`` of
+    ``compare ... --shared R0`` is the value of ``--shared`` (no option of compare), not a circuit
+    given without its ``--model``."""
+    return [w for i, w in enumerate(unknown) if not w.startswith("-") and not (i and unknown[i - 1].startswith("--") and "=" not in unknown[i - 1])]
+
+
 def model_option_hint(prog: str, circuits: list[str]) -> str:
     """``; a circuit follows --model: impedax fit DATA --model 'R0 + R1 || C1'`` (each after its
     own --model when there are several), or "" for no ``circuits``."""
@@ -452,7 +459,7 @@ def _refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list
         example = next((h for h in hints if h in takers), takers[0])
         hint += f"; a NAME=VALUE follows its option ({', '.join(takers)}): e.g. {example} {' '.join(assignments)}"
     if "--model" in sub._option_string_actions:  # (refine DATA 'R0 + R1 || C1': its --model is optional)
-        hint += model_option_hint(sub.prog, circuit_words(unknown))
+        hint += model_option_hint(sub.prog, circuit_words(_loose_words(unknown)))
     if command == "sample" and any(item.split("=", 1)[0] == "--weighting" for item in unknown):  # (fit's option, reached for on sample)
         hint += f"; impedax sample has no --weighting: its noise model is {SAMPLE_NOISE_WORDS}"
     files = [item for item in unknown if not item.startswith("-") and os.path.isfile(item)]
