@@ -202,6 +202,15 @@ def test_too_few_points_names_the_band(good, capsys):
     assert code == 2 and "(1 frequency from --fmin = 50 kHz to --fmax = 99999 Hz)" in err
 
 
+def test_too_few_points_for_sample_is_its_one_line_with_the_band(good, capsys):
+    """A hostile walkthrough (2026-12-08): sample printed "sample: fitting the least-squares
+    start …" before this error, and left the band out of it ("(1 frequency)", of a file of more)."""
+    code, out, err = run(capsys, "sample", good, "--model", "R0 + R1 || C1", "--fmin", "99999")
+    assert code == 2 and out == ""
+    assert err == (f"impedax sample: error: {good}: 3 free parameters but only 2 real data values (1 frequency at or above --fmin = 99999 Hz); "
+                   "fix parameters or use more data (a wider band)\n")
+
+
 def test_too_few_points_for_refine_names_refine_and_counts_in_the_singular(tmp_path, capsys):
     path = tmp_path / "two.csv"
     path.write_text(csv_text(np.array([1.0, 10.0])))  # SYNTHETIC: two points

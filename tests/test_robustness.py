@@ -274,6 +274,8 @@ ONE_POINT_CSV = HEADER + "10,100,-50\n"
 TWO_POINTS_CSV = HEADER + "10,100,-50\n20,100,-25\n"
 SIX_POINTS_CSV = HEADER + "".join(f"{10 ** k:g},{100 + 1e3 / (1 + (10 ** k / 30) ** 2):.6g},{-1e3 * (10 ** k / 30) / (1 + (10 ** k / 30) ** 2):.6g}\n" for k in range(6))  # (an RC arc)
 HUGE_VALUES_CSV = HEADER + "".join(f"{10 ** (k / 4):g},1e300,-1e300\n" for k in range(20))
+# (SYNTHETIC: 12 points of 100 Ω − j·100/f Ω, the one at 10 Hz written as 0,0, as an instrument may write a point it lost)
+ZERO_POINT_CSV = HEADER + "".join(f"{10 ** (k / 4):g},{0 if k == 4 else 100},{0 if k == 4 else -100 / 10 ** (k / 4):g}\n" for k in range(12))
 UNDATA = [  # (id, file content, argv template with {input}, message fragment): valid files these analyses cannot use
     ("fit-one-point", ONE_POINT_CSV, ["fit", "{input}", "--model", "R1 + C1"], "data.csv: 2 free parameters but only 2 real data values (1 frequency)"),
     ("compare-one-point", ONE_POINT_CSV, ["compare", "{input}", "--model", "R1 + C1", "--model", "R1 + C1 + R2"], "free parameters but only 2 real data values"),
@@ -291,6 +293,10 @@ UNDATA = [  # (id, file content, argv template with {input}, message fragment): 
     ("diagnose-huge-values", HUGE_VALUES_CSV, ["diagnose", "{input}", "--model", "R1 + C1"], "outside the range impedax analyses"),
     ("kk-huge-values", HUGE_VALUES_CSV, ["kk", "{input}"], "outside the range impedax analyses"),
     ("drt-huge-values", HUGE_VALUES_CSV, ["drt", "{input}"], "outside the range impedax analyses"),
+    # (a point with Z = 0: each says where, as kk does; drt said "at some frequency", sample "somewhere" until 2026-12-08)
+    ("kk-zero-point", ZERO_POINT_CSV, ["kk", "{input}"], "data.csv: Z is exactly zero at 10 Hz; the 1/|Z| weighting needs |Z| > 0"),
+    ("drt-zero-point", ZERO_POINT_CSV, ["drt", "{input}"], "data.csv: Z is exactly zero at 10 Hz; the relative weighting 1/|Z| needs |Z| > 0"),
+    ("sample-zero-point", ZERO_POINT_CSV, ["sample", "{input}", "--model", "R1 + C1", "--steps", "20"], "data.csv: Z is exactly zero at 10 Hz; --noise proportional (σ = sigma_rel·|Z|) needs |Z| > 0: drop those points"),
 ]
 
 
@@ -682,6 +688,8 @@ API_CASES = [
     ("validate-spectrum-sigma-zero", "validate_spectrum", lambda s: ix.validate_spectrum(s.good.assign(sigma=("frequency", np.arange(s.freq.size, dtype=float)))), D, "sigma must be positive and finite; at f=1 Hz (point 0) it is 0"),
     ("validate-spectrum-frequency-in-khz", "validate_spectrum", lambda s: ix.validate_spectrum(s.khz), D, "frequency has units 'kHz', but impedax works in Hz: multiply the values by 1000"),
     ("validate-spectrum-z-in-kohm", "validate_spectrum", lambda s: ix.validate_spectrum(s.kohm), D, "Z has units 'kOhm', but impedax works in ohm: multiply the values by 1000"),
+    ("drt-data-zero-modulus", "drt", lambda s: ix.drt(s.zero_modulus), D, "Z is exactly zero at 17.8 Hz; the relative weighting 1/|Z| needs |Z| > 0"),
+    ("sample-data-zero-modulus", "sample", lambda s: ix.sample(RC, s.zero_modulus, steps=20), D, "Z is exactly zero at 17.8 Hz; noise='proportional' (σ = sigma_rel·|Z|) needs |Z| > 0"),
     ("fit-data-zero-modulus", "fit", lambda s: ix.fit(RC, s.zero_modulus), D, "zero or non-finite weight at f=17.8 Hz (point 5), where |Z| = 0 Ω; drop the point or use weighting='unit'"),
     ("write-result-arguments-swapped", "write_result", lambda s: ix.write_result("r.json", s.fit), P, "the arguments look swapped"),
     ("derive-fn-not-callable", "derive", lambda s: ix.derive(s.fit, 3), P, "fn must be a function of the parameters"),

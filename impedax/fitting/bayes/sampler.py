@@ -21,10 +21,11 @@ import xarray as xr
 from ...arguments import MAX_CHAIN_VALUES, MAX_WALKERS, checked_arguments, choice, closest_name, count, frequency, instance_of, number_text, parameter_bounds, parameter_values, progress_line_flag, seed as seed_rule, unknown_parameter
 from ...circuits import Circuit, DEFAULT_REGISTRY, Registry, parse
 from ...errors import DataError, FitError, ParameterError
+from ..kk import zero_impedance_text
 from ..least_squares import FitResult, fit
 from ..least_squares.result import data_difference, fit_blames_model, fit_uneven_noise
 from ..parameters import checked_bounds, outside_bounds_message
-from ..problem import SIGMA_SOURCES, check_argument_order, open_spectrum
+from ..problem import SIGMA_SOURCES, Spectrum, check_argument_order, fit_problem, open_spectrum
 from .chain import (
     AUTO_CHECK_STEPS, AUTO_MAX_STEPS, AUTO_STEPS, AUTO_TAU_CHANGE, auto_step_cap, ball_scales, length_settings, run_emcee, start_walkers, steps_rule,
     support_in_sampled_space, undetermined_span,
@@ -57,6 +58,7 @@ class _Observations(NamedTuple):
     scale: np.ndarray  # |Z| (proportional) or σ (known noise)
     data: xr.Dataset
     source: str | None
+    spectrum: Spectrum  # (as opened: its band names --fmin/--fmax in a too-few-points message)
 
 
 @dataclass(frozen=True)
@@ -119,9 +121,11 @@ def _observations(data, noise: NoiseModel, fmin, fmax) -> _Observations:
     if noise is NoiseModel.SIGMA and sigma is None:
         raise DataError(f"noise='sigma' needs a 'sigma' variable in the data (e.g. the SEM of repeated trials): {SIGMA_SOURCES}; use noise='proportional' otherwise", path=source)
     scale = np.abs(z) if noise is NoiseModel.PROPORTIONAL else sigma
+    if noise is NoiseModel.PROPORTIONAL and np.any(scale == 0):  # (where, as the KK test and the DRT say it)
+        raise DataError(f"{zero_impedance_text(freq, z)}; noise='proportional' (σ = sigma_rel·|Z|) needs |Z| > 0: drop those points", path=source)
     if np.any(~np.isfinite(scale) | (scale <= 0)):
         raise DataError(f"noise model {noise.value!r}: zero or non-finite noise scale (|Z| or sigma is 0 somewhere)", path=source)
-    return _Observations(freq, z, sigma, scale, ds, source)
+    return _Observations(freq, z, sigma, scale, ds, source, spectrum)
 
 
 # --- step 2: which parameters are sampled ------------------------------------------------------
@@ -509,6 +513,8 @@ def sample(
         raise ParameterError(f"burn must be below the {auto_step_cap(walkers, len(space.names))} steps steps='auto' runs at most (got {burn})")
 
     if init is None:
+        # (too few points for the free parameters said before the progress line, not after it)
+        fit_problem(circuit, obs.spectrum, init=None, fixed=fixed or None, bounds=narrowed or None, registry=registry)
         announce("sample: fitting the least-squares start …", progress)
         init = fit(circuit, obs.data, fixed=fixed or None, bounds=narrowed or None, weighting=start_weighting(noise), registry=registry)
     weighting_note = _init_weighting_note(init, noise)

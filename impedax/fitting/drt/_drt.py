@@ -12,6 +12,7 @@ from ...constants import DRT_POINTS_MIN
 from ...errors import DataError, ParameterError
 from ...io.sign_check import values_sign_hint
 from ..grid import refuse_result_names
+from ..kk import zero_impedance_text
 from ..problem import frequency_and_z
 from ..statistics import residual_noise
 from ..stored import QUICK_COMPILE, StoredProgram
@@ -246,7 +247,7 @@ def drt(
     if freq.size < DRT_POINTS_MIN:
         raise DataError(f"the DRT needs at least {DRT_POINTS_MIN} frequencies, got {freq.size}", path=source)
     if np.any(np.abs(z) == 0):
-        raise DataError("Z is exactly zero at some frequency; the relative weighting 1/|Z| needs |Z| > 0", path=source)
+        raise DataError(f"{zero_impedance_text(freq, z)}; the relative weighting 1/|Z| needs |Z| > 0", path=source)
     use_c = _needs_capacitance(freq, z) if capacitance == "auto" else bool(capacitance)
     setup = _setup(np.ascontiguousarray(freq, np.float64).tobytes(), float(points_per_decade), float(extend_decades), float(fwhm_steps), int(derivative), bool(inductance), use_c, float(output_points_per_decade))
     rbf, design_re, design_im, gamma_penalty, r_inv, mask, phi, ln_tau_out, names = setup
