@@ -239,13 +239,13 @@ REAL_CSV = __import__("pathlib").Path(__file__).parent / "fixtures" / "real" / "
 
 @pytest.fixture
 def two_real(tmp_path):
-    """REAL: impedance.py's exampleData.csv (tests/fixtures/real, MIT) copied to two files, a.csv
-    and b.csv, one grid: a stack of the two."""
-    paths = []
-    for name in ("a.csv", "b.csv"):
-        (tmp_path / name).write_bytes(REAL_CSV.read_bytes())
-        paths.append(str(tmp_path / name))
-    return paths
+    """REAL: impedance.py's exampleData.csv (tests/fixtures/real, MIT) as a.csv, and as b.csv with
+    Z × 1.01, one grid: a stack of the two (two identical copies are refused as one file copied,
+    `stack_files`)."""
+    rows = [line.split(",") for line in REAL_CSV.read_text().splitlines() if line.strip()]
+    (tmp_path / "a.csv").write_bytes(REAL_CSV.read_bytes())
+    (tmp_path / "b.csv").write_text("".join(f"{f},{float(re) * 1.01!r},{float(im) * 1.01!r}\n" for f, re, im in rows))
+    return [str(tmp_path / "a.csv"), str(tmp_path / "b.csv")]
 
 
 @pytest.mark.parametrize("coords, where", [

@@ -88,13 +88,15 @@ def test_info_lists_a_plugin_element_without_jax(tmp_path):
 
 
 def test_draw_and_stack_do_not_import_jax(tmp_path):
-    """`impedax draw` (a diagram of the parsed circuit) and `impedax stack` of two copies of a REAL
-    file (impedance.py's exampleData.csv) compute no impedance."""
+    """`impedax draw` (a diagram of the parsed circuit) and `impedax stack` of a REAL file
+    (impedance.py's exampleData.csv) and of it with Z × 1.01 (two copies are refused as one file
+    copied) compute no impedance."""
     drawn = run_command(["draw", "R0 + R1 || C1", "--out", tmp_path / "circuit.svg"], tmp_path)
     assert drawn["code"] == 0 and not drawn["jax"] and (tmp_path / "circuit.svg").stat().st_size > 0
     days = [tmp_path / "day1.csv", tmp_path / "day2.csv"]
-    for day in days:
-        day.write_bytes((REAL / "exampleData.csv").read_bytes())
+    days[0].write_bytes((REAL / "exampleData.csv").read_bytes())
+    rows = [line.split(",") for line in (REAL / "exampleData.csv").read_text().splitlines() if line.strip()]
+    days[1].write_text("".join(f"{f},{float(re) * 1.01!r},{float(im) * 1.01!r}\n" for f, re, im in rows))
     series = tmp_path / "series.nc"
     stacked = run_command(["stack", *days, "--out", series], tmp_path)
     assert stacked["code"] == 0 and not stacked["jax"] and series.stat().st_size > 0

@@ -425,3 +425,24 @@ def test_a_stack_of_saved_results_is_spectra_not_a_result(tmp_path, capsys):
     code, printed, err = run(["inspect", out, "--json"], capsys)
     summary = json.loads(printed)
     assert "result_kind" not in summary and json.loads(summary["attrs"]["provenance"])["command"] == "impedax stack"
+
+
+def test_a_copy_of_a_file_under_another_name_is_refused(days, tmp_path, capsys):
+    """A hostile walkthrough (2026-12-08): day02.csv a byte-for-byte copy of day01.csv was stacked
+    as a second measurement (a file given twice by path was refused, its copy not); impedax gap
+    refuses identical spectra alike. A copy with other line endings holds the same spectrum too."""
+    (paths, _) = days
+    copy = tmp_path / "day04.csv"
+    copy.write_bytes(paths[0].read_bytes().replace(b"\n", b"\r\n"))
+    out = tmp_path / "series.nc"
+    code, stdout, err = run(["stack", paths[0], paths[1], copy, "--out", out], capsys)
+    assert code == 2 and stdout == "" and not out.exists()
+    assert err == f"impedax stack: error: {copy}: holds the same spectrum as {paths[0]} (every Z equal: a copy of that file?): each file is one measurement of the series; give each once\n"
+    with pytest.raises(ix.DataError, match=r"day04\.csv: holds the same spectrum as .*day01\.csv"):
+        ix.stack_files([paths[0], copy])
+    # two measurements that differ in one value stack as two
+    z = write_day(tmp_path / "day05.csv", R1_BY_DAY[0], seed=1)
+    text = (tmp_path / "day05.csv").read_text().splitlines()
+    text[-1] = text[-1].rsplit(",", 1)[0] + f",{float(z[-1].imag) * 1.0001!r}"
+    (tmp_path / "day05.csv").write_text("\n".join(text) + "\n")
+    assert ix.stack_files([paths[0], tmp_path / "day05.csv"]).sizes["file"] == 2

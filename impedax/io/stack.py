@@ -47,7 +47,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
     ``dim``: a name `check_dimension_name` takes (``day``, ``cell_2``).
     Raises `ParameterError` for bad ``dim``/``coords`` and `DataError` naming the file that cannot
     join (missing, unreadable, other dimensions or labels than the first file's, already over
-    ``dim``, another grid, sigma in some files only).
+    ``dim``, another grid, sigma in some files only, the same spectrum as another file's).
     ``readers``: as `impedax.load`'s (None: the built-in ones).
 
     ``common_frequencies``: files whose grids differ keep the frequencies every
@@ -101,6 +101,7 @@ def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: S
         z[i][..., order0] = ds["Z"].transpose(*extra, "frequency").values[..., order]
         if sigma is not None:
             sigma[i][..., order0] = ds["sigma"].transpose(*extra, "frequency").values[..., order]
+    _refuse_copies(z, paths)
     attrs = merged_attrs([(str(label), ds.attrs) for label, ds in zip(labels, spectra)], dim)
     # each file's own (the list below names them all); and what says a file is a saved result or
     # what wrote it: the stack holds their spectra alone (else two KK tests' files stacked
@@ -192,6 +193,19 @@ def _refuse_repeated(paths: Sequence) -> None:
         key = os.path.normcase(os.path.realpath(os.fspath(path)))
         if key in seen:
             raise DataError(f"is given twice (files {seen[key] + 1} and {i + 1} of {len(paths)}): each file is one measurement of the series; give each once", path=str(path))
+        seen[key] = i
+
+
+def _refuse_copies(z: np.ndarray, paths: Sequence) -> None:
+    """`DataError` when two files hold the same spectrum, every Z equal (a file copied under a
+    second name, ``day02.csv`` a copy of ``day01.csv``): it would stand in the series twice as two
+    measurements, as a file given twice would (`_refuse_repeated`; ``impedax gap`` refuses such
+    inputs alike)."""
+    seen: dict[bytes, int] = {}
+    for i in range(z.shape[0]):
+        key = np.ascontiguousarray(z[i]).tobytes()
+        if key in seen:
+            raise DataError(f"holds the same spectrum as {paths[seen[key]]} (every Z equal: a copy of that file?): each file is one measurement of the series; give each once", path=str(paths[i]))
         seen[key] = i
 
 
