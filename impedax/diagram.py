@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 from typing import Mapping
 
-from .arguments import parameter_values, shown
+from .arguments import checked_arguments, parameter_values, shown
 from .circuits import DEFAULT_REGISTRY, Circuit, Element, Registry, Series, parse
 from .data import SI_PREFIXES, format_quantity, si_prefix
 from .errors import DataError, ImpedaxError, ParameterError
@@ -153,6 +153,7 @@ def _place(d, elm, node: Circuit, x: float, y: float, values, registry, widths) 
     d.add(elm.Line().at((right, y)).to((right, last)))
 
 
+@checked_arguments()
 def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = None, *, registry: Registry = DEFAULT_REGISTRY):
     """Schematic of ``circuit`` as a matplotlib Figure.
 
@@ -190,6 +191,7 @@ def draw_circuit(circuit: Circuit | str, values: Mapping[str, float] | None = No
     return fig
 
 
+@checked_arguments()
 def save_circuit_diagram(circuit: Circuit | str, path: str | os.PathLike, values: Mapping[str, float] | None = None, *, registry: Registry = DEFAULT_REGISTRY) -> None:
     """Draw ``circuit`` (see `draw_circuit`) and save it atomically as .png, .svg or .pdf.
 

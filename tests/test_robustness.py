@@ -698,6 +698,12 @@ API_CASES = [
     # (a name ending in '/' was a file named without it until 2026-12-08: "out/" wrote a CSV named "out")
     ("save-folder-name", "save", lambda s: ix.save(s.good, "out/"), D, "out/: ends with '/', so it names a folder, not a file; give a file name in it, e.g. out/spectrum.csv"),
     ("write-result-folder-name", "write_result", lambda s: ix.write_result(s.fit, "results/"), D, "results/: ends with '/', so it names a folder, not a file"),
+    # (a wrong keyword was Python's TypeError "load() got an unexpected keyword argument" until 2026-12-08)
+    ("load-unknown-keyword", "load", lambda s: ix.load("x.csv", cycle=3), P, "load() has no argument 'cycle' (it takes path, readers, sweep)"),
+    ("save-misspelt-keyword", "save", lambda s: ix.save(s.good, "x.nc", provenence={}), P, "save() has no argument 'provenence'; did you mean provenance?"),
+    ("write-result-misspelt-keyword", "write_result", lambda s: ix.write_result(s.fit, "x.json", sorce="a"), P, "write_result() has no argument 'sorce'; did you mean source?"),
+    ("stack-files-misspelt-keyword", "stack_files", lambda s: ix.stack_files(["x.csv"], coord=[1]), P, "stack_files() has no argument 'coord'; did you mean coords?"),
+    ("draw-circuit-misspelt-keyword", "draw_circuit", lambda s: ix.draw_circuit(RC, valus={}), P, "draw_circuit() has no argument 'valus'; did you mean values?"),
     ("write-result-empty-name", "write_result", lambda s: ix.write_result(s.fit, ""), D, "empty file name: no output file was named"),
     ("draw-circuit-file-name-as-values", "draw_circuit", lambda s: ix.draw_circuit(RC, "circuit.svg"), P, "draw_circuit returns a matplotlib Figure; to write a file call impedax.save_circuit_diagram(circuit, 'circuit.svg')"),
     ("log-frequencies-string", "log_frequencies", lambda s: ix.log_frequencies("a", 2.0, 3), P, "fmin must be a number"),

@@ -21,7 +21,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from .atomic import atomic_path, check_file_name, check_writable
-from ..arguments import shown
+from ..arguments import checked_arguments, shown
 from ..errors import IN_MEMORY, DataError, ParameterError
 
 __all__ = ["RESULT_FORMATS", "written_result", "result_format", "result_table", "result_source", "write_result", "write_table", "write_json", "to_jsonable"]
@@ -245,6 +245,7 @@ def result_source(result) -> str | None:
     return source if isinstance(source, str) and source not in ("", IN_MEMORY) else None
 
 
+@checked_arguments()
 def write_result(result, path: str | Path, *, source: str | None = None, provenance: Mapping[str, object] | None = None) -> None:
     """Write ``result`` in the format of ``path``'s extension: ``.csv`` the tidy table
     (`result_table`), ``.json`` its ``summary()``, ``.nc`` its ``to_xarray()`` (lossless

@@ -19,7 +19,7 @@ from typing import Mapping, Sequence
 
 import xarray as xr
 
-from ..arguments import shown
+from ..arguments import checked_arguments, shown
 from ..data import CHECKED_FILE, validate_spectrum
 from ..errors import IN_MEMORY, DataError, ParameterError, SweepGridsDiffer
 from .atomic import check_file_name
@@ -140,6 +140,7 @@ def _checked_readers(readers) -> Sequence[Reader]:
     return readers
 
 
+@checked_arguments()
 def load(path: str | os.PathLike, readers: Sequence[Reader] | None = None, *, sweep: str | None = None) -> xr.Dataset:
     """Load a spectrum file into the impedax data model (see `impedax.data`).
 
@@ -505,6 +506,7 @@ def _check_path(path) -> None:
         raise DataError(f"a file name cannot contain a NUL character: {shown(str(path))}")
 
 
+@checked_arguments()
 def save(ds: xr.Dataset, path: str | os.PathLike, *, provenance: Mapping[str, object] | None = None) -> None:
     """Save a spectrum: ``.nc`` → lossless netCDF, ``.csv``/``.txt`` (or no extension) →
     canonical CSV, ``.tsv`` → the same columns separated by tabs. Atomic. ``provenance``

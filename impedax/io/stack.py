@@ -14,7 +14,7 @@ from typing import Sequence
 import numpy as np
 import xarray as xr
 
-from ..arguments import shown
+from ..arguments import checked_arguments, shown
 from ..data import make_spectrum
 from ..errors import DataError, ParameterError
 from ._common import merged_attrs
@@ -29,6 +29,7 @@ STDIN_LABEL = "stdin"
 """The label of standard input (``-``) along the new dimension when no ``coords`` are given."""
 
 
+@checked_arguments()
 def stack_files(paths: Sequence[str | os.PathLike], dim: str = "file", coords: Sequence | None = None, *, readers: Sequence | None = None,
                 common_frequencies: bool = False) -> xr.Dataset:
     """The spectra of ``paths`` (each read by `impedax.load`) as one spectrum Dataset with Z over
