@@ -172,6 +172,18 @@ def test_shorter_grid_names_its_file_and_sizes():
         gap_analysis(total, short, ts, area=AREA, method="pooled", progress=False)
 
 
+def test_a_file_of_one_frequency_is_one_point_at_one_frequency(tmp_path, capsys):
+    """A hostile walkthrough (2026-12-08): a touchscreen file of one point was listed as
+    "1 points, 0.031623–0.031623 Hz" among three grids that all differ."""
+    total, skin, ts = _measurements()
+    one = ix.make_spectrum(ts["frequency"].values[3:4], _flat(ts)[:, 3:4], dims=("trial",), coords={"trial": ts["trial"].values})
+    skin = _with(skin, freq=skin["frequency"].values * 1.5)
+    with pytest.raises(ix.DataError, match=r"the frequencies of all three files differ") as info:
+        gap_analysis(total, skin, one, area=AREA, method="pooled", progress=False)
+    f = float(ts["frequency"].values[3])
+    assert f"touchscreen: 1 point, {f:.6g} Hz;" in str(info.value) and not re.search(r"\b1 points", str(info.value)), str(info.value)
+
+
 # --- 3. the same input twice ---------------------------------------------------------------------
 
 

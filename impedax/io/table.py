@@ -1037,6 +1037,8 @@ def _grids_differ(path: Path, dim: str, labels: Sequence[str], blocks: Sequence[
     how to read one alone; it carries each sweep as a spectrum of its own (`SweepGridsDiffer`)."""
     def span(b: np.ndarray) -> str:
         f = freq[b]
+        if b.size == 1:  # (a sweep cut short after its first point: not "1 points, 5–5 Hz, lines 9–9")
+            return f"1 point, {f[0]:.6g} Hz, line {lines[b[0]]}"
         return f"{b.size} points, {f[0]:.6g}–{f[-1]:.6g} Hz, lines {lines[b[0]]}–{lines[b[-1]]}"
 
     described = "; ".join(f"{dim} {label}: {span(b)}" for label, b in zip(labels, blocks))

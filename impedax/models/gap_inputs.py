@@ -120,6 +120,8 @@ def _ratio_note(odd: np.ndarray, other: np.ndarray, odd_name: str = "its", other
 
 
 def _grid_text(freq: np.ndarray) -> str:
+    if freq.size == 1:  # (not "1 points, 0.031623–0.031623 Hz")
+        return f"1 point, {freq[0]:.6g} Hz"
     return f"{freq.size} points, {freq[0]:.6g}–{freq[-1]:.6g} Hz" if freq.size else "no points"
 
 
