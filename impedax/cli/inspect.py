@@ -98,6 +98,9 @@ def run(args) -> int:
         # [low, high] Hz of each step of the sorted frequencies at least GAP_RATIO times both
         # steps beside it (log scale): a point skipped; [] when none
         "frequency_gaps_hz": [[lo, hi] for lo, hi, _ in _gaps(freq)],
+        # the frequencies [Hz] where Z is exactly 0 (in any spectrum), a point the instrument
+        # wrote as 0,0, which the KK test, the DRT and fits weighted by |Z| refuse; [] when none
+        "zero_impedance_hz": _zero_frequencies(freq, z),
         # the first and last rows as read, in the file's order (of the first spectrum of several):
         # the values themselves, to set beside the file
         "first_point": _point(ds, extra, 0),
@@ -147,6 +150,8 @@ def run(args) -> int:
     gaps = _gaps(freq)
     if gaps:
         print("  frequency gaps: " + "; ".join(f"{format_frequency(lo)}–{format_frequency(hi)} ({text})" for lo, hi, text in gaps))
+    if summary["zero_impedance_hz"]:
+        print(f"  Z = 0: {_zero_text(summary['zero_impedance_hz'], freq.size)}")
     if summary["non_passive_note"]:
         print(f"  Re Z < 0: {summary['non_passive_note']}")
     if summary["sign_hint"]:
@@ -156,8 +161,10 @@ def run(args) -> int:
 
         from .common import fit_command
 
-        run = argparse.Namespace(**{**vars(args), "data": args.file})  # (the file, --select and --plugin of this run)
-        print(_next_line(run, ds))
+        # (the file, --select and --plugin of this run; the points where Z = 0 left out, as kk and drt refuse them)
+        zero = summary["zero_impedance_hz"]
+        run = argparse.Namespace(**{**vars(args), "data": args.file, "exclude": ",".join(f"{f:.6g}" for f in zero) or None})
+        print(_next_line(run, ds, every_point_zero=len(zero) == freq.size))
     return 0
 
 
@@ -368,6 +375,28 @@ def _gaps(freq) -> list[tuple[float, float, str]]:
     return found
 
 
+def _zero_frequencies(freq, z) -> list[float]:
+    """The frequencies [Hz], ascending, where Z is exactly 0 in any spectrum of ``z``."""
+    import numpy as np
+
+    zero = (np.reshape(z, (-1, freq.size)) == 0).any(axis=0)
+    return sorted(float(f) for f in freq[zero])
+
+
+def _zero_text(zero_hz: list[float], n_points: int) -> str:
+    """``at 3.16 Hz: the KK test, the DRT and fits weighted by |Z| refuse it; leave it out with
+    --exclude 3.1623`` (the first five), or, at every point, that there is nothing to analyse."""
+    from ..data import format_frequency
+
+    if len(zero_hz) == n_points:
+        return f"at every one of the {n_points} points: nothing was recorded; no analysis takes it"
+    shown = zero_hz[:5]
+    where = ", ".join(format_frequency(f) for f in shown) + (f" and {len(zero_hz) - 5} more" if len(zero_hz) > 5 else "")
+    them = "it" if len(zero_hz) == 1 else "them"
+    return (f"at {where}: the KK test, the DRT and fits weighted by |Z| refuse such a point; leave {them} out with "
+            f"--exclude {','.join(f'{f:.6g}' for f in zero_hz)}")
+
+
 def _non_passive(ds, extra) -> dict:
     """``non_passive_frequencies_hz`` (sorted, of every spectrum) and ``non_passive_note``: the
     points with Re Z < 0 beyond the noise (`passivity.non_passive`: 5 % of |Z|, or the
@@ -443,7 +472,7 @@ def _preview(ds, fmt, name: str | None = None):
     return plot_spectra(spectra, labels, title=wrap_model(f"{head} — {drawn}", width), legend_title=", ".join(extra))
 
 
-def _next_line(run, data) -> str:
+def _next_line(run, data, *, every_point_zero: bool = False) -> str:
     """The report's last line: what to run next on these points. ``impedax kk`` then ``impedax
     drt``; on fewer points than the DRT takes (`DRT_POINTS_MIN`), a fit of at most 2N real
     parameters, not ``impedax kk`` (1 point is too few for it); below `CONCLUSIVE_POINTS_MIN`
@@ -452,6 +481,8 @@ def _next_line(run, data) -> str:
     from .common import fit_command
 
     n = int(data.sizes["frequency"])
+    if every_point_zero:
+        return "next: nothing to analyse: Z is 0 at every point; measure again"
     kk, drt, fit = (fit_command(run, data=data, program=f"impedax {name}") for name in ("kk", "drt", "fit"))
     if n < DRT_POINTS_MIN:
         return (f"next: {n} frequenc{'y is' if n == 1 else 'ies are'} too few for impedax kk (a verdict needs {CONCLUSIVE_POINTS_MIN}) and impedax drt "
