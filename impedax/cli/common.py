@@ -41,15 +41,28 @@ _PREFIXED = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*([fpnu
 def prefixed_number(text: str) -> float:
     """A number as written on the command line: ``1000``, ``1e3`` or with an SI prefix,
     ``1k``, ``2.2u``, ``10n``, ``1M`` (`NUMBER_PREFIXES`; ``m`` is milli, ``M`` mega). Raises
-    ValueError with the forms it takes."""
+    ValueError with the forms it takes, and for a number too small for a float, which would
+    read as 0 (``1e-400``: "R1=0 is on its lower bound" named a value not typed)."""
     try:
-        return float(text)
+        value = float(text)
+        written = text
     except ValueError:
-        pass
-    match = _PREFIXED.fullmatch(text)
-    if match is None:
-        raise ValueError(f"{text!r} is not a number (write 1000, 1e3 or 1k; SI prefixes {' '.join(p for p in NUMBER_PREFIXES if p != 'μ')})")
-    return float(decimal.Decimal(match.group(1)).scaleb(_PREFIX_EXPONENTS[match.group(2)]))
+        match = _PREFIXED.fullmatch(text)
+        if match is None:
+            raise ValueError(f"{text!r} is not a number (write 1000, 1e3 or 1k; SI prefixes {' '.join(p for p in NUMBER_PREFIXES if p != 'μ')})") from None
+        value = float(decimal.Decimal(match.group(1)).scaleb(_PREFIX_EXPONENTS[match.group(2)]))
+        written = match.group(1)
+    if value == 0 and _nonzero(written):
+        raise ValueError(f"{text!r} is too small for a float: it reads as 0")
+    return value
+
+
+def _nonzero(text: str) -> bool:
+    """Whether the number ``text`` (as `float` takes it) is not zero as written."""
+    try:
+        return decimal.Decimal(text.strip().replace("_", "")) != 0
+    except (decimal.InvalidOperation, ValueError):
+        return False
 
 
 def number_option(text: str) -> float:
