@@ -56,3 +56,17 @@ def test_no_zero_no_line(tmp_path, capsys):
     assert main(["inspect", str(REAL / "exampleDataGamry.DTA")]) == 0
     assert not [line for line in capsys.readouterr().out.splitlines() if line.startswith("  Z = 0")]
     assert np.all(ix.load(REAL / "exampleDataGamry.DTA")["Z"].values != 0)
+
+
+def test_the_figure_of_a_spectrum_zero_everywhere_says_its_warning_as_one_note(tmp_path, capsys):
+    """Its |Z| panel has nothing to put on a log axis: matplotlib's warning was printed with the
+    file and line of impedax.plotting that drew it and that line's source; now one note."""
+    path, _ = _with_zeros(tmp_path, slice(None))
+    figure = tmp_path / "zeros.png"
+    assert main(["inspect", str(path), "--plot", str(figure)]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert figure.stat().st_size > 0
+    notes = [line for line in err if line.startswith("impedax: note: the figure: ")]
+    assert len(notes) == 1 and "log-scaled" in notes[0], err
+    assert not [line for line in err if "Warning" in line or ".py:" in line or line.startswith(" ")], err
+    assert err[-1] == f"wrote {figure}"

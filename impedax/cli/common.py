@@ -1544,18 +1544,35 @@ def figure_writer(figure: Callable[[], object], source: str | None = None, *, dp
     its title as `short_source`, unless ``title`` is given: the figure's title then ("" none),
     followed by ``subtitle`` (a circuit the figure names nowhere else), wrapped as a circuit."""
     def write(path: Path) -> None:
+        import warnings
+
         from ..plotting import save_figure, wrap_model
 
-        fig = figure()
-        if title is not None:
-            replace_title(fig, title)
-            if title and subtitle:
-                append_title_line(fig, subtitle, wrap_model)
-        elif source:
-            title_with_source(fig, source)
-        save_figure(fig, path, **({} if dpi is None else {"dpi": dpi}))  # (no keyword unless given: a save_figure stand-in of two arguments still works)
+        with warnings.catch_warnings(record=True) as caught:  # (said below as notes, not as matplotlib's file:line and source line)
+            fig = figure()
+            if title is not None:
+                replace_title(fig, title)
+                if title and subtitle:
+                    append_title_line(fig, subtitle, wrap_model)
+            elif source:
+                title_with_source(fig, source)
+            save_figure(fig, path, **({} if dpi is None else {"dpi": dpi}))  # (no keyword unless given: a save_figure stand-in of two arguments still works)
+        figure_notes(caught)
 
     return write
+
+
+def figure_notes(caught) -> None:
+    """The warnings drawing a figure raised (matplotlib's: "Data has no positive values, and
+    therefore cannot be log-scaled." for a |Z| panel of a spectrum 0 everywhere), each once, as
+    one line on stderr, ``impedax: note: the figure: …``, where Python printed the file and line
+    in matplotlib or impedax.plotting that raised it and that line's source."""
+    said: list[str] = []
+    for item in caught:
+        text = " ".join(str(item.message).split())
+        if text not in said:
+            said.append(text)
+            print(f"impedax: note: the figure: {text}", file=sys.stderr)
 
 
 def data_source(data) -> str | None:
