@@ -113,3 +113,15 @@ def test_a_corner_label_the_data_lack_is_refused_before_the_sampling(capsys, mon
     assert "R1[cycle=65]" in err and "cycle=0, cycle=64, cycle=129" in err and "Traceback" not in err and not png.exists()
     with pytest.raises(AssertionError, match="the start fit or the sampling ran"):  # (a label of the data passes)
         main([*argv, "--corner-params", "R0,R1[cycle=64]"])
+
+
+@pytest.mark.parametrize("bound, prior, said", [
+    ("R1=1:10", "R1=uniform:1k,2k", "--prior R1=uniform:1000,2000 reaches outside R1's bounds (1, 10) set by --bound R1=1:10"),
+    ("R1=1:10", "R1=loguniform:0.5,5", "--prior R1=loguniform:0.5,5 reaches outside R1's bounds (1, 10) set by --bound R1=1:10"),
+])
+def test_a_prior_outside_the_bound_names_both_options(capsys, spectrum, bound, prior, said):
+    """A hostile walkthrough (2026-12-08): the sampler's words, "prior for R1: uniform:1000,2000
+    reaches outside the parameter's bounds (1, 10)", named neither --prior nor --bound."""
+    code = main(["sample", str(spectrum), "--model", "R0 + R1 || C1", "--bound", bound, "--prior", prior, "--steps", "20"])
+    out, err = capsys.readouterr()
+    assert code == 2 and out == "" and err == f"impedax sample: error: {said}\n"

@@ -173,7 +173,7 @@ def check_corner_labels(names, data, over) -> None:
             raise ParameterError(f"--corner-params: {name}: {rest[:-1]!r} is not a spectrum of the data along {', '.join(dims)} (labels: {', '.join(labels)}); give {base}[LABEL] with one of them")
 
 
-def check_prior_names(priors, circuit, fixed, args) -> None:
+def check_prior_names(priors, circuit, fixed, args, bounds=None, given_bounds=None) -> None:
     """A `ParameterError` naming ``--prior`` for a prior on a name that is no parameter of the
     circuit (nor ``sigma_rel``, the noise's scale; the sampler judges it against --noise), with the nearest
     name, or on a parameter ``fixed`` (--fix): before the data are read and the start is fitted,
@@ -190,11 +190,19 @@ def check_prior_names(priors, circuit, fixed, args) -> None:
     for name, prior in priors.items():
         if name in fixed:
             raise ParameterError(f"--prior {name}: {name} is fixed (--fix {name}={number_text(fixed[name])}), so it is not sampled; give one or the other")
-        if name in specs:  # (a uniform or log-uniform prior within the element's bounds; --bound's narrower ones are the sampler's to check)
+        if name in specs:  # (a uniform or log-uniform prior within the element's bounds, then within --bound's: ``bounds``, `checked_bound_options`)
             try:
                 check_prior_inside(name, prior, specs[name].lower, specs[name].upper, specs[name].upper_inclusive)
             except ParameterError as exc:
                 raise ParameterError(str(exc).replace(f"prior for {name}: ", f"--prior {name}=", 1)) from None
+            if bounds and name in bounds:
+                lower, upper = bounds[name]
+                try:
+                    check_prior_inside(name, prior, lower, upper, False)  # (as the sampler takes --bound: its upper end excluded)
+                except ParameterError as exc:
+                    given = f" set by --bound {given_bounds[name][2]}" if given_bounds and name in given_bounds else ""
+                    text = str(exc).replace(f"prior for {name}: ", f"--prior {name}=", 1).replace("the parameter's bounds", f"{name}'s bounds", 1)
+                    raise ParameterError(f"{text}{given}") from None
 
 
 def _joint_names(free, shared, extra) -> list[str]:
@@ -243,7 +251,7 @@ def run(args) -> int:
     if sharing and bounds:
         raise ParameterError("--bound is not available with --shared (the joint posterior samples within the elements' own bounds); --fix is available")
     check_bounds({k: v for k, v in init.items() if k not in given_bounds}, circuit.parameter_specs(args.registry), "--init")
-    check_prior_names(priors, circuit, fixed, args)
+    check_prior_names(priors, circuit, fixed, args, bounds, given_bounds)
     paper = getattr(args, "paper_model", None)
     max_steps = check_max_steps(args.max_steps) if args.max_steps is not None else None
     if corner_names is not None:  # (before the data are read, the start fitted and the sampler compiled)
