@@ -438,7 +438,7 @@ def test_batch_fit_plot_shows_every_free_parameter_and_the_error():
     batch = ix.fit("R0 + R1 || C1", ix.make_spectrum(f, z, dims=("trial",)), fixed={"R1": 1e3})
     fig = batch.plot()
     titles = [ax.get_title() for ax in fig.axes if ax.get_visible()]
-    assert titles == ["R0 [Ω]", "C1 [F]", "rms_rel [%]", "data (○) and fits (—), 4 spectra"]
+    assert titles == ["R0 [Ω]", "C1 [µF]", "rms_rel [%]", "data (○) and fits (—), 4 spectra"]  # (C1 = τ/R1 = 1–1.6 µF: the panel in its SI prefix)
     np.testing.assert_allclose(fig.axes[0].lines[0].get_ydata(), 100 * (1 + 0.1 * np.arange(4)), rtol=1e-6)
     nyquist = fig.axes[-1]  # every spectrum's data (circles) and fit (line), in the batch's order
     circles = [line for line in nyquist.lines if line.get_marker() == "o"]

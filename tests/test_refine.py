@@ -930,7 +930,7 @@ def test_an_effect_step_that_leaves_an_element_out_says_why():
     best = NS(added="R1 || C1", effect="constant_phase", removed=("R0",), where=where, fit=end_fit)
 
     def diagnosed(fit, shape):
-        return NS(baseline=fit, best=None, verdict="adequate", verdict_heading="ADEQUATE", reason="(a stand-in)", solver_shape=None, suggestions=(), drt_circuit=None, noise_ratio=1.0)
+        return NS(baseline=fit, best=None, verdict="adequate", verdict_heading="ADEQUATE", reason="(a stand-in)", solver_shape=None, suggestions=(), drt_circuit=None, noise_ratio=1.0, nothing_missing=True)  # (nothing_missing: as `Diagnosis.nothing_missing` says of an adequate verdict at the noise)
 
     start = RefinementStep(start_fit, None, None, NS(solver_shape=None, verdict="missing_effect", verdict_heading="MISSING EFFECT", reason="(a stand-in)", noise_ratio=3.0))
     steps = _greedy([start], best, 4, diagnosed, lambda text: None, "")

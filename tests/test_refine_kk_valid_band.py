@@ -219,7 +219,7 @@ def test_refinement_report_and_json_say_where_the_verdict_was_judged():
     z = z * (1 + 0.005 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
     fit = ix.fit("R0 + R1 || C1", (f, z), init={"R0": 20.0, "R1": 4e3, "C1": 3e-10})
     masked = tuple(float(x) for x in np.logspace(np.log10(0.0159), np.log10(2.2e3), 52))
-    judged = NS(verdict="adequate", verdict_heading="ADEQUATE", reason="the residuals are noise", beyond_catalog=False, noise_ratio=0.9, not_passive_points=(), sign_hint=None, effects_left_out=())  # (sign_hint, effects_left_out: the refinement reads them since 2026-12-05)
+    judged = NS(verdict="adequate", verdict_heading="ADEQUATE", reason="the residuals are noise", beyond_catalog=False, noise_ratio=0.9, not_passive_points=(), sign_hint=None, effects_left_out=(), nothing_missing=True)  # (sign_hint, effects_left_out: the refinement reads them since 2026-12-05; nothing_missing, as `Diagnosis.nothing_missing` says of an adequate verdict at 0.9× the noise)
     r = Refinement((RefinementStep(fit, None, None, judged),), "adequate", (), masked)
     line = next(x for x in r.report().splitlines() if x.startswith("verdict:"))
     assert line == "verdict: ADEQUATE on 2.5 kHz – 200 kHz (20 of 72 points; the other 52 left out as not Kramers–Kronig consistent) — the residuals are noise"
