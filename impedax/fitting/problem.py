@@ -312,6 +312,11 @@ SIGMA_SOURCES = (
 def weights(z: np.ndarray, sigma: np.ndarray | None, weighting: str, source: str, frequency=None):
     """Inverse weights (1/w_re, 1/w_im) of the real and imaginary residuals for `WEIGHTINGS`;
     ``frequency`` [Hz] (Z's last axis) names the points whose weight is zero."""
+    empty = np.all(np.asarray(z) == 0, axis=-1)  # (a spectrum of zeros: no weighting makes it fittable; unit weighting "fitted" it)
+    if np.any(empty):
+        first = tuple(int(i) for i in np.argwhere(empty)[0]) if np.ndim(empty) else ()
+        which = f" of spectrum {first if len(first) > 1 else first[0]}" if first else ""
+        raise DataError(f"Z = 0 at every one of the {np.shape(z)[-1]} points{which}: no impedance was recorded (a lead not connected, a failed sweep?); nothing to fit", path=source)
     if weighting not in WEIGHTINGS:
         raise ParameterError(f"unknown weighting {weighting!r}; choose one of {', '.join(WEIGHTINGS)}")
     if weighting == "unit":
