@@ -125,3 +125,24 @@ def test_a_prior_outside_the_bound_names_both_options(capsys, spectrum, bound, p
     code = main(["sample", str(spectrum), "--model", "R0 + R1 || C1", "--bound", bound, "--prior", prior, "--steps", "20"])
     out, err = capsys.readouterr()
     assert code == 2 and out == "" and err == f"impedax sample: error: {said}\n"
+
+
+def test_a_bound_up_to_the_elements_own_upper_end_keeps_a_prior_up_to_it(capsys, monkeypatch, spectrum):
+    """α of a CPE is bounded (0, 1] by its element: a prior uniform:0.5,1 is taken. ``--bound
+    CPE1.alpha=0.4:1`` narrows the lower end only, yet its upper end 1 was excluded, as a user
+    bound's upper end is, so the same prior was refused (the adversarial walk of 2026-12-08). A
+    bound that ends below 1 still refuses it."""
+    argv = ["sample", str(spectrum), "--model", "R0 + R1 || CPE1", "--prior", "CPE1.alpha=uniform:0.5,1", "--steps", "20"]
+    assert main([*argv, "--bound", "CPE1.alpha=0.4:0.95"]) == 2
+    assert capsys.readouterr().err == "impedax sample: error: --prior CPE1.alpha=uniform:0.5,1 reaches outside CPE1.alpha's bounds (0.4, 0.95) set by --bound CPE1.alpha=0.4:0.95\n"
+    _nothing_computed(monkeypatch)
+    with pytest.raises(AssertionError, match="the start fit or the sampling ran"):  # (the options pass their checks)
+        main([*argv, "--bound", "CPE1.alpha=0.4:1"])
+
+
+def test_the_sampler_takes_a_prior_up_to_a_bound_at_the_elements_own_upper_end(spectrum):
+    """The same in Python: ``bounds={"CPE1.alpha": (0.4, 1)}`` with a prior up to 1 samples, and
+    every draw of α lies within the prior's support [0.5, 1]."""
+    post = ix.sample("R0 + R1 || CPE1", spectrum, bounds={"CPE1.alpha": (0.4, 1.0)}, priors={"CPE1.alpha": "uniform:0.5,1"}, steps=200, walkers=16, seed=1, progress=False)
+    alpha = np.asarray(post.samples["CPE1.alpha"])
+    assert alpha.size > 0 and alpha.min() >= 0.5 and alpha.max() <= 1.0

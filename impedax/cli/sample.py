@@ -198,7 +198,7 @@ def check_prior_names(priors, circuit, fixed, args, bounds=None, given_bounds=No
             if bounds and name in bounds:
                 lower, upper = bounds[name]
                 try:
-                    check_prior_inside(name, prior, lower, upper, False)  # (as the sampler takes --bound: its upper end excluded)
+                    check_prior_inside(name, prior, lower, upper, upper == specs[name].upper and specs[name].upper_inclusive)  # (as the sampler takes --bound: its upper end excluded but where it is the element's own, included)
                 except ParameterError as exc:
                     given = f" set by --bound {given_bounds[name][2]}" if given_bounds and name in given_bounds else ""
                     text = str(exc).replace(f"prior for {name}: ", f"--prior {name}=", 1).replace("the parameter's bounds", f"{name}'s bounds", 1)

@@ -210,9 +210,11 @@ def _check_init_inside(init: FitResult, narrowed: Mapping[str, tuple[float, floa
 
 def _sampled_parameters(specs, fixed, rp: Reparametrization | None, noise: NoiseModel, narrowed: Mapping[str, tuple[float, float]]) -> SampledParameters:
     """The sampled parameters; a circuit parameter within the user's bounds ``narrowed`` where
-    given (upper end excluded, as `fit` excludes it), else its element's."""
+    given (upper end excluded, as `fit` excludes it, but where it is the element's own upper end
+    and the element includes it: ``--bound CPE1.alpha=0.4:1`` keeps a prior up to α = 1, as
+    the element's bounds alone do), else its element's."""
     replaced = set(rp.replaces) if rp is not None else set()
-    rows = [(n, s.unit, *narrowed[n], False) if n in narrowed else (n, s.unit, s.lower, s.upper, s.upper_inclusive) for n, s in specs.items() if n not in fixed and n not in replaced]
+    rows = [(n, s.unit, *narrowed[n], narrowed[n][1] == s.upper and s.upper_inclusive) if n in narrowed else (n, s.unit, s.lower, s.upper, s.upper_inclusive) for n, s in specs.items() if n not in fixed and n not in replaced]
     if rp is not None:
         rows += [(n, u, lo, hi, False) for n, u, lo, hi in zip(rp.names, rp.units, rp.lower, rp.upper)]
     if noise is NoiseModel.PROPORTIONAL:
