@@ -71,8 +71,19 @@ class CommandLineParser(argparse.ArgumentParser):
         return super().parse_known_args(args, namespace)
 
     def error(self, message: str) -> NoReturn:
-        hint = self._misspelt_required_hint(message) + self._circuit_without_option_hint(message) + self._dash_value_hint(message)
+        hint = self._misspelt_required_hint(message) + self._circuit_without_option_hint(message) + self._dash_value_hint(message) + self._dash_file_hint(message)
         self.exit(2, f"{self.prog}: error: {message}{hint}\n{self.short_usage()}\n")
+
+    def _dash_file_hint(self, message: str) -> str:
+        """``; -data.csv is a file, but a word that starts with '-' reads as an option: write
+        ./-data.csv`` when a required argument is missing and a word taken for an unknown option
+        names an existing file (``impedax inspect -data.csv`` said only "required: FILE")."""
+        if not message.startswith("the following arguments are required"):
+            return ""
+        files = [w for w in getattr(self, "_words", ()) if w.startswith("-") and w not in self._option_string_actions and os.path.isfile(w)]
+        if not files:
+            return ""
+        return f"; {files[0]} is a file, but a word that starts with '-' reads as an option: write ./{files[0]}"
 
     def _dash_value_hint(self, message: str) -> str:
         """``; its value -1% starts with '-', which reads as an option: write --noise=-1%`` when
