@@ -1027,7 +1027,13 @@ def _shortest_fitting(ax, forms: Sequence[str]) -> bool:
     return i > 0
 
 
-def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True, plain_from: float = 1e-3) -> str:
+# the smallest value a frequency axis [Hz] writes without an SI prefix (0.001; 500µ below it),
+# and the smallest a time axis [s] does (0.1: 10 ms reads 10m, 1 ms 1m), `_plain_number`
+FREQUENCY_PLAIN_FROM = 1e-3
+TIME_PLAIN_FROM = 0.1
+
+
+def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True, plain_from: float = FREQUENCY_PLAIN_FROM) -> str:
     """A tick value as printed: ``0.2``, ``40``, ``2000``; from 10⁴ up and below 10⁻³ with an SI
     prefix (``10k``, ``2M``, ``500µ``), where ``1e+06`` beside ``100000`` read badly; beyond the
     prefixes (below 1 f, from 1000 T up) in plain exponent form (``1e-20``, ``1e+18``), not
@@ -1047,7 +1053,7 @@ def _plain_number(x: float, prefix_from: float = 1e4, *, prefixes: bool = True, 
     return f"{x / scale:g}{prefix}"
 
 
-def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bool = False, minor_labels: bool = False, plain_from: float = 1e-3) -> None:
+def plain_log_ticks(axis, *, nyquist=None, prefixes: bool = True, own_prefix: bool = False, minor_labels: bool = False, plain_from: float = FREQUENCY_PLAIN_FROM) -> None:
     """Tick labels of a log-scaled ``axis`` (``ax.yaxis``) as plain numbers (0.2, 0.6, 2, 40,
     10k, 1M) instead of 2×10⁻¹ or 1e+06 (`_plain_number`): percentages read as they are
     printed. Which ticks are labelled is matplotlib's choice, thinned where the labels of the
@@ -1131,12 +1137,6 @@ def frequency_axis(axis) -> None:
     an axis that reads log already: one joined by ``sharex`` to a log axis reads log but draws
     linearly until its scale is set (the joint posterior bands' second phase panel)."""
     _plain_log_axis(axis, FREQUENCY_PLAIN_FROM)
-
-
-# the smallest value a frequency axis [Hz] writes without an SI prefix (0.001; 500µ below it),
-# and the smallest a time axis [s] does (0.1: 10 ms reads 10m, 1 ms 1m), `_plain_number`
-FREQUENCY_PLAIN_FROM = 1e-3
-TIME_PLAIN_FROM = 0.1
 
 
 def time_axis(axis) -> None:
@@ -1465,7 +1465,7 @@ def _thin_minor_labels(formatter) -> None:
 
     def fits(values):
         where = np.log10(values) * per_decade
-        widths = [(len(_plain_number(v, prefix_from=1e3, prefixes=not percent_axis(axis), plain_from=getattr(formatter, "plain_from", 1e-3))) * LABEL_CHAR_EM if horizontal else 1.0) * size for v in values]
+        widths = [(len(_plain_number(v, prefix_from=1e3, prefixes=not percent_axis(axis), plain_from=getattr(formatter, "plain_from", FREQUENCY_PLAIN_FROM))) * LABEL_CHAR_EM if horizontal else 1.0) * size for v in values]
         gaps = np.diff(where) - (np.array(widths[:-1]) + np.array(widths[1:])) / 2
         return bool(np.all(gaps >= LABEL_GAP_EM * size))
 
